@@ -1,0 +1,30 @@
+// perclod: perceptual levels of detail for building models.
+#include <cstdio>
+#include <exception>
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "perclod: perceptual levels of detail for detailed building models.\n"
+      "Renders facades at viewing distances, finds the triangles a viewer can see,\n"
+      "and simplifies everything else away, one LOD per distance."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "perclod 0.1.0");
+  app.footer("Run 'perclod COMMAND --help' for the options of one command.");
+
+  // Subcommands (one line each; keep the order of the pipeline).
+  perclod::cli::register_info(app);
+  perclod::cli::register_generate(app);
+  perclod::cli::register_render(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "perclod: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,100 @@
+// perclod/camera.h - the one camera the renderer and the ray caster share.
+//
+// A pinhole camera in double precision. Conventions, used everywhere in perclod:
+//  * image W x H, pixel (x, y) covers [x, x+1) x [y, y+1), its centre is
+//    (x + 0.5, y + 0.5) (OpenGL's sampling point), row 0 is the TOP row;
+//  * camera space looks down -z; `right` = +x, `up` = +y;
+//  * ray_direction() is NOT normalised: its camera-space z is -1, so a hit's
+//    ray parameter t equals its eye depth and [znear, zfar] are the clip planes;
+//  * projection() is reversed-Z with a [0, 1] depth range (glClipControl
+//    GL_ZERO_TO_ONE): depth 1 at znear, 0 at zfar.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
+
+namespace perclod {
+
+struct Camera {
+  Eigen::Vector3d eye{0, 0, 0};
+  Eigen::Vector3d forward{0, 0, -1};  // unit, view direction
+  Eigen::Vector3d right{1, 0, 0};     // unit
+  Eigen::Vector3d up{0, 1, 0};        // unit
+  double fov_y = 0.5;                 // vertical field of view, radians
+  int width = 1, height = 1;
+  double znear = 0.1, zfar = 1000.0;
+
+  double tan_half_y() const { return std::tan(0.5 * fov_y); }
+  double aspect() const { return double(width) / double(height); }
+
+  // Direction through image point (px, py) (pixel centre = x + 0.5), with unit
+  // component along `forward`.
+  Eigen::Vector3d ray_direction(double px, double py) const {
+    double th = tan_half_y();
+    double sx = (2.0 * px / width - 1.0) * th * aspect();
+    double sy = (1.0 - 2.0 * py / height) * th;
+    return forward + sx * right + sy * up;
+  }
+
+  // World point -> image point (px, py) and eye depth. False when behind the eye.
+  bool project(const Eigen::Vector3d& p, double& px, double& py, double& depth) const {
+    Eigen::Vector3d d = p - eye;
+    depth = d.dot(forward);
+    if (depth <= 0) return false;
+    double th = tan_half_y();
+    double sx = d.dot(right) / depth / (th * aspect());
+    double sy = d.dot(up) / depth / th;
+    px = (sx + 1.0) * 0.5 * width;
+    py = (1.0 - sy) * 0.5 * height;
+    return true;
+  }
+
+  // World -> camera (OpenGL convention, looking down -z).
+  Eigen::Matrix4d view() const {
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.block<1, 3>(0, 0) = right.transpose();
+    m.block<1, 3>(1, 0) = up.transpose();
+    m.block<1, 3>(2, 0) = -forward.transpose();
+    m(0, 3) = -right.dot(eye);
+    m(1, 3) = -up.dot(eye);
+    m(2, 3) = forward.dot(eye);
+    return m;
+  }
+
+  // Camera -> clip, reversed-Z into [0, 1]: z_ndc = n/(f-n) + n f / ((f-n) * (-z_e)) ... i.e.
+  // depth 1 at -z_e = znear and 0 at -z_e = zfar.
+  Eigen::Matrix4d projection() const {
+    double th = tan_half_y();
+    double n = znear, f = zfar;
+    Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+    m(0, 0) = 1.0 / (th * aspect());
+    m(1, 1) = 1.0 / th;
+    m(2, 2) = n / (f - n);
+    m(2, 3) = n * f / (f - n);
+    m(3, 2) = -1.0;
+    return m;
+  }
+
+  // Pixel footprint at eye depth d (metres per pixel): p(d) = 2 d tan(fov_y/2) / H.
+  double pixel_footprint(double d) const { return 2.0 * d * tan_half_y() / height; }
+};
+
+// A camera at `eye` looking at `target`; `world_up` must not be parallel to the view.
+inline Camera look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
+                      const Eigen::Vector3d& world_up, double fov_y, int width, int height,
+                      double znear, double zfar) {
+  Camera c;
+  c.eye = eye;
+  c.forward = (target - eye).normalized();
+  c.right = c.forward.cross(world_up).normalized();
+  c.up = c.right.cross(c.forward);
+  c.fov_y = fov_y;
+  c.width = width;
+  c.height = height;
+  c.znear = znear;
+  c.zfar = zfar;
+  return c;
+}
+
+}  // namespace perclod
