@@ -1,0 +1,29 @@
+// perclod/config.h - YAML display profiles and batch configs (configs/).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "perclod/display.h"
+#include "perclod/views.h"
+
+namespace perclod {
+
+// configs/displays/*.yaml: name, width, height, dpi, viewer_distance_m,
+// optional fov_y_deg. Throws naming the file and the bad key.
+DisplayProfile load_display_profile(const std::string& path);
+DisplayProfile default_display_profile();  // the paper's 19" LCD
+
+// A batch job (configs/demo.yaml).
+struct BatchConfig {
+  std::string model;                 // path, relative to the config file's folder
+  UpAxis up = UpAxis::Y;
+  double scale = 1.0;
+  std::string display;               // profile path ("" = default)
+  std::vector<double> distances;     // metres
+  std::string facades = "all";
+  std::string out = "out";
+};
+BatchConfig load_batch_config(const std::string& path);
+
+}  // namespace perclod

@@ -1,0 +1,65 @@
+// perclod/render.h - the offscreen OSMesa renderer.
+//
+// One draw gives a shaded colour image, a triangle-ID buffer (triangle index
+// + 1, 0 for background) and depth. OpenGL 4.5 core through llvmpipe, FBO with
+// RGBA8 + R32UI + DEPTH_COMPONENT32F, reversed-Z (glClipControl ZERO_TO_ONE,
+// GL_GREATER, clear 0), no MSAA, no dithering. The camera is perclod::Camera,
+// the same one the ray caster uses; rows are flipped so row 0 is the top.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "perclod/camera.h"
+#include "perclod/scene.h"
+
+namespace perclod {
+
+struct RenderError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class ColorBy { Material, Component };
+
+struct RenderOptions {
+  ColorBy color_by = ColorBy::Material;  // materials without a colour fall back to the component's
+  std::array<uint8_t, 3> background{255, 255, 255};
+  double ambient = 0.35;                  // plus a directional key light from above the eye
+  bool want_ids = true;
+  bool want_depth = false;
+  // When non-empty (3 floats per triangle, 0..1): flat per-triangle colours
+  // instead of materials, e.g. marking colours. Shading still applies.
+  std::vector<float> triangle_colors;
+};
+
+struct RenderOutput {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;    // 3 per pixel, row 0 top
+  std::vector<uint32_t> ids;   // per pixel, triangle index + 1 (0 = background)
+  std::vector<float> depth;    // per pixel, eye depth in metres (0 = background)
+  double seconds = 0;          // draw + read back
+};
+
+class Renderer {
+ public:
+  Renderer();  // creates the OSMesa context; throws RenderError if it cannot
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  void set_scene(const Scene& scene);  // uploads geometry and colours
+  RenderOutput render(const Camera& camera, const RenderOptions& options = {});
+  std::string gl_version() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// The per-component fallback colour (deterministic, well separated hues).
+std::array<float, 3> component_color(uint32_t component);
+
+}  // namespace perclod

@@ -1,0 +1,43 @@
+// perclod/views.h - facade views: where the eye stands for a viewing distance.
+//
+// The eye sits on a facade's outward axis through the bounding-box centre,
+// `distance` metres in front of the bounding-box face, looking at the centre
+// (method.md section 1). Facades are named by the source file's axes: with Z
+// up they are +x -x +y -y, with Y up +x -x +z -z. Near and far planes are
+// fitted to the bounding box.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "perclod/camera.h"
+#include "perclod/display.h"
+#include "perclod/scene.h"
+
+namespace perclod {
+
+enum class UpAxis { Y, Z };
+UpAxis parse_up_axis(const std::string& s);  // "y" or "z"
+
+struct ViewSpec {
+  std::string name;  // "+x", or "az30_el10" for free views
+  double distance = 56.0;
+  bool free = false;
+  double azimuth_deg = 0, elevation_deg = 0;
+};
+
+// "all" -> the four facades; otherwise a comma list of facade names. Throws on a bad name.
+std::vector<std::string> parse_facades(const std::string& spec, UpAxis up);
+
+Camera facade_camera(const Bounds& bounds, UpAxis up, const std::string& facade, double distance,
+                     const DisplayProfile& display);
+// Free view: azimuth around the up axis from +x (degrees, counter-clockwise seen
+// from above), elevation above the horizon; distance from the bounding sphere.
+Camera free_camera(const Bounds& bounds, UpAxis up, double azimuth_deg, double elevation_deg,
+                   double distance, const DisplayProfile& display);
+Camera view_camera(const Bounds& bounds, UpAxis up, const ViewSpec& view, const DisplayProfile& display);
+
+// Near/far fitted to the box as seen by `cam` (near stays positive).
+void fit_clip_planes(Camera& cam, const Bounds& bounds);
+
+}  // namespace perclod
