@@ -1,0 +1,89 @@
+// YAML display profiles and batch configs.
+#include "perclod/config.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <stdexcept>
+
+namespace perclod {
+namespace {
+
+std::runtime_error config_error(const std::string& path, const std::string& what) {
+  return std::runtime_error(path + ": " + what);
+}
+
+YAML::Node load_yaml(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw config_error(path, "no such file");
+  try {
+    YAML::Node n = YAML::LoadFile(path);
+    if (!n.IsMap()) throw config_error(path, "expected a YAML mapping at the top level");
+    return n;
+  } catch (const YAML::Exception& e) {
+    throw config_error(path, std::string("YAML error: ") + e.what());
+  }
+}
+
+template <class T>
+T get(const YAML::Node& n, const std::string& path, const char* key, T fallback) {
+  if (!n[key]) return fallback;
+  try {
+    return n[key].as<T>();
+  } catch (const YAML::Exception&) {
+    throw config_error(path, std::string("key '") + key + "' has a value of the wrong type");
+  }
+}
+
+void require_positive(const std::string& path, const char* key, double v) {
+  if (!(v > 0) || !std::isfinite(v)) throw config_error(path, std::string("'") + key + "' must be a positive number");
+}
+
+}  // namespace
+
+DisplayProfile default_display_profile() { return DisplayProfile{}; }
+
+DisplayProfile load_display_profile(const std::string& path) {
+  YAML::Node n = load_yaml(path);
+  DisplayProfile d;
+  d.name = get<std::string>(n, path, "name", std::filesystem::path(path).stem().string());
+  d.width = get<int>(n, path, "width", d.width);
+  d.height = get<int>(n, path, "height", d.height);
+  d.dpi = get<double>(n, path, "dpi", d.dpi);
+  d.viewer_distance = get<double>(n, path, "viewer_distance_m", d.viewer_distance);
+  d.fov_y_override_deg = get<double>(n, path, "fov_y_deg", 0.0);
+  if (d.width <= 0 || d.height <= 0 || d.width > 16384 || d.height > 16384)
+    throw config_error(path, "width and height must be 1..16384 pixels");
+  require_positive(path, "dpi", d.dpi);
+  require_positive(path, "viewer_distance_m", d.viewer_distance);
+  if (n["fov_y_deg"] && !(d.fov_y_override_deg > 0 && d.fov_y_override_deg < 179))
+    throw config_error(path, "'fov_y_deg' must be in (0, 179)");
+  return d;
+}
+
+BatchConfig load_batch_config(const std::string& path) {
+  YAML::Node n = load_yaml(path);
+  namespace fs = std::filesystem;
+  fs::path dir = fs::path(path).parent_path();
+  auto rel = [&](const std::string& p) { return p.empty() || fs::path(p).is_absolute() ? p : (dir / p).string(); };
+  BatchConfig c;
+  c.model = rel(get<std::string>(n, path, "model", ""));
+  if (c.model.empty()) throw config_error(path, "'model' is required");
+  c.up = parse_up_axis(get<std::string>(n, path, "up", "y"));
+  c.scale = get<double>(n, path, "scale", 1.0);
+  require_positive(path, "scale", c.scale);
+  c.display = rel(get<std::string>(n, path, "display", ""));
+  c.facades = get<std::string>(n, path, "facades", "all");
+  c.out = get<std::string>(n, path, "out", "out");
+  if (n["distances"]) {
+    if (!n["distances"].IsSequence()) throw config_error(path, "'distances' must be a list of metres");
+    for (const auto& d : n["distances"]) {
+      double v = d.as<double>();
+      require_positive(path, "distances", v);
+      c.distances.push_back(v);
+    }
+  }
+  if (c.distances.empty()) throw config_error(path, "'distances' is required (a list of metres)");
+  return c;
+}
+
+}  // namespace perclod

@@ -1,0 +1,402 @@
+// Model loading. OBJ: perclod's own double-precision reader. Other formats:
+// assimp. Both end in build_scene(), which recentres in double and only then
+// converts to float.
+#include "perclod/load.h"
+
+#include <assimp/cimport.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "weld.h"
+
+namespace perclod {
+namespace fs = std::filesystem;
+namespace {
+
+// The file as read, before recentring: double positions, polygons already triangulated.
+struct RawModel {
+  std::vector<double> positions;  // xyz
+  std::vector<uint32_t> indices;
+  std::vector<uint32_t> component, material;
+  std::vector<std::string> component_names;
+  std::vector<Material> materials;
+};
+
+[[noreturn]] void fail(const std::string& path, const std::string& what, size_t line = 0) {
+  if (line) throw LoadError(path + ":" + std::to_string(line) + ": " + what);
+  throw LoadError(path + ": " + what);
+}
+
+std::string read_file(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) fail(path, "no such file");
+  if (fs::is_directory(path, ec)) fail(path, "is a directory, not a model file");
+  std::ifstream f(path, std::ios::binary);
+  if (!f) fail(path, "cannot open (permission?)");
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+// ---------------------------------------------------------------- polygons
+
+// Triangulates polygon `poly` (indices into pos) by ear clipping in the plane
+// of its Newell normal; falls back to a fan if the polygon is self-intersecting.
+void triangulate(const std::vector<double>& pos, const std::vector<uint32_t>& poly,
+                 std::vector<uint32_t>& out) {
+  size_t n = poly.size();
+  if (n == 3) {
+    out.insert(out.end(), poly.begin(), poly.end());
+    return;
+  }
+  auto P = [&](uint32_t i, int a) { return pos[3 * size_t(i) + a]; };
+  double nx = 0, ny = 0, nz = 0;
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t a = poly[i], b = poly[(i + 1) % n];
+    nx += (P(a, 1) - P(b, 1)) * (P(a, 2) + P(b, 2));
+    ny += (P(a, 2) - P(b, 2)) * (P(a, 0) + P(b, 0));
+    nz += (P(a, 0) - P(b, 0)) * (P(a, 1) + P(b, 1));
+  }
+  // Project onto the plane most perpendicular to the normal, keeping orientation.
+  int ax = 0, ay = 1;
+  double sign = nz;
+  if (std::fabs(nx) >= std::fabs(ny) && std::fabs(nx) >= std::fabs(nz)) ax = 1, ay = 2, sign = nx;
+  else if (std::fabs(ny) >= std::fabs(nz)) ax = 2, ay = 0, sign = ny;
+  double s = sign >= 0 ? 1.0 : -1.0;
+  auto X = [&](uint32_t i) { return P(i, ax); };
+  auto Y = [&](uint32_t i) { return P(i, ay) * s; };
+  auto cross = [&](uint32_t a, uint32_t b, uint32_t c) {
+    return (X(b) - X(a)) * (Y(c) - Y(a)) - (Y(b) - Y(a)) * (X(c) - X(a));
+  };
+  std::vector<uint32_t> ring(poly);
+  size_t guard = 0;
+  while (ring.size() > 3 && guard < 4 * n * n) {
+    bool clipped = false;
+    size_t m = ring.size();
+    for (size_t i = 0; i < m; ++i, ++guard) {
+      uint32_t a = ring[(i + m - 1) % m], b = ring[i], c = ring[(i + 1) % m];
+      if (cross(a, b, c) <= 0) continue;  // reflex or flat corner
+      bool inside = false;
+      for (size_t j = 0; j < m && !inside; ++j) {
+        uint32_t q = ring[j];
+        if (q == a || q == b || q == c) continue;
+        inside = cross(a, b, q) >= 0 && cross(b, c, q) >= 0 && cross(c, a, q) >= 0;
+      }
+      if (inside) continue;
+      out.insert(out.end(), {a, b, c});
+      ring.erase(ring.begin() + long(i));
+      clipped = true;
+      break;
+    }
+    if (!clipped) break;
+  }
+  // Whatever is left (3 corners, or a polygon ear clipping could not handle): a fan.
+  for (size_t i = 1; i + 1 < ring.size(); ++i) out.insert(out.end(), {ring[0], ring[i], ring[i + 1]});
+}
+
+// ---------------------------------------------------------------- OBJ
+
+struct LineCursor {
+  const char* p;
+  const char* end;
+  void skip_space() {
+    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+  }
+  bool at_end() {
+    skip_space();
+    return p >= end;
+  }
+  std::string_view word() {
+    skip_space();
+    const char* b = p;
+    while (p < end && *p != ' ' && *p != '\t' && *p != '\r') ++p;
+    return {b, size_t(p - b)};
+  }
+  std::string rest() {
+    skip_space();
+    const char* e = end;
+    while (e > p && (e[-1] == ' ' || e[-1] == '\r' || e[-1] == '\t')) --e;
+    return std::string(p, e);
+  }
+};
+
+bool parse_double(std::string_view w, double& v) {
+  if (!w.empty() && w[0] == '+') w.remove_prefix(1);
+  auto r = std::from_chars(w.data(), w.data() + w.size(), v);
+  return r.ec == std::errc() && r.ptr == w.data() + w.size();
+}
+
+void read_mtl(const std::string& path, std::map<std::string, std::array<float, 3>>& colors) {
+  std::ifstream f(path);
+  if (!f) return;  // a missing MTL only loses colours; components still colour the render
+  std::string line, current;
+  while (std::getline(f, line)) {
+    std::istringstream ss(line);
+    std::string key;
+    ss >> key;
+    if (key == "newmtl") {
+      std::getline(ss >> std::ws, current);
+      while (!current.empty() && (current.back() == '\r' || current.back() == ' ')) current.pop_back();
+    } else if (key == "Kd" && !current.empty()) {
+      std::array<float, 3> c{};
+      if (ss >> c[0] >> c[1] >> c[2]) colors[current] = c;
+    }
+  }
+}
+
+RawModel read_obj(const std::string& path, LoadReport& rep) {
+  std::string text = read_file(path);
+  RawModel m;
+  std::map<std::string, uint32_t> comp_ids, mat_ids;
+  std::map<std::string, std::array<float, 3>> mtl_colors;
+  uint32_t comp = UINT32_MAX, mat = UINT32_MAX;
+  auto component_id = [&](const std::string& name) {
+    auto [it, added] = comp_ids.try_emplace(name, uint32_t(m.component_names.size()));
+    if (added) m.component_names.push_back(name);
+    return it->second;
+  };
+  std::vector<uint32_t> poly;
+  size_t line_no = 0;
+  const char* p = text.data();
+  const char* end = p + text.size();
+  while (p < end) {
+    const char* eol = static_cast<const char*>(memchr(p, '\n', size_t(end - p)));
+    if (!eol) eol = end;
+    ++line_no;
+    LineCursor c{p, eol};
+    p = eol + 1;
+    std::string_view key = c.word();
+    if (key == "v") {
+      for (int a = 0; a < 3; ++a) {
+        double v;
+        std::string_view w = c.word();
+        if (!parse_double(w, v)) fail(path, "vertex coordinate '" + std::string(w) + "' is not a number", line_no);
+        if (!std::isfinite(v)) fail(path, "vertex coordinate is " + std::string(w) + " (NaN/inf)", line_no);
+        m.positions.push_back(v);
+      }
+    } else if (key == "f") {
+      poly.clear();
+      size_t nv = m.positions.size() / 3;
+      while (!c.at_end()) {
+        std::string_view w = c.word();
+        std::string_view vi = w.substr(0, w.find('/'));
+        long idx = 0;
+        auto r = std::from_chars(vi.data(), vi.data() + vi.size(), idx);
+        if (r.ec != std::errc() || idx == 0)
+          fail(path, "face corner '" + std::string(w) + "' is not a vertex index", line_no);
+        long resolved = idx > 0 ? idx - 1 : long(nv) + idx;  // negative: relative to the end
+        if (resolved < 0 || resolved >= long(nv))
+          fail(path, "face index " + std::to_string(idx) + " out of range (" + std::to_string(nv) +
+                         " vertices so far)", line_no);
+        poly.push_back(uint32_t(resolved));
+      }
+      ++rep.polygons;
+      if (poly.size() < 3)
+        fail(path, "face with " + std::to_string(poly.size()) + " corner(s); a face needs 3", line_no);
+      if (poly.size() > 3) ++rep.polygons_triangulated;
+      if (comp == UINT32_MAX) comp = component_id("default");
+      if (mat == UINT32_MAX) {
+        mat = uint32_t(m.materials.size());
+        m.materials.push_back({"default", {0.8f, 0.8f, 0.8f}, false});
+      }
+      size_t before = m.indices.size();
+      triangulate(m.positions, poly, m.indices);
+      for (size_t t = before / 3; t < m.indices.size() / 3; ++t) {
+        m.component.push_back(comp);
+        m.material.push_back(mat);
+      }
+    } else if (key == "o" || key == "g") {
+      std::string name = c.rest();
+      comp = component_id(name.empty() ? "default" : name);
+    } else if (key == "usemtl") {
+      std::string name = c.rest();
+      auto [it, added] = mat_ids.try_emplace(name, uint32_t(m.materials.size()));
+      if (added) m.materials.push_back({name, {0.8f, 0.8f, 0.8f}, false});
+      mat = it->second;
+    } else if (key == "mtllib") {
+      read_mtl((fs::path(path).parent_path() / c.rest()).string(), mtl_colors);
+    }
+    // vt, vn, s, l, p and comments carry nothing perclod uses.
+  }
+  for (auto& mt : m.materials) {
+    auto it = mtl_colors.find(mt.name);
+    if (it != mtl_colors.end()) mt.color = it->second, mt.has_color = true;
+  }
+  return m;
+}
+
+// ---------------------------------------------------------------- assimp
+
+void assimp_node(const aiScene* sc, const aiNode* node, const aiMatrix4x4& parent, RawModel& m,
+                 LoadReport& rep, const std::string& path) {
+  aiMatrix4x4 xf = parent * node->mTransformation;
+  for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+    const aiMesh* mesh = sc->mMeshes[node->mMeshes[k]];
+    std::string name = node->mName.length ? node->mName.C_Str() : mesh->mName.C_Str();
+    if (name.empty()) name = "mesh" + std::to_string(node->mMeshes[k]);
+    uint32_t comp = uint32_t(m.component_names.size());
+    m.component_names.push_back(name);
+    uint32_t base = uint32_t(m.positions.size() / 3);
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      aiVector3D p = xf * mesh->mVertices[v];
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        fail(path, "mesh '" + name + "' vertex " + std::to_string(v) + " is NaN/inf");
+      m.positions.insert(m.positions.end(), {double(p.x), double(p.y), double(p.z)});
+    }
+    std::vector<uint32_t> poly;
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      ++rep.polygons;
+      if (face.mNumIndices < 3)
+        fail(path, "mesh '" + name + "' has point or line primitives (" +
+                       std::to_string(face.mNumIndices) + " corners); perclod needs surfaces");
+      poly.assign(face.mIndices, face.mIndices + face.mNumIndices);
+      for (auto& i : poly) {
+        if (i >= mesh->mNumVertices) fail(path, "mesh '" + name + "' face index out of range");
+        i += base;
+      }
+      if (poly.size() > 3) ++rep.polygons_triangulated;
+      size_t before = m.indices.size();
+      triangulate(m.positions, poly, m.indices);
+      for (size_t t = before / 3; t < m.indices.size() / 3; ++t) {
+        m.component.push_back(comp);
+        m.material.push_back(mesh->mMaterialIndex);
+      }
+    }
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c) assimp_node(sc, node->mChildren[c], xf, m, rep, path);
+}
+
+RawModel read_assimp(const std::string& path, LoadReport& rep) {
+  read_file(path);  // same existence / readability errors as OBJ
+  // No aiProcess_Triangulate: perclod triangulates, so it can count polygons.
+  const aiScene* sc = aiImportFile(path.c_str(), aiProcess_JoinIdenticalVertices);
+  if (!sc || !sc->mRootNode) fail(path, std::string("cannot parse: ") + aiGetErrorString());
+  RawModel m;
+  for (unsigned i = 0; i < sc->mNumMaterials; ++i) {
+    Material mt;
+    aiString nm;
+    if (sc->mMaterials[i]->Get(AI_MATKEY_NAME, nm) == AI_SUCCESS) mt.name = nm.C_Str();
+    aiColor3D c;
+    if (sc->mMaterials[i]->Get(AI_MATKEY_COLOR_DIFFUSE, c) == AI_SUCCESS) {
+      mt.color = {c.r, c.g, c.b};
+      mt.has_color = true;
+    }
+    m.materials.push_back(mt);
+  }
+  if (m.materials.empty()) m.materials.push_back({"default", {0.8f, 0.8f, 0.8f}, false});
+  try {
+    assimp_node(sc, sc->mRootNode, aiMatrix4x4(), m, rep, path);
+  } catch (...) {
+    aiReleaseImport(sc);
+    throw;
+  }
+  aiReleaseImport(sc);
+  return m;
+}
+
+// ---------------------------------------------------------------- common
+
+Scene build_scene(RawModel&& m, const std::string& path, const LoadOptions& opt, LoadReport& rep) {
+  if (m.indices.empty()) fail(path, "no triangles (empty model)");
+  if (!(opt.scale > 0) || !std::isfinite(opt.scale)) fail(path, "unit scale must be a positive number");
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (uint32_t i : m.indices)
+    for (int a = 0; a < 3; ++a) {
+      double v = m.positions[3 * size_t(i) + a] * opt.scale;
+      lo[a] = std::min(lo[a], v);
+      hi[a] = std::max(hi[a], v);
+    }
+  Scene s;
+  for (int a = 0; a < 3; ++a) s.offset[a] = 0.5 * (lo[a] + hi[a]);
+  s.positions.resize(m.positions.size());
+  for (size_t i = 0; i < m.positions.size(); ++i)
+    s.positions[i] = float(m.positions[i] * opt.scale - s.offset[i % 3]);
+  s.indices = std::move(m.indices);
+  s.material = std::move(m.material);
+  s.materials = std::move(m.materials);
+  // Components: the file's groups, or connectivity where it has at most one.
+  if (m.component_names.size() <= 1) {
+    auto weld = weld_exact(s);
+    uint32_t n = connected_components(s, weld, s.component);
+    s.component_names.resize(n);
+    for (uint32_t c = 0; c < n; ++c) s.component_names[c] = "part" + std::to_string(c);
+    rep.components_from_connectivity = true;
+  } else {
+    s.component = std::move(m.component);
+    s.component_names = std::move(m.component_names);
+  }
+  for (size_t t = 0; t < s.triangle_count(); ++t) rep.degenerate_triangles += is_degenerate(s, t);
+  return s;
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  for (auto& ch : e) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  return e;
+}
+
+}  // namespace
+
+bool is_degenerate(const Scene& s, size_t t) {
+  uint32_t a = s.indices[3 * t], b = s.indices[3 * t + 1], c = s.indices[3 * t + 2];
+  if (a == b || b == c || a == c) return true;
+  const float* A = &s.positions[3 * size_t(a)];
+  const float* B = &s.positions[3 * size_t(b)];
+  const float* C = &s.positions[3 * size_t(c)];
+  double u[3], v[3];
+  for (int k = 0; k < 3; ++k) u[k] = double(B[k]) - A[k], v[k] = double(C[k]) - A[k];
+  double cx = u[1] * v[2] - u[2] * v[1], cy = u[2] * v[0] - u[0] * v[2], cz = u[0] * v[1] - u[1] * v[0];
+  return cx == 0 && cy == 0 && cz == 0;
+}
+
+Scene load_scene(const std::string& path, const LoadOptions& options, LoadReport* report) {
+  auto t0 = std::chrono::steady_clock::now();
+  LoadReport rep;
+  std::string ext = lower_extension(path);
+  RawModel raw = ext == ".obj" ? read_obj(path, rep) : read_assimp(path, rep);
+  Scene s = build_scene(std::move(raw), path, options, rep);
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (report) *report = rep;
+  return s;
+}
+
+SceneInfo analyse_scene(const Scene& s) {
+  SceneInfo info;
+  info.triangles = s.triangle_count();
+  info.vertices = s.vertex_count();
+  info.components = s.component_count();
+  info.materials = s.materials.size();
+  info.bounds = scene_bounds(s);
+  info.offset = s.offset;
+  auto weld = weld_exact(s);
+  std::vector<uint64_t> edges;
+  edges.reserve(s.indices.size());
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    info.degenerate_triangles += is_degenerate(s, t);
+    for (int k = 0; k < 3; ++k) {
+      uint64_t a = weld[s.indices[3 * t + k]], b = weld[s.indices[3 * t + (k + 1) % 3]];
+      if (a == b) continue;
+      edges.push_back(std::min(a, b) << 32 | std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) ++info.boundary_edges;
+    if (j - i > 2) ++info.non_manifold_edges;
+    i = j;
+  }
+  return info;
+}
+
+}  // namespace perclod

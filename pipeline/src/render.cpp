@@ -1,0 +1,282 @@
+// The OSMesa renderer (design notes in perclod/render.h and facts.md).
+//
+// Geometry is drawn indexed from one vertex buffer. Flat shading needs no
+// per-vertex normals: the fragment shader takes the face normal from the
+// screen-space derivatives of the world position. Per-triangle colours live in
+// a buffer texture read with gl_PrimitiveID, which also gives the ID buffer,
+// so one draw produces colour, IDs and depth.
+#include "perclod/render.h"
+
+#include <GL/osmesa.h>
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace perclod {
+namespace {
+
+const char* kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 position;
+uniform mat4 view_proj;
+out vec3 world;
+void main() {
+  world = position;
+  gl_Position = view_proj * vec4(position, 1.0);
+}
+)";
+
+// Two-sided lighting: real building models have inconsistent winding.
+const char* kFragmentShader = R"(#version 330 core
+in vec3 world;
+uniform samplerBuffer colors;   // RGB per triangle
+uniform uint base;              // gl_PrimitiveID restarts per draw
+uniform vec3 light_dir;         // towards the light
+uniform vec3 eye;
+uniform float ambient;
+layout(location = 0) out vec4 color;
+layout(location = 1) out uint id;
+void main() {
+  vec3 n = normalize(cross(dFdx(world), dFdy(world)));
+  if (dot(n, eye - world) < 0.0) n = -n;
+  float diffuse = max(dot(n, light_dir), 0.0);
+  vec3 albedo = texelFetch(colors, gl_PrimitiveID + int(base)).rgb;
+  color = vec4(albedo * (ambient + (1.0 - ambient) * diffuse), 1.0);
+  id = uint(gl_PrimitiveID) + base + 1u;
+}
+)";
+
+GLuint compile(GLenum type, const char* src) {
+  GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &src, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    throw RenderError(std::string("shader compilation failed: ") + log);
+  }
+  return s;
+}
+
+}  // namespace
+
+std::array<float, 3> component_color(uint32_t c) {
+  // Golden-ratio hue walk, moderate saturation: neighbours differ, none is garish.
+  double h = std::fmod(0.13 + c * 0.618033988749895, 1.0) * 6.0;
+  double s = 0.35, v = 0.85;
+  int i = int(h);
+  double f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+  double r[6][3] = {{v, t, p}, {q, v, p}, {p, v, t}, {p, q, v}, {t, p, v}, {v, p, q}};
+  return {float(r[i % 6][0]), float(r[i % 6][1]), float(r[i % 6][2])};
+}
+
+struct Renderer::Impl {
+  OSMesaContext ctx = nullptr;
+  std::vector<unsigned char> dummy;  // OSMesaMakeCurrent wants a buffer even when drawing to an FBO
+  GLuint program = 0, vao = 0, vbo = 0, ebo = 0, color_buf = 0, color_tex = 0;
+  GLuint fbo = 0, rb_color = 0, rb_id = 0, rb_depth = 0;
+  int fb_w = 0, fb_h = 0;
+  size_t index_count = 0;
+  std::vector<float> material_colors;  // per triangle, from the scene
+  const Scene* scene = nullptr;
+
+  void make_current() {
+    if (!OSMesaMakeCurrent(ctx, dummy.data(), GL_UNSIGNED_BYTE, 1, 1))
+      throw RenderError("OSMesaMakeCurrent failed");
+  }
+
+  void resize(int w, int h) {
+    if (w == fb_w && h == fb_h) return;
+    if (fbo) {
+      glDeleteFramebuffers(1, &fbo);
+      GLuint rbs[3] = {rb_color, rb_id, rb_depth};
+      glDeleteRenderbuffers(3, rbs);
+    }
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    auto rb = [&](GLenum fmt, GLenum attach) {
+      GLuint r;
+      glGenRenderbuffers(1, &r);
+      glBindRenderbuffer(GL_RENDERBUFFER, r);
+      glRenderbufferStorage(GL_RENDERBUFFER, fmt, w, h);
+      glFramebufferRenderbuffer(GL_FRAMEBUFFER, attach, GL_RENDERBUFFER, r);
+      return r;
+    };
+    rb_color = rb(GL_RGBA8, GL_COLOR_ATTACHMENT0);
+    rb_id = rb(GL_R32UI, GL_COLOR_ATTACHMENT1);
+    rb_depth = rb(GL_DEPTH_COMPONENT32F, GL_DEPTH_ATTACHMENT);
+    GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, bufs);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw RenderError("framebuffer incomplete at " + std::to_string(w) + "x" + std::to_string(h));
+    fb_w = w;
+    fb_h = h;
+  }
+
+  void upload_colors(const std::vector<float>& rgb) {
+    glBindBuffer(GL_TEXTURE_BUFFER, color_buf);
+    glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(rgb.size() * sizeof(float)), rgb.data(), GL_DYNAMIC_DRAW);
+  }
+};
+
+Renderer::Renderer() : impl_(new Impl) {
+  const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                         OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+  impl_->ctx = OSMesaCreateContextAttribs(attribs, nullptr);
+  if (!impl_->ctx)
+    throw RenderError("cannot create an OSMesa OpenGL 3.3 core context (is libosmesa6 installed and "
+                      "is GALLIUM_DRIVER/llvmpipe usable?)");
+  impl_->dummy.assign(4, 0);
+  impl_->make_current();
+  auto clip_control = reinterpret_cast<void (*)(GLenum, GLenum)>(OSMesaGetProcAddress("glClipControl"));
+  if (!clip_control) throw RenderError("glClipControl is not available: reversed-Z needs OpenGL 4.5");
+  clip_control(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+
+  GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader), fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+  impl_->program = glCreateProgram();
+  glAttachShader(impl_->program, vs);
+  glAttachShader(impl_->program, fs);
+  glLinkProgram(impl_->program);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(impl_->program, GL_LINK_STATUS, &ok);
+  if (!ok) throw RenderError("shader link failed");
+  glGenVertexArrays(1, &impl_->vao);
+  glGenBuffers(1, &impl_->vbo);
+  glGenBuffers(1, &impl_->ebo);
+  glGenBuffers(1, &impl_->color_buf);
+  glGenTextures(1, &impl_->color_tex);
+  glBindBuffer(GL_TEXTURE_BUFFER, impl_->color_buf);  // a name becomes a buffer only once bound
+  glBindTexture(GL_TEXTURE_BUFFER, impl_->color_tex);
+  glTexBuffer(GL_TEXTURE_BUFFER, GL_RGB32F, impl_->color_buf);
+  glDisable(GL_DITHER);
+  glDisable(GL_MULTISAMPLE);
+  glDisable(GL_CULL_FACE);  // no culling: back faces are real surfaces in building models
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);  // reversed-Z
+  glClearDepth(0.0);
+}
+
+Renderer::~Renderer() {
+  if (impl_->ctx) OSMesaDestroyContext(impl_->ctx);
+}
+
+std::string Renderer::gl_version() const {
+  impl_->make_current();
+  return reinterpret_cast<const char*>(glGetString(GL_VERSION));
+}
+
+void Renderer::set_scene(const Scene& s) {
+  impl_->make_current();
+  impl_->scene = &s;
+  glBindVertexArray(impl_->vao);
+  glBindBuffer(GL_ARRAY_BUFFER, impl_->vbo);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(s.positions.size() * sizeof(float)), s.positions.data(), GL_STATIC_DRAW);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, impl_->ebo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(s.indices.size() * sizeof(uint32_t)), s.indices.data(),
+               GL_STATIC_DRAW);
+  impl_->index_count = s.indices.size();
+  auto& mc = impl_->material_colors;
+  mc.resize(3 * s.triangle_count());
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    const Material& m = s.materials[s.material[t]];
+    auto c = m.has_color ? m.color : component_color(s.component[t]);
+    for (int k = 0; k < 3; ++k) mc[3 * t + k] = c[k];
+  }
+}
+
+RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
+  Impl& I = *impl_;
+  if (!I.scene) throw RenderError("render() before set_scene()");
+  if (cam.width <= 0 || cam.height <= 0 || cam.width > 16384 || cam.height > 16384)
+    throw RenderError("bad image size " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
+  auto t0 = std::chrono::steady_clock::now();
+  I.make_current();
+  I.resize(cam.width, cam.height);
+
+  const Scene& s = *I.scene;
+  if (!opt.triangle_colors.empty()) {
+    if (opt.triangle_colors.size() != 3 * s.triangle_count())
+      throw RenderError("triangle_colors must hold 3 floats per triangle");
+    I.upload_colors(opt.triangle_colors);
+  } else if (opt.color_by == ColorBy::Component) {
+    std::vector<float> cc(3 * s.triangle_count());
+    for (size_t t = 0; t < s.triangle_count(); ++t) {
+      auto c = component_color(s.component[t]);
+      for (int k = 0; k < 3; ++k) cc[3 * t + k] = c[k];
+    }
+    I.upload_colors(cc);
+  } else {
+    I.upload_colors(I.material_colors);
+  }
+
+  glBindFramebuffer(GL_FRAMEBUFFER, I.fbo);
+  glViewport(0, 0, cam.width, cam.height);
+  float bg[4] = {opt.background[0] / 255.f, opt.background[1] / 255.f, opt.background[2] / 255.f, 1.f};
+  GLuint zero[4] = {0, 0, 0, 0};
+  float depth_clear = 0.f;
+  glClearBufferfv(GL_COLOR, 0, bg);
+  glClearBufferuiv(GL_COLOR, 1, zero);
+  glClearBufferfv(GL_DEPTH, 0, &depth_clear);
+
+  glUseProgram(I.program);
+  Eigen::Matrix4f vp = (cam.projection() * cam.view()).cast<float>();
+  glUniformMatrix4fv(glGetUniformLocation(I.program, "view_proj"), 1, GL_FALSE, vp.data());  // column-major
+  // Key light from above and to the left of the eye, so facade relief casts shading.
+  Eigen::Vector3d L = (-cam.forward + 0.8 * cam.up - 0.5 * cam.right).normalized();
+  glUniform3f(glGetUniformLocation(I.program, "light_dir"), float(L.x()), float(L.y()), float(L.z()));
+  glUniform3f(glGetUniformLocation(I.program, "eye"), float(cam.eye.x()), float(cam.eye.y()), float(cam.eye.z()));
+  glUniform1f(glGetUniformLocation(I.program, "ambient"), float(opt.ambient));
+  glUniform1ui(glGetUniformLocation(I.program, "base"), 0u);
+  glUniform1i(glGetUniformLocation(I.program, "colors"), 0);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_BUFFER, I.color_tex);
+  glBindVertexArray(I.vao);
+  glDrawElements(GL_TRIANGLES, GLsizei(I.index_count), GL_UNSIGNED_INT, nullptr);
+
+  RenderOutput out;
+  int w = cam.width, h = cam.height;
+  out.width = w;
+  out.height = h;
+  std::vector<uint8_t> rgba(size_t(w) * h * 4);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  out.rgb.resize(size_t(w) * h * 3);
+  for (int y = 0; y < h; ++y)  // GL rows are bottom-up
+    for (int x = 0; x < w; ++x)
+      for (int k = 0; k < 3; ++k)
+        out.rgb[(size_t(y) * w + x) * 3 + k] = rgba[(size_t(h - 1 - y) * w + x) * 4 + k];
+  auto flip = [&](auto& v) {
+    for (int y = 0; y < h / 2; ++y)
+      std::swap_ranges(v.begin() + long(y) * w, v.begin() + long(y + 1) * w, v.begin() + long(h - 1 - y) * w);
+  };
+  if (opt.want_ids) {
+    out.ids.resize(size_t(w) * h);
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, out.ids.data());
+    flip(out.ids);
+  }
+  if (opt.want_depth) {
+    std::vector<float> z(size_t(w) * h);
+    glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
+    flip(z);
+    // Reversed-Z window depth -> eye depth: z_w = n (f - d) / (d (f - n))  =>  d = n f / (z_w (f - n) + n).
+    double n = cam.znear, f = cam.zfar;
+    out.depth.resize(z.size());
+    for (size_t i = 0; i < z.size(); ++i) out.depth[i] = z[i] > 0 ? float(n * f / (z[i] * (f - n) + n)) : 0.f;
+  }
+  if (GLenum err = glGetError(); err != GL_NO_ERROR)
+    throw RenderError("OpenGL error " + std::to_string(err) + " while rendering");
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace perclod
