@@ -1,0 +1,172 @@
+// The vision simulation: luminance -> DWT -> CSF per band -> inverse DWT ->
+// difference and mask (method.md section 3).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "band_filter.h"
+#include "perclod/perception.h"
+
+namespace perclod {
+namespace {
+
+void check_settings(const PerceptionSettings& s) {
+  if (!(s.ppd > 0) || !std::isfinite(s.ppd))
+    throw std::invalid_argument("perception: ppd must be a positive number, got " + std::to_string(s.ppd));
+  if (!(s.k > 0) || !std::isfinite(s.k))
+    throw std::invalid_argument("perception: CSF constant k must be positive, got " + std::to_string(s.k));
+  if (s.levels < 0 || s.levels > 30)
+    throw std::invalid_argument("perception: levels must be 0 (automatic) .. 30, got " + std::to_string(s.levels));
+  if (!(s.threshold >= 0) || !std::isfinite(s.threshold))
+    throw std::invalid_argument("perception: threshold must be >= 0 grey levels, got " +
+                                std::to_string(s.threshold));
+  if (s.fir_half_length < 0 || s.fir_half_length > 16)
+    throw std::invalid_argument("perception: FIR half length must be 0..16, got " +
+                                std::to_string(s.fir_half_length));
+}
+
+bool is_identity(const BandResponse& b, PerceptionSettings::CsfMode mode) {
+  if (mode != PerceptionSettings::CsfMode::Fir) return b.weight == 1.0;
+  if (std::abs(b.taps[0] - 1.0) > 1e-9) return false;
+  for (size_t m = 1; m < b.taps.size(); ++m)
+    if (std::abs(b.taps[m]) > 1e-9) return false;
+  return true;
+}
+
+// Where the three detail bands of one level sit in the Mallat layout.
+struct LevelGeometry {
+  int w = 0, h = 0;  // size of the region this level transformed
+  int ws() const { return (w + 1) / 2; }
+  int hs() const { return (h + 1) / 2; }
+};
+
+detail::Band band_at(float* img, int stride, const LevelGeometry& g, BandOrientation o) {
+  detail::Band b;
+  b.stride = size_t(stride);
+  b.parent_w = g.w;
+  b.parent_h = g.h;
+  int x0 = o == BandOrientation::LH ? 0 : g.ws();
+  int y0 = o == BandOrientation::HL ? 0 : g.hs();
+  b.w = o == BandOrientation::LH ? g.ws() : g.w - g.ws();
+  b.h = o == BandOrientation::HL ? g.hs() : g.h - g.hs();
+  b.data = img + size_t(y0) * size_t(stride) + size_t(x0);
+  return b;
+}
+
+void apply_band(float* img, int stride, const LevelGeometry& g, const BandResponse& r,
+                PerceptionSettings::CsfMode mode) {
+  detail::Band b = band_at(img, stride, g, r.orientation);
+  if (b.w < 1 || b.h < 1 || is_identity(r, mode)) return;
+  if (mode != PerceptionSettings::CsfMode::Fir) {
+    detail::scale_band(b, float(r.weight));
+    return;
+  }
+  if (r.orientation != BandOrientation::LH) detail::fir_rows(b, r.taps);
+  if (r.orientation != BandOrientation::HL) detail::fir_columns(b, r.taps);
+}
+
+void apply_csf(float* img, int w, int h, int levels, const std::vector<BandResponse>& bands,
+               PerceptionSettings::CsfMode mode) {
+  LevelGeometry g{w, h};
+  for (int l = 1; l <= levels && (g.w > 1 || g.h > 1); ++l) {
+    for (const BandResponse& r : bands)
+      if (r.level == l) apply_band(img, w, g, r, mode);
+    g = LevelGeometry{g.ws(), g.hs()};
+  }
+}
+
+}  // namespace
+
+PerceptionSettings perception_settings_for(const DisplayProfile& display) {
+  PerceptionSettings s;
+  s.ppd = display.pixels_per_degree();
+  return s;
+}
+
+void perceive_luminance(const float* lum, int w, int h, const PerceptionSettings& s,
+                        const uint8_t* background_mask, PerceptionResult& out) {
+  auto t0 = std::chrono::steady_clock::now();
+  check_settings(s);
+  if (w < 1 || h < 1)
+    throw std::invalid_argument("perception: image size must be at least 1x1, got " + std::to_string(w) +
+                                "x" + std::to_string(h));
+  if (!lum) throw std::invalid_argument("perception: null luminance buffer");
+  const size_t n = size_t(w) * size_t(h);
+  out.width = w;
+  out.height = h;
+  out.ppd = s.ppd;
+  out.f_max = 0.5 * s.ppd;
+  out.levels = s.levels > 0 ? s.levels : default_levels(out.f_max, s.k);
+  out.bands = band_responses(s, out.levels);
+  if (out.luminance.data() != lum) out.luminance.assign(lum, lum + n);
+
+  out.simulated.assign(lum, lum + n);
+  dwt97_forward(out.simulated.data(), w, h, out.levels);
+  apply_csf(out.simulated.data(), w, h, out.levels, out.bands, s.csf);
+  dwt97_inverse(out.simulated.data(), w, h, out.levels);
+
+  out.difference.resize(n);
+  out.mask.resize(n);
+  const float t = float(s.threshold);
+  const float* sim = out.simulated.data();
+  float* diff = out.difference.data();
+  uint8_t* mask = out.mask.data();
+  for (size_t i = 0; i < n; ++i) {
+    diff[i] = lum[i] - sim[i];
+    mask[i] = std::abs(diff[i]) > t ? 1 : 0;
+  }
+  long long counted = 0, imperceptible = 0;
+  for (size_t i = 0; i < n; ++i) {
+    bool bg = background_mask && background_mask[i];
+    counted += bg ? 0 : 1;
+    imperceptible += bg ? 0 : mask[i];
+  }
+  out.counted_pixels = counted;
+  out.imperceptible_fraction = counted ? double(imperceptible) / double(counted) : 0.0;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void perceive_into(const uint8_t* rgb, int w, int h, const PerceptionSettings& s,
+                   const uint8_t* background_mask, PerceptionResult& out) {
+  auto t0 = std::chrono::steady_clock::now();
+  if (w < 1 || h < 1)
+    throw std::invalid_argument("perception: image size must be at least 1x1, got " + std::to_string(w) +
+                                "x" + std::to_string(h));
+  out.luminance.resize(size_t(w) * size_t(h));
+  luminance_into(rgb, w, h, s.luminance, out.luminance.data());
+  perceive_luminance(out.luminance.data(), w, h, s, background_mask, out);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+PerceptionResult perceive(const uint8_t* rgb, int w, int h, const PerceptionSettings& s,
+                          const uint8_t* background_mask) {
+  PerceptionResult r;
+  perceive_into(rgb, w, h, s, background_mask, r);
+  return r;
+}
+
+std::vector<uint8_t> difference_view(const PerceptionResult& r) {
+  std::vector<uint8_t> v(r.difference.size());
+  for (size_t i = 0; i < v.size(); ++i) {
+    float g = 64.0f + 4.0f * std::abs(r.difference[i]);
+    v[i] = r.mask[i] ? uint8_t(std::min(255.0f, g)) : 0;
+  }
+  return v;
+}
+
+std::vector<uint8_t> mask_view(const PerceptionResult& r) {
+  std::vector<uint8_t> v(r.mask.size());
+  for (size_t i = 0; i < v.size(); ++i) v[i] = r.mask[i] ? 255 : 0;
+  return v;
+}
+
+std::vector<uint8_t> simulated_view(const PerceptionResult& r) {
+  std::vector<uint8_t> v(r.simulated.size());
+  for (size_t i = 0; i < v.size(); ++i)
+    v[i] = uint8_t(std::clamp(std::lround(r.simulated[i]), 0L, 255L));
+  return v;
+}
+
+}  // namespace perclod
