@@ -68,7 +68,11 @@ BatchConfig load_batch_config(const std::string& path) {
   BatchConfig c;
   c.model = rel(get<std::string>(n, path, "model", ""));
   if (c.model.empty()) throw config_error(path, "'model' is required");
-  c.up = parse_up_axis(get<std::string>(n, path, "up", "y"));
+  try {
+    c.up = parse_up_axis(get<std::string>(n, path, "up", "y"));
+  } catch (const std::invalid_argument& e) {
+    throw config_error(path, e.what());
+  }
   c.scale = get<double>(n, path, "scale", 1.0);
   require_positive(path, "scale", c.scale);
   c.display = rel(get<std::string>(n, path, "display", ""));

@@ -1,0 +1,121 @@
+// Camera and views: one definition for renderer and ray caster.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "perclod/camera.h"
+#include "perclod/config.h"
+#include "perclod/views.h"
+
+using namespace perclod;
+
+TEST(Camera, KnownPointsProjectToExpectedPixels) {
+  // 90 degree vertical fov, 200x100: tan(45) = 1, so at depth 1 the image spans y in [-1, 1], x in [-2, 2].
+  Camera c = look_at({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, M_PI / 2, 200, 100, 0.1, 100);
+  double px, py, depth;
+  ASSERT_TRUE(c.project({0, 0, -1}, px, py, depth));
+  EXPECT_NEAR(px, 100.0, 1e-9);
+  EXPECT_NEAR(py, 50.0, 1e-9);
+  EXPECT_NEAR(depth, 1.0, 1e-12);
+  ASSERT_TRUE(c.project({-2, 1, -1}, px, py, depth));  // top-left corner of the image
+  EXPECT_NEAR(px, 0.0, 1e-9);
+  EXPECT_NEAR(py, 0.0, 1e-9);
+  ASSERT_TRUE(c.project({3, -1.5, -3}, px, py, depth));  // half of the half-extents, right and down
+  EXPECT_NEAR(px, 100.0 + 100.0 * 0.5, 1e-9);
+  EXPECT_NEAR(py, 50.0 + 50.0 * 0.5, 1e-9);
+  EXPECT_NEAR(depth, 3.0, 1e-12);
+  EXPECT_FALSE(c.project({0, 0, 1}, px, py, depth));  // behind the eye
+}
+
+TEST(Camera, RayThroughAProjectedPointHitsIt) {
+  Camera c = look_at({3, 4, 5}, {0.5, -1, 0.2}, {0, 0, 1}, 0.6, 1280, 1024, 0.5, 500);
+  Eigen::Vector3d p(1.25, -0.75, 0.5);
+  double px, py, depth;
+  ASSERT_TRUE(c.project(p, px, py, depth));
+  Eigen::Vector3d d = c.ray_direction(px, py);
+  EXPECT_NEAR(d.dot(c.forward), 1.0, 1e-12);  // un-normalised: unit along the view axis
+  Eigen::Vector3d hit = c.eye + depth * d;     // t equals eye depth
+  EXPECT_NEAR((hit - p).norm(), 0.0, 1e-9);
+}
+
+TEST(Camera, ProjectionMatrixAgreesWithProject) {
+  Camera c = look_at({1, 2, 30}, {0, 0, 0}, {0, 1, 0}, 0.58, 640, 480, 2, 90);
+  Eigen::Matrix4d m = c.projection() * c.view();
+  for (Eigen::Vector3d p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(3, -2, 5), Eigen::Vector3d(-4, 1, -20)}) {
+    Eigen::Vector4d clip = m * p.homogeneous();
+    Eigen::Vector3d ndc = clip.head<3>() / clip.w();
+    double px, py, depth;
+    ASSERT_TRUE(c.project(p, px, py, depth));
+    EXPECT_NEAR((ndc.x() + 1) * 0.5 * c.width, px, 1e-9);
+    EXPECT_NEAR((1 - ndc.y()) * 0.5 * c.height, py, 1e-9);  // GL's y is up, images' row 0 is the top
+    // Reversed-Z: depth 1 at znear, 0 at zfar.
+    EXPECT_NEAR(ndc.z(), c.znear * (c.zfar - depth) / (depth * (c.zfar - c.znear)), 1e-12);
+  }
+}
+
+TEST(Display, PaperProfileGivesThePapersNumbers) {
+  DisplayProfile d = load_display_profile(PERCLOD_SOURCE_DIR "/configs/displays/paper-19in.yaml");
+  EXPECT_EQ(d.width, 1280);
+  EXPECT_EQ(d.height, 1024);
+  EXPECT_NEAR(d.pixels_per_degree(), 29.64, 0.01);
+  EXPECT_NEAR(d.f_max(), 14.82, 0.01);
+  EXPECT_NEAR(d.natural_fov_y() * 180 / M_PI, 33.56, 0.01);  // method.md rounds it to 33.5
+  Camera c = look_at({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, d.fov_y(), d.width, d.height, 1, 10);
+  // One pixel is the same visual angle on screen and in the scene: 1/ppd degrees at the centre.
+  double px_angle = std::atan(c.pixel_footprint(1.0)) * 180 / M_PI;
+  EXPECT_NEAR(px_angle, 1.0 / d.pixels_per_degree(), 1e-3 / d.pixels_per_degree());
+}
+
+TEST(Views, FacadeEyeStandsOnTheAxisInFrontOfTheFace) {
+  Bounds b;
+  b.lo = {-10, -4, 0};
+  b.hi = {10, 4, 12};
+  DisplayProfile d;
+  Camera c = facade_camera(b, UpAxis::Z, "-y", 56, d);
+  EXPECT_NEAR(c.eye.x(), 0, 1e-9);
+  EXPECT_NEAR(c.eye.y(), -4 - 56, 1e-9);
+  EXPECT_NEAR(c.eye.z(), 6, 1e-9);
+  EXPECT_NEAR(c.forward.y(), 1, 1e-12);
+  EXPECT_NEAR(c.up.z(), 1, 1e-12);
+  EXPECT_LE(c.znear, 56.0);   // the nearest face is at depth 56
+  EXPECT_GE(c.zfar, 64.0);    // the back face at 64
+  Camera e = facade_camera(b, UpAxis::Z, "+x", 10, d);
+  EXPECT_NEAR(e.eye.x(), 20, 1e-9);
+  EXPECT_NEAR(e.forward.x(), -1, 1e-12);
+}
+
+TEST(Views, FacadeNamesFollowTheUpAxis) {
+  EXPECT_EQ(parse_facades("all", UpAxis::Z), (std::vector<std::string>{"+x", "-x", "+y", "-y"}));
+  EXPECT_EQ(parse_facades("all", UpAxis::Y), (std::vector<std::string>{"+x", "-x", "+z", "-z"}));
+  EXPECT_EQ(parse_facades("+x,-y", UpAxis::Z), (std::vector<std::string>{"+x", "-y"}));
+  EXPECT_THROW(parse_facades("+z", UpAxis::Z), std::invalid_argument);  // the up axis is no facade
+  EXPECT_THROW(parse_facades("north", UpAxis::Z), std::invalid_argument);
+}
+
+TEST(Config, BadValuesNameTheFileAndTheKey) {
+  auto dir = std::filesystem::temp_directory_path() / "perclod-config-test";
+  std::filesystem::create_directories(dir);
+  auto write = [&](const char* name, const char* text) {
+    auto p = (dir / name).string();
+    std::ofstream(p) << text;
+    return p;
+  };
+  auto expect_error = [](auto fn, const std::string& path, const std::string& what) {
+    try {
+      fn(path);
+      ADD_FAILURE() << "no error for " << path;
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect_error(load_display_profile, write("neg.yaml", "dpi: -3\n"), "'dpi' must be a positive number");
+  expect_error(load_display_profile, write("type.yaml", "width: wide\n"), "'width'");
+  expect_error(load_display_profile, write("list.yaml", "- 1\n- 2\n"), "mapping");
+  expect_error(load_batch_config, write("nomodel.yaml", "distances: [56]\n"), "'model' is required");
+  expect_error(load_batch_config, write("nodist.yaml", "model: a.obj\n"), "'distances' is required");
+  expect_error(load_batch_config, write("up.yaml", "model: a.obj\nup: x\ndistances: [5]\n"), "up axis");
+  std::filesystem::remove_all(dir);
+}
