@@ -62,21 +62,29 @@ double csf(double f, double k) {
   return 2.6 * (0.0192 + x) * std::exp(-std::pow(x, 1.1));
 }
 
-// dA/dx = 0  <=>  1 = 1.1 x^0.1 (0.0192 + x) with x = k f: x* does not depend on k.
+// dA/dx = 0  <=>  1 = 1.1 x^0.1 (0.0192 + x) with x = k f: the peak's x* does not
+// depend on k, so it is found once (bisection) and f_peak = x* / k.
+static double csf_peak_x() {
+  static const double x_star = [] {
+    double lo = 1e-6, hi = 10.0;
+    for (int i = 0; i < 200; ++i) {
+      double x = 0.5 * (lo + hi);
+      if (1.1 * std::pow(x, 0.1) * (0.0192 + x) < 1.0) lo = x; else hi = x;
+    }
+    return 0.5 * (lo + hi);
+  }();
+  return x_star;
+}
+
 double csf_peak_frequency(double k) {
   check_k(k);
-  double lo = 1e-6, hi = 10.0;
-  for (int i = 0; i < 200; ++i) {
-    double x = 0.5 * (lo + hi);
-    if (1.1 * std::pow(x, 0.1) * (0.0192 + x) < 1.0) lo = x; else hi = x;
-  }
-  return 0.5 * (lo + hi) / k;
+  return csf_peak_x() / k;
 }
 
 double csf_flat(double f, double k) {
-  double peak = csf_peak_frequency(k);
-  if (f <= peak) return 1.0;
-  return csf(f, k) / csf(peak, k);
+  double x = k * f, x_star = csf_peak_x();
+  if (x <= x_star) return 1.0;
+  return csf(f, k) / csf(x_star / k, k);
 }
 
 int default_levels(double f_max, double k) {

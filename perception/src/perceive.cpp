@@ -77,6 +77,25 @@ void apply_csf(float* img, int w, int h, int levels, const std::vector<BandRespo
   }
 }
 
+// Designing the FIRs costs about as much as filtering a small image: keep the
+// last design per thread and reuse it while the settings that shape it agree.
+const std::vector<BandResponse>& cached_band_responses(const PerceptionSettings& s, int levels) {
+  struct Key {
+    PerceptionSettings::CsfMode csf;
+    double k, ppd;
+    int levels, half_length;
+    bool operator==(const Key&) const = default;
+  };
+  thread_local Key last{};
+  thread_local std::vector<BandResponse> bands;
+  Key key{s.csf, s.k, s.ppd, levels, s.fir_half_length};
+  if (bands.empty() || !(key == last)) {
+    bands = band_responses(s, levels);
+    last = key;
+  }
+  return bands;
+}
+
 }  // namespace
 
 PerceptionSettings perception_settings_for(const DisplayProfile& display) {
@@ -99,7 +118,7 @@ void perceive_luminance(const float* lum, int w, int h, const PerceptionSettings
   out.ppd = s.ppd;
   out.f_max = 0.5 * s.ppd;
   out.levels = s.levels > 0 ? s.levels : default_levels(out.f_max, s.k);
-  out.bands = band_responses(s, out.levels);
+  out.bands = cached_band_responses(s, out.levels);
   if (out.luminance.data() != lum) out.luminance.assign(lum, lum + n);
 
   out.simulated.assign(lum, lum + n);
@@ -113,15 +132,21 @@ void perceive_luminance(const float* lum, int w, int h, const PerceptionSettings
   const float* sim = out.simulated.data();
   float* diff = out.difference.data();
   uint8_t* mask = out.mask.data();
-  for (size_t i = 0; i < n; ++i) {
-    diff[i] = lum[i] - sim[i];
-    mask[i] = std::abs(diff[i]) > t ? 1 : 0;
-  }
   long long counted = 0, imperceptible = 0;
-  for (size_t i = 0; i < n; ++i) {
-    bool bg = background_mask && background_mask[i];
-    counted += bg ? 0 : 1;
-    imperceptible += bg ? 0 : mask[i];
+  if (background_mask) {
+    for (size_t i = 0; i < n; ++i) {
+      diff[i] = lum[i] - sim[i];
+      mask[i] = std::abs(diff[i]) > t ? 1 : 0;
+      counted += background_mask[i] ? 0 : 1;
+      imperceptible += background_mask[i] ? 0 : mask[i];
+    }
+  } else {
+    for (size_t i = 0; i < n; ++i) {
+      diff[i] = lum[i] - sim[i];
+      mask[i] = std::abs(diff[i]) > t ? 1 : 0;
+      imperceptible += mask[i];
+    }
+    counted = (long long)n;
   }
   out.counted_pixels = counted;
   out.imperceptible_fraction = counted ? double(imperceptible) / double(counted) : 0.0;
