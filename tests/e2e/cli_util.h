@@ -1,0 +1,38 @@
+// Running the perclod binary from tests.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace perclod::test {
+
+struct CliResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Runs `perclod ARGS` through the shell; stdout and stderr captured separately.
+inline CliResult run_cli(const std::string& args) {
+  auto err_path = std::filesystem::temp_directory_path() / ("perclod-cli-err-" + std::to_string(::getpid()));
+  std::string cmd = std::string(PERCLOD_CLI) + " " + args + " 2>" + err_path.string();
+  CliResult r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  int status = pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (FILE* e = fopen(err_path.c_str(), "r")) {
+    while ((n = fread(buf.data(), 1, buf.size(), e)) > 0) r.err.append(buf.data(), n);
+    fclose(e);
+  }
+  std::filesystem::remove(err_path);
+  return r;
+}
+
+}  // namespace perclod::test
