@@ -14,8 +14,9 @@
 // sides = 1 (walls 1..3 are plain slabs), and W x W for sides = 4 (every wall
 // is a copy of wall 0 turned about the building's centre, `depth` unused).
 // Walls of thickness 0.3 m meet corner to corner like a pinwheel, so no two
-// solids overlap. The scene is recentred on its bounding-box centre, which
-// is stored in Scene::offset.
+// solids overlap; roof, foundation and glass seal the inside, so interior
+// parts cannot be seen from any viewpoint outside. The scene is recentred on
+// its bounding-box centre, which is stored in Scene::offset.
 //
 // Every part is its own component, named
 //   [sideS_]floorF_bayB_<part>   part: wall_left, wall_right, wall_below,
@@ -23,7 +24,7 @@
 //                                sill, cornice, ornaments, plaque_a, plaque_b
 //   [sideS_]floorF_colC_column / _capital   (C = 1..bays-1, between bays)
 //   [sideS_]bayB_parapet, [sideS_]bayB_balusterJ
-//   wall_side1..3 (sides = 1 only), roof, interior_floorF_slab,
+//   wall_side1..3 (sides = 1 only), roof, foundation, interior_floorF_slab,
 //   interior_floorF_partitionC
 // (the sideS_ prefix only when sides = 4). Materials, always all present in
 // this order: wall, frame, glass, stone, roof, interior, ornament, plaque_a,

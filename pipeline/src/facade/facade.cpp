@@ -3,7 +3,7 @@
 // Order of construction: for each decorated wall, every window cell (wall
 // panels, glass, frame, bars, sill, cornice, ornaments, plaques), then the
 // columns of each floor, then the roof parapet; after the walls, the plain
-// walls (sides = 1), the roof slab and the hidden interior. Each part is a
+// walls (sides = 1), the roof slab, the foundation and the hidden interior. Each part is a
 // component of its own; see perclod/facade.h for the names.
 #include <cmath>
 #include <numbers>
@@ -56,6 +56,7 @@ class FacadeBuilder {
     if (p_.sides == 1)
       for (int side = 1; side < 4; ++side) plain_wall(side);
     roof();
+    foundation();
     if (p_.hidden_interior) interior();
     Scene s;
     mesh_.finish(s.positions, s.indices, s.component, s.material, s.component_names, s.offset);
@@ -254,6 +255,12 @@ class FacadeBuilder {
     part("roof", kRoof);
     const double z = l_.height(p_);
     mesh_.box(WallFrame{}, {0, l_.footprint_x, 0, l_.footprint_y, z, z + kRoofThickness});
+  }
+
+  // Under the walls: with the roof and the glass it seals the inside.
+  void foundation() {
+    part("foundation", kStone);
+    mesh_.box(WallFrame{}, {0, l_.footprint_x, 0, l_.footprint_y, -kRoofThickness, 0});
   }
 
   // A floor slab per floor and a partition at every bay boundary, all

@@ -56,7 +56,7 @@ size_t decorated_wall_triangles(const FacadeParams& p) {
 size_t building_triangles(const FacadeParams& p) {
   size_t n = size_t(p.sides) * decorated_wall_triangles(p);
   if (p.sides == 1) n += 3 * kBoxTriangles;  // plain side and back walls
-  n += kBoxTriangles;                          // roof slab
+  n += 2 * kBoxTriangles;                      // roof slab and foundation
   if (p.hidden_interior) n += size_t(p.floors) * size_t(p.bays) * kBoxTriangles;  // slab + partitions
   return n;
 }
