@@ -1,0 +1,200 @@
+// perclod/raycast.h - pixels back to triangles, per-triangle counts, labels.
+//
+// One ray per pixel centre (x + 0.5, y + 0.5) from the camera's eye along
+// camera.ray_direction(), accepted for t in [znear, zfar] (t = eye depth).
+// A Tracer writes, per pixel (row 0 at the top), the index + 1 of the triangle
+// the ray hits first, 0 for a miss: the same encoding as the renderer's ID
+// buffer, so both can be compared pixel by pixel.
+//
+// Tie rule, shared by every exact tracer: among the hits whose t lies within
+// t_min * (1 + 1e-6) of the nearest one, the lowest triangle index wins. No
+// back-face culling. Threads come from oneTBB (the caller may limit them with
+// tbb::global_control).
+//
+// Two tracers:
+//  * OctreeTracer - the paper's structure: an octree over component bounding
+//    boxes (components are not split), and inside each component a small BVH
+//    over its triangles; watertight ray/triangle test (Woop, Benthin, Wald).
+//    Traversal is by 8x8 pixel tiles (see octree.cpp for the structure).
+//  * EmbreeTracer - Embree 3 with RTC_SCENE_FLAG_ROBUST (watertight), as the
+//    reference (Verify: rtcIntersect1 plus a second, restricted query that
+//    applies the tie rule) or as a fast production tracer (Fast:
+//    rtcIntersect16 packets of 4x4 pixels; exact ties resolved arbitrarily).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "perclod/camera.h"
+#include "perclod/scene.h"
+
+namespace perclod {
+
+// Relative t window of the tie rule.
+constexpr double kTieEpsilon = 1e-6;
+
+class Tracer {
+ public:
+  virtual ~Tracer() = default;
+  // Fills tri_plus_one[W*H] (row 0 top; index + 1, 0 = miss) and, when t is
+  // not null, t[W*H] (ray parameter = eye depth of the hit, 0 for a miss).
+  // Throws std::invalid_argument for a camera with a non-positive size or
+  // clip range that is not 0 <= znear < zfar.
+  virtual void trace(const Camera& camera, uint32_t* tri_plus_one, float* t = nullptr) const = 0;
+  // Bytes held by the acceleration structure (and its copy of the geometry).
+  virtual size_t memory_bytes() const = 0;
+  // Wall-clock seconds the constructor spent building the structure.
+  virtual double build_seconds() const = 0;
+  virtual const char* name() const = 0;
+
+  // Convenience: returns a W*H buffer.
+  std::vector<uint32_t> trace(const Camera& camera) const;
+};
+
+struct OctreeOptions {
+  int max_depth = 9;                  // octree levels below the root
+  int max_components_per_leaf = 40;   // a node holding more is split (until max_depth)
+  int max_triangles_per_bvh_leaf = 4; // inside a component's BVH
+};
+
+class OctreeTracer final : public Tracer {
+ public:
+  // Copies what it needs from the scene (the scene may go away afterwards).
+  // Throws std::invalid_argument on an index out of range, a non-finite
+  // position, a component/indices size mismatch or bad options.
+  explicit OctreeTracer(const Scene& scene, const OctreeOptions& options = {});
+  ~OctreeTracer() override;
+  void trace(const Camera& camera, uint32_t* tri_plus_one, float* t = nullptr) const override;
+  using Tracer::trace;
+  size_t memory_bytes() const override;
+  double build_seconds() const override;
+  const char* name() const override { return "octree"; }
+
+  struct Stats {
+    size_t octree_nodes = 0, octree_leaves = 0, leaf_references = 0;
+    int depth_reached = 0;
+    size_t components = 0, bvh_nodes = 0;
+  };
+  Stats stats() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// The oracle: every ray against every triangle with the same float rays,
+// the same watertight test and the same tie rule as OctreeTracer, so the
+// octree must reproduce it bit for bit. O(pixels x triangles): tests only.
+class BruteForceTracer final : public Tracer {
+ public:
+  explicit BruteForceTracer(const Scene& scene);
+  void trace(const Camera& camera, uint32_t* tri_plus_one, float* t = nullptr) const override;
+  using Tracer::trace;
+  size_t memory_bytes() const override { return tris_.size() * sizeof(float); }
+  double build_seconds() const override { return 0.0; }
+  const char* name() const override { return "brute-force"; }
+
+ private:
+  std::vector<float> tris_;  // 9 floats per triangle
+};
+
+enum class EmbreeMode {
+  Fast,    // rtcIntersect16, 4x4 pixel packets; no tie resolution
+  Single,  // rtcIntersect1 per ray; no tie resolution (benchmark peer)
+  Verify,  // rtcIntersect1, then a second query over [t(1-1e-6), t(1+1e-6)] keeping the lowest index
+};
+
+class EmbreeTracer final : public Tracer {
+ public:
+  // Throws std::invalid_argument like OctreeTracer, std::runtime_error when
+  // Embree fails.
+  EmbreeTracer(const Scene& scene, EmbreeMode mode = EmbreeMode::Verify);
+  ~EmbreeTracer() override;
+  void trace(const Camera& camera, uint32_t* tri_plus_one, float* t = nullptr) const override;
+  using Tracer::trace;
+  size_t memory_bytes() const override;
+  double build_seconds() const override;
+  const char* name() const override;
+  EmbreeMode mode() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// ---- cross-checks ----------------------------------------------------------
+
+// Comparison of two per-pixel triangle buffers (index + 1, 0 = miss).
+struct Agreement {
+  uint64_t pixels = 0;              // W * H
+  uint64_t covered = 0;             // pixels where at least one buffer has a triangle
+  uint64_t identical = 0;           // covered pixels where both agree
+  uint64_t ties = 0;                // mismatches explained by the tie tolerance (double re-test)
+  uint64_t edge_grazes = 0;         // mismatches where the nearer triangle is met only within
+                                    // float rounding of its boundary (silhouette grazes)
+  uint64_t real_disagreements = 0;  // all other mismatches
+  double identical_rate() const { return covered ? double(identical) / double(covered) : 1.0; }
+};
+
+// Octree (a) against Embree (b), same camera. Every mismatch is re-tested in
+// double precision along the pixel's ray: both triangles intersected in
+// double (a miss counts as t = infinity). When both hit and their t agree
+// within `tie_tolerance` (relative), the pixel is a tie; when the nearer of
+// the two is hit only with its edges widened by float rounding (see
+// intersect_pixel_double), an edge graze; otherwise a real disagreement.
+Agreement compare_traced(const Scene& scene, const Camera& camera, const uint32_t* a,
+                         const uint32_t* b, double tie_tolerance = 1e-5);
+
+// Rays (a) against the renderer's ID buffer (b, same encoding). Mismatches
+// are classified the same way; a rasteriser's edge rounding shows up as real
+// disagreements near edges, so use identical_rate() against the target.
+Agreement compare_with_id_buffer(const Scene& scene, const Camera& camera, const uint32_t* rays,
+                                 const uint32_t* id_buffer, double tie_tolerance = 1e-5);
+
+// Double-precision intersection of the ray through pixel centre (x+0.5, y+0.5)
+// with one triangle (no culling), t in [znear, zfar]. Returns Miss, Inside
+// (strictly inside in double) or Edge (hit only when the triangle's edges are
+// widened by the rounding of a float test: about 1e-6 of the vertices'
+// distance from the eye). t is the eye depth.
+enum class DoubleHit { Miss, Inside, Edge };
+DoubleHit intersect_pixel_double(const Scene& scene, const Camera& camera, int x, int y,
+                                 uint32_t triangle, double& t);
+
+// ---- counts and labels -----------------------------------------------------
+
+struct TriangleCounts {
+  std::vector<uint32_t> traced;         // per triangle: pixels whose ray hit it
+  std::vector<uint32_t> imperceptible;  // of those, pixels flagged imperceptible
+};
+
+// Counts from a per-pixel triangle buffer (index + 1) and a mask (1 byte per
+// pixel, nonzero = imperceptible; may be null = nothing imperceptible).
+// Throws std::invalid_argument when a pixel names a triangle >= triangle_count.
+TriangleCounts count_triangles(const uint32_t* tri_plus_one, const uint8_t* imperceptible_mask,
+                               size_t pixel_count, size_t triangle_count);
+
+// traced == 0 -> Undisplayable; imperceptible / traced >= ratio -> Imperceptible;
+// else Perceptible. Throws std::invalid_argument for mismatched vector sizes
+// or a ratio outside [0, 1] (or NaN).
+std::vector<Label> label_triangles(const TriangleCounts& counts, double ratio = 0.5);
+
+// Per triangle over views: Perceptible in any view wins; Undisplayable only
+// when undisplayable in every view; else Imperceptible. Throws on an empty
+// list or views of different sizes.
+std::vector<Label> combine_views(const std::vector<std::vector<Label>>& views);
+
+struct LabelCounts {
+  size_t perceptible = 0, imperceptible = 0, undisplayable = 0;
+};
+LabelCounts count_labels(const std::vector<Label>& labels);
+
+// Marking colour of a label (the paper's figure 7): perceptible green,
+// imperceptible red, undisplayable blue.
+std::array<float, 3> marking_color(Label label);
+// 3 floats per triangle, for RenderOptions' per-triangle colours.
+std::vector<float> marking_colors(const std::vector<Label>& labels);
+
+}  // namespace perclod

@@ -1,0 +1,59 @@
+#include "geometry_checks.h"
+
+#include <xmmintrin.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace perclod::detail {
+
+void check_scene(const Scene& scene) {
+  if (scene.positions.size() % 3 != 0)
+    throw std::invalid_argument("scene: positions size " + std::to_string(scene.positions.size()) +
+                                " is not a multiple of 3");
+  if (scene.indices.size() % 3 != 0)
+    throw std::invalid_argument("scene: indices size " + std::to_string(scene.indices.size()) +
+                                " is not a multiple of 3");
+  const size_t nv = scene.vertex_count();
+  for (size_t i = 0; i < scene.indices.size(); ++i)
+    if (scene.indices[i] >= nv)
+      throw std::invalid_argument("scene: triangle " + std::to_string(i / 3) + " uses vertex " +
+                                  std::to_string(scene.indices[i]) + " but there are only " +
+                                  std::to_string(nv) + " vertices");
+  for (size_t i = 0; i < scene.positions.size(); ++i)
+    if (!std::isfinite(scene.positions[i]))
+      throw std::invalid_argument("scene: vertex " + std::to_string(i / 3) +
+                                  " has a non-finite coordinate");
+  if (!scene.component.empty() && scene.component.size() != scene.triangle_count())
+    throw std::invalid_argument("scene: " + std::to_string(scene.component.size()) +
+                                " component ids for " + std::to_string(scene.triangle_count()) +
+                                " triangles");
+}
+
+uint32_t component_slots(const Scene& scene) {
+  if (scene.triangle_count() == 0) return 0;
+  if (scene.component.empty()) return 1;
+  uint32_t m = 0;
+  for (uint32_t c : scene.component) m = std::max(m, c);
+  return m + 1;
+}
+
+void check_camera(const Camera& c) {
+  if (c.width < 1 || c.height < 1)
+    throw std::invalid_argument("camera: image size " + std::to_string(c.width) + "x" +
+                                std::to_string(c.height) + " must be at least 1x1");
+  if (!c.eye.allFinite() || !c.forward.allFinite() || !c.right.allFinite() || !c.up.allFinite())
+    throw std::invalid_argument("camera: eye or axes are not finite");
+  if (!(c.fov_y > 0 && c.fov_y < M_PI))
+    throw std::invalid_argument("camera: fov_y " + std::to_string(c.fov_y) +
+                                " must lie in (0, pi)");
+  if (!(std::isfinite(c.znear) && std::isfinite(c.zfar) && c.znear >= 0 && c.znear < c.zfar))
+    throw std::invalid_argument("camera: clip range [" + std::to_string(c.znear) + ", " +
+                                std::to_string(c.zfar) + "] must satisfy 0 <= znear < zfar");
+}
+
+DenormalsOff::DenormalsOff() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040); }
+DenormalsOff::~DenormalsOff() { _mm_setcsr(saved_); }
+
+}  // namespace perclod::detail

@@ -1,0 +1,664 @@
+// octree.cpp - the component octree and its tile traversal.
+//
+// Structure (three flat arrays and a triangle array, all indices uint32):
+//
+//   OctNode[]   the octree of the paper. The root is the scene's bounding box;
+//               a node holding more than `max_components_per_leaf` component
+//               boxes splits at its centre into 8 children (stored
+//               consecutively; child bit 0 = upper x half, bit 1 = y, bit 2 =
+//               z) until `max_depth`. Components are NOT split: a component
+//               whose box overlaps several leaves is referenced by each of
+//               them (closed-interval overlap). A split that leaves every child
+//               with as many components as the parent is not made.
+//   leaf_refs[] component ids referenced by the leaves, leaf by leaf.
+//   Component[] per component: its bounding box and the root of its BVH.
+//   BvhNode[]   one small binary BVH per component over its own triangles
+//               (object-median split on the longest centroid axis, leaves of
+//               at most `max_triangles_per_bvh_leaf` triangles), so a
+//               100k-triangle wall is a log-depth tree, not a linear list.
+//   PackedTri[] the triangles, reordered component by component and leaf by
+//               leaf: 9 floats of vertex positions and the original index.
+//
+// Traversal: all primary rays of a camera share one origin, the eye. The
+// image is cut into 8x8-pixel tiles; each tile walks the structure once for
+// its 64 rays:
+//   * a node is skipped when its box lies outside the tile's frustum (four
+//     planes through the eye and the tile's outer pixel edges, so every pixel
+//     centre of the tile is half a pixel inside) or when its nearest eye depth
+//     exceeds the farthest t any pixel of the tile still accepts;
+//   * octree children are visited front to back: a ray from the eye crosses
+//     each splitting plane at most once, away from the eye's side, so ordering
+//     children by the number of axes on which they lie across the centre from
+//     the eye (0, then 1, 2, 3) is a valid front-to-back order for every ray
+//     of the tile at once (this replaces Revelles' per-ray parametric order,
+//     and is exact also for an eye on a splitting plane or rays parallel to
+//     one);
+//   * a component is tested once per tile (a per-thread stamp array), against
+//     all the tile's rays, whichever leaf reaches it first;
+//   * a triangle is projected to the image (in double) and only the tile's
+//     pixel centres inside its bounding rectangle (plus a rounding margin) get
+//     the exact watertight test; a triangle touching the eye plane is tested
+//     against the whole tile.
+// Tie rule: each pixel keeps the nearest t and accepts hits up to
+// t * (1 + 1e-6). When a second hit lands inside that window, the pixel is
+// flagged, and after the tile is done the flagged pixels are traced again with
+// the window fixed, keeping the lowest triangle index among all hits in it:
+// exactly "lowest index among hits within t_min (1 + 1e-6)".
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+#include "geometry_checks.h"
+#include "perclod/raycast.h"
+#include "pixel_rays.h"
+#include "watertight.h"
+
+namespace perclod {
+
+using detail::ShearedRay;
+
+namespace {
+
+struct Box {
+  float lo[3], hi[3];
+};
+
+Box empty_box() {
+  Box b;
+  for (int k = 0; k < 3; ++k) {
+    b.lo[k] = std::numeric_limits<float>::infinity();
+    b.hi[k] = -std::numeric_limits<float>::infinity();
+  }
+  return b;
+}
+
+void grow(Box& b, const Box& o) {
+  for (int k = 0; k < 3; ++k) {
+    b.lo[k] = std::min(b.lo[k], o.lo[k]);
+    b.hi[k] = std::max(b.hi[k], o.hi[k]);
+  }
+}
+
+bool overlaps(const Box& a, const Box& b) {
+  for (int k = 0; k < 3; ++k)
+    if (a.hi[k] < b.lo[k] || b.hi[k] < a.lo[k]) return false;
+  return true;
+}
+
+struct PackedTri {
+  float v[9];
+  uint32_t index;  // triangle index in the Scene
+};
+
+struct BvhNode {
+  Box box;
+  uint32_t first;  // leaf: first PackedTri; inner: left child (right = first + 1)
+  uint32_t info;   // bits 0-1: split axis; bits 2..: triangle count (0 = inner)
+  uint32_t count() const { return info >> 2; }
+  int axis() const { return int(info & 3u); }
+};
+
+struct ComponentNode {
+  Box box;
+  uint32_t bvh_root;
+  uint32_t triangles;
+};
+
+constexpr uint32_t kLeafBit = 0x80000000u;
+struct OctNode {
+  Box box;
+  uint32_t first;  // inner: first of 8 children; leaf: first leaf_ref
+  uint32_t info;   // leaf: kLeafBit | reference count; inner: 0
+  bool leaf() const { return (info & kLeafBit) != 0; }
+  uint32_t count() const { return info & ~kLeafBit; }
+};
+
+constexpr int kTile = 8;
+constexpr int kTilePixels = kTile * kTile;
+
+}  // namespace
+
+struct OctreeTracer::Impl {
+  OctreeOptions options;
+  std::vector<PackedTri> tris;
+  std::vector<BvhNode> bvh;
+  std::vector<ComponentNode> components;
+  std::vector<OctNode> octree;
+  std::vector<uint32_t> leaf_refs;
+  int depth_reached = 0;
+  double build_seconds = 0;
+
+  struct Scratch {
+    std::vector<uint32_t> stamp;
+    uint32_t clock = 0;
+  };
+  mutable tbb::enumerable_thread_specific<Scratch> scratch;
+
+  void build(const Scene& scene);
+  void build_bvhs(const Scene& scene);
+  void build_octree(const Box& root);
+  void trace(const Camera& camera, uint32_t* out, float* tout) const;
+};
+
+// ---------------------------------------------------------------- building
+
+namespace {
+
+Box triangle_box(const float* p, const uint32_t* idx) {
+  Box b = empty_box();
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 3; ++k) {
+      float v = p[3 * size_t(idx[c]) + k];
+      b.lo[k] = std::min(b.lo[k], v);
+      b.hi[k] = std::max(b.hi[k], v);
+    }
+  return b;
+}
+
+// Builds the BVH of one component over ids[begin, end) into `nodes`
+// (node 0 = root, indices local); reorders ids leaf by leaf.
+struct BvhBuilder {
+  const std::vector<Box>& tri_box;
+  const std::vector<std::array<float, 3>>& centroid;
+  int leaf_size;
+  std::vector<BvhNode> nodes;
+
+  void build(uint32_t* ids, uint32_t begin, uint32_t end) {
+    nodes.push_back({});
+    split(ids, 0, begin, end, 0);
+  }
+
+  void split(uint32_t* ids, uint32_t node, uint32_t begin, uint32_t end, int depth) {
+    Box b = empty_box(), cb = empty_box();
+    for (uint32_t i = begin; i < end; ++i) {
+      grow(b, tri_box[ids[i]]);
+      const auto& c = centroid[ids[i]];
+      for (int k = 0; k < 3; ++k) {
+        cb.lo[k] = std::min(cb.lo[k], c[k]);
+        cb.hi[k] = std::max(cb.hi[k], c[k]);
+      }
+    }
+    nodes[node].box = b;
+    const uint32_t n = end - begin;
+    if (n <= uint32_t(leaf_size) || depth >= 60) {
+      nodes[node].first = begin;
+      nodes[node].info = n << 2;
+      return;
+    }
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+      if (cb.hi[k] - cb.lo[k] > cb.hi[axis] - cb.lo[axis]) axis = k;
+    const uint32_t mid = begin + n / 2;
+    std::nth_element(ids + begin, ids + mid, ids + end, [&](uint32_t a, uint32_t c) {
+      return centroid[a][axis] < centroid[c][axis];
+    });
+    const uint32_t left = uint32_t(nodes.size());
+    nodes.push_back({});
+    nodes.push_back({});
+    nodes[node].first = left;
+    nodes[node].info = uint32_t(axis);
+    split(ids, left, begin, mid, depth + 1);
+    split(ids, left + 1, mid, end, depth + 1);
+  }
+};
+
+}  // namespace
+
+void OctreeTracer::Impl::build_bvhs(const Scene& scene) {
+  const size_t nt = scene.triangle_count();
+  const uint32_t nc = detail::component_slots(scene);
+  auto comp_of = [&](size_t t) { return scene.component.empty() ? 0u : scene.component[t]; };
+
+  // Triangles grouped by component (counting sort, stable).
+  std::vector<uint32_t> start(size_t(nc) + 1, 0);
+  for (size_t t = 0; t < nt; ++t) ++start[comp_of(t) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<uint32_t> ids(nt);
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (size_t t = 0; t < nt; ++t) ids[fill[comp_of(t)]++] = uint32_t(t);
+  }
+
+  std::vector<Box> tri_box(nt);
+  std::vector<std::array<float, 3>> centroid(nt);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nt, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t t = r.begin(); t < r.end(); ++t) {
+      tri_box[t] = triangle_box(scene.positions.data(), &scene.indices[3 * t]);
+      for (int k = 0; k < 3; ++k) centroid[t][k] = 0.5f * (tri_box[t].lo[k] + tri_box[t].hi[k]);
+    }
+  });
+
+  // One BVH per component, in parallel; then concatenated.
+  std::vector<std::vector<BvhNode>> local(nc);
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, nc, 1), [&](const tbb::blocked_range<uint32_t>& r) {
+    for (uint32_t c = r.begin(); c < r.end(); ++c) {
+      if (start[c] == start[c + 1]) continue;
+      BvhBuilder b{tri_box, centroid, options.max_triangles_per_bvh_leaf, {}};
+      b.build(ids.data(), start[c], start[c + 1]);
+      local[c] = std::move(b.nodes);
+    }
+  });
+
+  components.assign(nc, ComponentNode{empty_box(), 0, 0});
+  std::vector<uint32_t> base(size_t(nc) + 1, 0);
+  for (uint32_t c = 0; c < nc; ++c) base[c + 1] = base[c] + uint32_t(local[c].size());
+  bvh.resize(base[nc]);
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, nc, 16), [&](const tbb::blocked_range<uint32_t>& r) {
+    for (uint32_t c = r.begin(); c < r.end(); ++c) {
+      for (size_t i = 0; i < local[c].size(); ++i) {
+        BvhNode n = local[c][i];
+        if (n.count() == 0) n.first += base[c];  // inner: child index becomes global
+        bvh[base[c] + i] = n;
+      }
+      if (!local[c].empty()) components[c] = {local[c][0].box, base[c], start[c + 1] - start[c]};
+      std::vector<BvhNode>().swap(local[c]);
+    }
+  });
+
+  tris.resize(nt);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nt, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i < r.end(); ++i) {
+      const uint32_t t = ids[i];
+      PackedTri& p = tris[i];
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) p.v[3 * c + k] = scene.positions[3 * size_t(scene.indices[3 * size_t(t) + c]) + k];
+      p.index = t;
+    }
+  });
+}
+
+void OctreeTracer::Impl::build_octree(const Box& root) {
+  struct Pending {
+    uint32_t node;
+    int depth;
+    std::vector<uint32_t> comps;
+  };
+  octree.clear();
+  leaf_refs.clear();
+  std::vector<Pending> work;
+  std::vector<uint32_t> all;
+  for (uint32_t c = 0; c < components.size(); ++c)
+    if (components[c].triangles) all.push_back(c);
+  octree.push_back({root, 0, 0});
+  work.push_back({0, 0, std::move(all)});
+  while (!work.empty()) {
+    Pending p = std::move(work.back());
+    work.pop_back();
+    depth_reached = std::max(depth_reached, p.depth);
+    const Box box = octree[p.node].box;
+    bool split = int(p.comps.size()) > options.max_components_per_leaf && p.depth < options.max_depth;
+    std::array<std::vector<uint32_t>, 8> kids;
+    std::array<Box, 8> kid_box;
+    if (split) {
+      size_t largest = 0;
+      for (int c = 0; c < 8; ++c) {
+        Box& kb = kid_box[c];
+        for (int k = 0; k < 3; ++k) {
+          const float mid = 0.5f * (box.lo[k] + box.hi[k]);
+          const bool upper = (c >> k) & 1;
+          kb.lo[k] = upper ? mid : box.lo[k];
+          kb.hi[k] = upper ? box.hi[k] : mid;
+        }
+        for (uint32_t id : p.comps)
+          if (overlaps(components[id].box, kb)) kids[c].push_back(id);
+        largest = std::max(largest, kids[c].size());
+      }
+      split = largest < p.comps.size();  // a split that helps no child is not made
+    }
+    if (!split) {
+      octree[p.node].first = uint32_t(leaf_refs.size());
+      octree[p.node].info = kLeafBit | uint32_t(p.comps.size());
+      leaf_refs.insert(leaf_refs.end(), p.comps.begin(), p.comps.end());
+      continue;
+    }
+    const uint32_t first = uint32_t(octree.size());
+    octree[p.node].first = first;
+    octree[p.node].info = 0;
+    for (int c = 0; c < 8; ++c) octree.push_back({kid_box[c], 0, 0});
+    for (int c = 0; c < 8; ++c) work.push_back({first + c, p.depth + 1, std::move(kids[c])});
+  }
+}
+
+void OctreeTracer::Impl::build(const Scene& scene) {
+  const auto t0 = std::chrono::steady_clock::now();
+  build_bvhs(scene);
+  Box root = empty_box();
+  for (const auto& c : components)
+    if (c.triangles) grow(root, c.box);
+  if (components.empty() || tris.empty()) root = Box{{0, 0, 0}, {0, 0, 0}};
+  build_octree(root);
+  build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// ---------------------------------------------------------------- tracing
+
+namespace {
+
+// What a tile needs to know about the camera.
+struct Frame {
+  const Camera* cam;
+  double eye[3], fwd[3], right[3], up[3];
+  float eyef[3];
+  float znear, zfar;
+  double fx, fy, cx, cy;  // image point = (cx + fx * x/z, cy - fy * y/z) in camera axes
+};
+
+struct Tile {
+  int x0, y0, w, h;
+  ShearedRay ray[kTilePixels];
+  float best[kTilePixels];    // nearest t so far
+  float bound[kTilePixels];   // largest t still accepted
+  uint32_t hit[kTilePixels];  // triangle index + 1, 0 = none
+  uint8_t tie[kTilePixels];
+  double plane[4][3];  // inward normals of the frustum planes through the eye
+  double centre_dir[3];
+  double tmax;  // max over pixels of bound (a little enlarged)
+  bool collect;
+};
+
+inline float tie_bound(float t, float zfar) {
+  return std::min(zfar, float(double(t) * (1.0 + kTieEpsilon)));
+}
+
+void update_tile_tmax(Tile& tile) {
+  float m = 0.0f;
+  const int n = tile.w * tile.h;
+  for (int i = 0; i < n; ++i)
+    if (!tile.collect || tile.tie[i]) m = std::max(m, tile.bound[i]);
+  tile.tmax = double(m) * (1.0 + 1e-5) + 1e-7;
+}
+
+void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
+  const Camera& cam = *f.cam;
+  tile.x0 = x0;
+  tile.y0 = y0;
+  tile.w = std::min(kTile, cam.width - x0);
+  tile.h = std::min(kTile, cam.height - y0);
+  tile.collect = false;
+  for (int j = 0; j < tile.h; ++j)
+    for (int i = 0; i < tile.w; ++i) {
+      const int p = j * tile.w + i;
+      float d[3];
+      detail::pixel_direction(cam, x0 + i, y0 + j, d);
+      tile.ray[p] = detail::shear_ray(d);
+      tile.best[p] = f.zfar;
+      tile.bound[p] = f.zfar;
+      tile.hit[p] = 0;
+      tile.tie[p] = 0;
+    }
+  // Frustum through the tile's outer pixel edges.
+  const Eigen::Vector3d c = cam.ray_direction(x0 + 0.5 * tile.w, y0 + 0.5 * tile.h);
+  const Eigen::Vector3d corner[4] = {
+      cam.ray_direction(x0, y0), cam.ray_direction(x0 + tile.w, y0),
+      cam.ray_direction(x0 + tile.w, y0 + tile.h), cam.ray_direction(x0, y0 + tile.h)};
+  for (int k = 0; k < 4; ++k) {
+    Eigen::Vector3d n = corner[k].cross(corner[(k + 1) % 4]);
+    if (n.dot(c) < 0) n = -n;
+    for (int a = 0; a < 3; ++a) tile.plane[k][a] = n[a];
+  }
+  for (int a = 0; a < 3; ++a) tile.centre_dir[a] = c[a];
+  tile.tmax = double(f.zfar) * (1.0 + 1e-5) + 1e-7;
+}
+
+// Conservative: false only when no ray of the tile can hit inside the box
+// within its current t range.
+bool box_visible(const Frame& f, const Tile& tile, const Box& b) {
+  double lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = double(b.lo[k]) - f.eye[k];
+    hi[k] = double(b.hi[k]) - f.eye[k];
+  }
+  double dmin = 0, dmax = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (f.fwd[k] >= 0) {
+      dmin += f.fwd[k] * lo[k];
+      dmax += f.fwd[k] * hi[k];
+    } else {
+      dmin += f.fwd[k] * hi[k];
+      dmax += f.fwd[k] * lo[k];
+    }
+  }
+  if (dmin > tile.tmax) return false;
+  if (dmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
+  for (int p = 0; p < 4; ++p) {
+    const double* n = tile.plane[p];
+    double s = 0;
+    for (int k = 0; k < 3; ++k) s += n[k] * (n[k] >= 0 ? hi[k] : lo[k]);
+    if (s < 0) return false;
+  }
+  return true;
+}
+
+// The exact per-pixel work for one triangle. Returns true if any pixel changed.
+bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
+  float A[3], B[3], C[3];
+  for (int k = 0; k < 3; ++k) {
+    A[k] = tri.v[k] - f.eyef[k];
+    B[k] = tri.v[3 + k] - f.eyef[k];
+    C[k] = tri.v[6 + k] - f.eyef[k];
+  }
+  const float* V[3] = {A, B, C};
+  double z[3], mag = 0;
+  for (int c = 0; c < 3; ++c) {
+    z[c] = f.fwd[0] * V[c][0] + f.fwd[1] * V[c][1] + f.fwd[2] * V[c][2];
+    for (int k = 0; k < 3; ++k) mag = std::max(mag, double(std::fabs(V[c][k])));
+  }
+  const double zmin = std::min({z[0], z[1], z[2]}), zmax = std::max({z[0], z[1], z[2]});
+  if (zmin > tile.tmax) return false;
+  if (zmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
+
+  int xa = tile.x0, xb = tile.x0 + tile.w - 1, ya = tile.y0, yb = tile.y0 + tile.h - 1;
+  if (zmin > 1e-4 * mag) {  // fully in front of the eye: restrict to the projected rectangle
+    double pxmin = INFINITY, pxmax = -INFINITY, pymin = INFINITY, pymax = -INFINITY;
+    for (int c = 0; c < 3; ++c) {
+      const double rx = f.right[0] * V[c][0] + f.right[1] * V[c][1] + f.right[2] * V[c][2];
+      const double ry = f.up[0] * V[c][0] + f.up[1] * V[c][1] + f.up[2] * V[c][2];
+      const double px = f.cx + f.fx * rx / z[c], py = f.cy - f.fy * ry / z[c];
+      pxmin = std::min(pxmin, px);
+      pxmax = std::max(pxmax, px);
+      pymin = std::min(pymin, py);
+      pymax = std::max(pymax, py);
+    }
+    // Float rounding of the watertight test, in pixels: a few ulps of the
+    // vertex magnitude seen at the nearest depth.
+    const double margin = 1e-3 + 4e-6 * (mag / zmin) * std::max(f.fx, f.fy);
+    xa = std::max(xa, int(std::ceil(pxmin - margin - 0.5)));
+    xb = std::min(xb, int(std::floor(pxmax + margin - 0.5)));
+    ya = std::max(ya, int(std::ceil(pymin - margin - 0.5)));
+    yb = std::min(yb, int(std::floor(pymax + margin - 0.5)));
+    if (xa > xb || ya > yb) return false;
+  }
+  bool changed = false;
+  const uint32_t id = tri.index + 1;
+  for (int y = ya; y <= yb; ++y)
+    for (int x = xa; x <= xb; ++x) {
+      const int p = (y - tile.y0) * tile.w + (x - tile.x0);
+      if (tile.collect) {
+        float t;
+        if (tile.tie[p] && id < tile.hit[p] &&
+            detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t))
+          tile.hit[p] = id;
+        continue;
+      }
+      float t;
+      if (!detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t)) continue;
+      if (tile.hit[p] == 0) {
+        tile.best[p] = t;
+        tile.hit[p] = id;
+        tile.bound[p] = tie_bound(t, f.zfar);
+        changed = true;
+      } else if (t < tile.best[p]) {
+        if (tile.best[p] <= tie_bound(t, f.zfar)) tile.tie[p] = 1;
+        tile.best[p] = t;
+        tile.hit[p] = id;
+        tile.bound[p] = tie_bound(t, f.zfar);
+        changed = true;
+      } else {  // inside the window of the nearest: a tie to resolve
+        tile.tie[p] = 1;
+        if (id < tile.hit[p]) tile.hit[p] = id;
+      }
+    }
+  return changed;
+}
+
+}  // namespace
+
+void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) const {
+  Frame f;
+  f.cam = &cam;
+  for (int k = 0; k < 3; ++k) {
+    f.eye[k] = cam.eye[k];
+    f.fwd[k] = cam.forward[k];
+    f.right[k] = cam.right[k];
+    f.up[k] = cam.up[k];
+  }
+  detail::eye_float(cam, f.eyef);
+  f.znear = float(cam.znear);
+  f.zfar = float(cam.zfar);
+  const double th = cam.tan_half_y();
+  f.fx = 0.5 * cam.width / (th * cam.aspect());
+  f.fy = 0.5 * cam.height / th;
+  f.cx = 0.5 * cam.width;
+  f.cy = 0.5 * cam.height;
+
+  const int tiles_x = (cam.width + kTile - 1) / kTile, tiles_y = (cam.height + kTile - 1) / kTile;
+  const uint32_t nc = uint32_t(components.size());
+
+  // Front-to-back child order for an eye in octant 0 of a node (see top).
+  static constexpr int kOrder[8] = {0, 1, 2, 4, 3, 5, 6, 7};
+
+  auto walk = [&](Tile& tile, Scratch& s) {
+    if (++s.clock == 0) {  // wrapped: restart the stamps
+      std::fill(s.stamp.begin(), s.stamp.end(), 0u);
+      s.clock = 1;
+    }
+    update_tile_tmax(tile);
+    uint32_t stack[128];
+    int top = 0;
+    if (!octree.empty() && !tris.empty()) stack[top++] = 0;
+    while (top > 0) {
+      const OctNode& node = octree[stack[--top]];
+      if (!box_visible(f, tile, node.box)) continue;
+      if (!node.leaf()) {
+        int side = 0;
+        for (int k = 0; k < 3; ++k)
+          if (f.eye[k] > 0.5 * (double(node.box.lo[k]) + double(node.box.hi[k]))) side |= 1 << k;
+        for (int j = 7; j >= 0; --j) stack[top++] = node.first + uint32_t(kOrder[j] ^ side);
+        continue;
+      }
+      for (uint32_t r = 0; r < node.count(); ++r) {
+        const uint32_t c = leaf_refs[node.first + r];
+        if (s.stamp[c] == s.clock) continue;
+        s.stamp[c] = s.clock;
+        const ComponentNode& comp = components[c];
+        if (!box_visible(f, tile, comp.box)) continue;
+        uint32_t bstack[128];
+        int btop = 0;
+        bstack[btop++] = comp.bvh_root;
+        while (btop > 0) {
+          const BvhNode& b = bvh[bstack[--btop]];
+          if (!box_visible(f, tile, b.box)) continue;
+          if (b.count() == 0) {
+            const bool left_first = tile.centre_dir[b.axis()] > 0;
+            bstack[btop++] = left_first ? b.first + 1 : b.first;
+            bstack[btop++] = left_first ? b.first : b.first + 1;
+            continue;
+          }
+          bool changed = false;
+          for (uint32_t i = 0; i < b.count(); ++i) changed |= test_triangle(f, tile, tris[b.first + i]);
+          if (changed) update_tile_tmax(tile);
+        }
+      }
+    }
+  };
+
+  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 8), [&](const tbb::blocked_range<int>& r) {
+    detail::DenormalsOff ftz;
+    Scratch& s = scratch.local();
+    if (s.stamp.size() != nc) {
+      s.stamp.assign(nc, 0u);
+      s.clock = 0;
+    }
+    Tile tile;
+    for (int ti = r.begin(); ti < r.end(); ++ti) {
+      setup_tile(f, tile, (ti % tiles_x) * kTile, (ti / tiles_x) * kTile);
+      walk(tile, s);
+      bool any_tie = false;
+      const int n = tile.w * tile.h;
+      for (int p = 0; p < n; ++p) any_tie |= tile.tie[p] != 0;
+      if (any_tie) {  // second pass over the fixed tie windows
+        tile.collect = true;
+        walk(tile, s);
+      }
+      for (int j = 0; j < tile.h; ++j)
+        for (int i = 0; i < tile.w; ++i) {
+          const int p = j * tile.w + i;
+          const size_t o = size_t(tile.y0 + j) * size_t(cam.width) + size_t(tile.x0 + i);
+          out[o] = tile.hit[p];
+          if (tout) tout[o] = tile.hit[p] ? tile.best[p] : 0.0f;
+        }
+    }
+  });
+}
+
+// ---------------------------------------------------------------- public
+
+OctreeTracer::OctreeTracer(const Scene& scene, const OctreeOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  if (options.max_depth < 0 || options.max_depth > 20)
+    throw std::invalid_argument("octree: max_depth " + std::to_string(options.max_depth) +
+                                " must lie in [0, 20]");
+  if (options.max_components_per_leaf < 1)
+    throw std::invalid_argument("octree: max_components_per_leaf must be at least 1");
+  if (options.max_triangles_per_bvh_leaf < 1 || options.max_triangles_per_bvh_leaf > (1 << 20))
+    throw std::invalid_argument("octree: max_triangles_per_bvh_leaf must lie in [1, 2^20]");
+  detail::check_scene(scene);
+  if (scene.triangle_count() >= size_t(std::numeric_limits<uint32_t>::max()) / 2)
+    throw std::invalid_argument("octree: too many triangles for 32-bit indices");
+  impl_->options = options;
+  impl_->build(scene);
+}
+
+OctreeTracer::~OctreeTracer() = default;
+
+void OctreeTracer::trace(const Camera& camera, uint32_t* tri_plus_one, float* t) const {
+  detail::check_camera(camera);
+  if (!tri_plus_one) throw std::invalid_argument("octree trace: output buffer is null");
+  impl_->trace(camera, tri_plus_one, t);
+}
+
+size_t OctreeTracer::memory_bytes() const {
+  return impl_->tris.size() * sizeof(PackedTri) + impl_->bvh.size() * sizeof(BvhNode) +
+         impl_->components.size() * sizeof(ComponentNode) + impl_->octree.size() * sizeof(OctNode) +
+         impl_->leaf_refs.size() * sizeof(uint32_t);
+}
+
+double OctreeTracer::build_seconds() const { return impl_->build_seconds; }
+
+OctreeTracer::Stats OctreeTracer::stats() const {
+  Stats s;
+  s.octree_nodes = impl_->octree.size();
+  for (const auto& n : impl_->octree) s.octree_leaves += n.leaf() ? 1 : 0;
+  s.leaf_references = impl_->leaf_refs.size();
+  s.depth_reached = impl_->depth_reached;
+  s.components = impl_->components.size();
+  s.bvh_nodes = impl_->bvh.size();
+  return s;
+}
+
+std::vector<uint32_t> Tracer::trace(const Camera& camera) const {
+  detail::check_camera(camera);
+  std::vector<uint32_t> out(size_t(camera.width) * size_t(camera.height));
+  trace(camera, out.data(), nullptr);
+  return out;
+}
+
+}  // namespace perclod
