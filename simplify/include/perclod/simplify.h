@@ -1,0 +1,110 @@
+// perclod/simplify.h - label-constrained mesh simplification and its baselines.
+//
+// Input: a Scene and one Label per triangle. Output: a simplified Scene with the
+// same offset, component names and materials; every output triangle carries the
+// component and material of the input triangle it came from.
+//
+// Modes (method.md sections 5 and 6):
+//   Paper    quadric half-edge collapses (v0 removed, v1 kept where it is) that
+//            only remove imperceptible or undisplayable triangles, until none is
+//            removable; then every connected piece without a perceptible
+//            triangle is removed outright.
+//   Bounded  the same collapses, but a collapse whose geometric error exceeds
+//            k * pixel_footprint is refused (the loop ends when none within the
+//            tolerance is left). Error = sqrt of the unit-weight quadric of the
+//            kept vertex: the root of the summed squared distances from v1 to
+//            every original face plane (and boundary / crease constraint plane)
+//            merged into it, an upper bound on its largest distance to any one of
+//            those planes. Leftover pieces are removed outright when all their
+//            triangles are undisplayable or their bounding-box diagonal is within
+//            the tolerance.
+//   Qem      plain Garland-Heckbert half-edge quadric simplification to
+//            target_triangles; labels ignored.
+//   Cluster  Rossignac-Borrel vertex clustering on a grid of cell size
+//            k * pixel_footprint; labels ignored.
+//
+// In Paper and Bounded: no vertex of a perceptible triangle moves or is removed,
+// so perceptible triangles come out bit-identical (positions, and vertex order
+// up to rotation). Components whose triangles are all undisplayable are removed
+// before simplification.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "perclod/scene.h"
+
+namespace perclod {
+
+enum class SimplifyMode { Paper, Bounded, Qem, Cluster };
+
+const char* simplify_mode_name(SimplifyMode m);
+// "paper", "bounded", "qem", "cluster"; throws std::invalid_argument otherwise.
+SimplifyMode parse_simplify_mode(const char* name);
+
+struct SimplifyOptions {
+  SimplifyMode mode = SimplifyMode::Paper;
+  double pixel_footprint = 0.0;   // p(d) in scene units at the LOD's distance (Bounded, Cluster)
+  double k = 1.0;                 // tolerance / cell size = k * pixel_footprint
+  size_t target_triangles = 0;    // Qem: stop at this many triangles
+
+  // Constraint lines (seed 002): edges whose dihedral angle exceeds
+  // feature_angle_deg never collapse, nor move (their vertices are kept).
+  bool constraint_lines = false;
+  // Edges sharper than this also get crease quadrics (so they do not erode).
+  double feature_angle_deg = 40.0;
+
+  double weld_tolerance_rel = 1e-6;  // vertex welding, relative to the bbox diagonal
+  double max_normal_change_deg = 60.0;  // refuse collapses that turn a face more
+  double min_triangle_quality = 0.05;   // refuse slivers (4*sqrt3*area / sum of edge^2)
+  int max_valence = 24;                 // refuse collapses that make bigger fans
+  double boundary_weight = 1.0;         // weight of boundary/crease quadrics (x edge length^2)
+
+  // Cluster: representative = weighted centre of mass (false: heaviest vertex).
+  bool cluster_center_of_mass = true;
+  // Cluster (Belblidia): cluster each component on its own and snap
+  // representatives of cells touching the component's bounding box onto it.
+  bool preserve_bbox = false;
+};
+
+struct SimplifyStats {
+  // Triangles per label (index = Label value) before and after. Qem and
+  // Cluster count with the labels given (they ignore them while simplifying).
+  std::array<size_t, 3> triangles_before{0, 0, 0};
+  std::array<size_t, 3> triangles_after{0, 0, 0};
+  size_t vertices_before = 0;  // after welding
+  size_t vertices_after = 0;
+  size_t components_removed = 0;       // all-undisplayable components dropped up front
+  size_t pieces_removed = 0;           // leftover connected pieces dropped after collapsing
+  size_t pieces_triangles_removed = 0; // triangles in those pieces
+  size_t nonmanifold_faces_duplicated = 0;  // faces added with their own vertices
+  size_t degenerate_faces = 0;         // faces whose welded corners repeat (kept, duplicated)
+  size_t collapses = 0;
+  size_t cluster_dangling_edges = 0;   // Cluster: edges bounding no kept triangle (not in the Scene)
+  size_t cluster_isolated_points = 0;  // Cluster: points bounding nothing (not in the Scene)
+  double tolerance = 0.0;              // Bounded: k * p(d); Cluster: cell size
+  double max_error = 0.0;              // largest error estimate of a collapse taken
+  // Belblidia's measures: displacement of each input vertex to the vertex that
+  // represents it in the output, relative to the bounding-box diagonal.
+  double max_displacement_rel = 0.0;
+  double mean_displacement_rel = 0.0;
+  double bbox_diagonal = 0.0;
+  double seconds = 0.0;
+
+  size_t total_before() const { return triangles_before[0] + triangles_before[1] + triangles_before[2]; }
+  size_t total_after() const { return triangles_after[0] + triangles_after[1] + triangles_after[2]; }
+};
+
+// Simplify `scene` given one label per triangle. When `out_source` is given it
+// receives, per output triangle, the index of the input triangle it came from
+// (its label, component and material are that triangle's). Throws
+// std::invalid_argument on bad input (label count, index out of range,
+// non-finite position, missing pixel footprint for Bounded/Cluster, zero
+// target for Qem).
+Scene simplify(const Scene& scene, const std::vector<Label>& labels,
+               const SimplifyOptions& options, SimplifyStats* stats = nullptr,
+               std::vector<uint32_t>* out_source = nullptr);
+
+}  // namespace perclod

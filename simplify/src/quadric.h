@@ -1,0 +1,34 @@
+// A Garland-Heckbert quadric: the sum of squared distances to a set of planes,
+// stored as the 10 distinct entries of the symmetric 4x4 matrix.
+#pragma once
+
+#include <cmath>
+
+namespace perclod::detail {
+
+struct Quadric {
+  double a2 = 0, ab = 0, ac = 0, ad = 0, b2 = 0, bc = 0, bd = 0, c2 = 0, cd = 0, d2 = 0;
+
+  // Adds w * (n.p + d)^2 for a unit normal n = (a, b, c).
+  void add_plane(double a, double b, double c, double d, double w) {
+    a2 += w * a * a; ab += w * a * b; ac += w * a * c; ad += w * a * d;
+    b2 += w * b * b; bc += w * b * c; bd += w * b * d;
+    c2 += w * c * c; cd += w * c * d; d2 += w * d * d;
+  }
+  Quadric& operator+=(const Quadric& q) {
+    a2 += q.a2; ab += q.ab; ac += q.ac; ad += q.ad; b2 += q.b2;
+    bc += q.bc; bd += q.bd; c2 += q.c2; cd += q.cd; d2 += q.d2;
+    return *this;
+  }
+  // Error at point (x, y, z); clamped at 0 against rounding.
+  double eval(double x, double y, double z) const {
+    double e = a2 * x * x + 2 * ab * x * y + 2 * ac * x * z + 2 * ad * x +
+               b2 * y * y + 2 * bc * y * z + 2 * bd * y +
+               c2 * z * z + 2 * cd * z + d2;
+    return e > 0 ? e : 0;
+  }
+};
+
+inline Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
+
+}  // namespace perclod::detail

@@ -1,0 +1,133 @@
+// simplify(): checks the input, drops components nobody can see, welds the
+// vertices, hands the work to the collapse simplifier or to vertex clustering,
+// and assembles the output Scene and its statistics.
+#include "perclod/simplify.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "simplify_internal.h"
+
+namespace perclod {
+
+const char* simplify_mode_name(SimplifyMode m) {
+  switch (m) {
+    case SimplifyMode::Paper: return "paper";
+    case SimplifyMode::Bounded: return "bounded";
+    case SimplifyMode::Qem: return "qem";
+    case SimplifyMode::Cluster: return "cluster";
+  }
+  return "?";
+}
+
+SimplifyMode parse_simplify_mode(const char* name) {
+  for (SimplifyMode m : {SimplifyMode::Paper, SimplifyMode::Bounded, SimplifyMode::Qem,
+                         SimplifyMode::Cluster})
+    if (std::strcmp(name, simplify_mode_name(m)) == 0) return m;
+  throw std::invalid_argument(std::string("simplify: unknown mode '") + name +
+                              "' (expected paper, bounded, qem or cluster)");
+}
+
+namespace {
+
+void fail(const std::string& what) { throw std::invalid_argument("simplify: " + what); }
+
+void check_input(const Scene& s, const std::vector<Label>& labels, const SimplifyOptions& opt) {
+  const size_t nt = s.triangle_count();
+  if (s.positions.size() % 3) fail("positions size is not a multiple of 3");
+  if (s.indices.size() % 3) fail("indices size is not a multiple of 3");
+  if (labels.size() != nt)
+    fail(std::to_string(labels.size()) + " labels for " + std::to_string(nt) + " triangles");
+  if (!s.component.empty() && s.component.size() != nt)
+    fail("component array has " + std::to_string(s.component.size()) + " entries for " +
+         std::to_string(nt) + " triangles");
+  if (!s.material.empty() && s.material.size() != nt)
+    fail("material array has " + std::to_string(s.material.size()) + " entries for " +
+         std::to_string(nt) + " triangles");
+  for (size_t i = 0; i < s.indices.size(); ++i)
+    if (s.indices[i] >= s.vertex_count())
+      fail("triangle " + std::to_string(i / 3) + " uses vertex " + std::to_string(s.indices[i]) +
+           " of " + std::to_string(s.vertex_count()));
+  for (size_t i = 0; i < s.positions.size(); ++i)
+    if (!std::isfinite(s.positions[i])) fail("vertex " + std::to_string(i / 3) + " is not finite");
+  for (size_t t = 0; t < nt; ++t)
+    if (uint8_t(labels[t]) > 2) fail("triangle " + std::to_string(t) + " has an invalid label");
+  const bool needs_footprint = opt.mode == SimplifyMode::Bounded || opt.mode == SimplifyMode::Cluster;
+  if (needs_footprint && !(opt.pixel_footprint > 0 && opt.k > 0 && std::isfinite(opt.pixel_footprint * opt.k)))
+    fail(std::string(simplify_mode_name(opt.mode)) + " mode needs a positive pixel footprint and k");
+  if (opt.mode == SimplifyMode::Qem && opt.target_triangles == 0)
+    fail("qem mode needs a positive target triangle count");
+  if (!(opt.weld_tolerance_rel >= 0)) fail("weld tolerance must be >= 0");
+}
+
+uint32_t component_of(const Scene& s, size_t t) { return s.component.empty() ? 0 : s.component[t]; }
+
+// Triangles in play: in the labelled modes, components whose triangles are
+// all undisplayable are dropped outright.
+std::vector<uint32_t> faces_in_play(const Scene& s, const std::vector<Label>& labels, bool labelled,
+                                    SimplifyStats& stats) {
+  const size_t nt = s.triangle_count();
+  std::vector<uint32_t> faces;
+  faces.reserve(nt);
+  if (!labelled) {
+    for (size_t t = 0; t < nt; ++t) faces.push_back(uint32_t(t));
+    return faces;
+  }
+  size_t nc = 1;
+  for (size_t t = 0; t < nt; ++t) nc = std::max<size_t>(nc, component_of(s, t) + 1);
+  std::vector<uint8_t> seen(nc, 0), displayable(nc, 0);
+  for (size_t t = 0; t < nt; ++t) {
+    seen[component_of(s, t)] = 1;
+    if (labels[t] != Label::Undisplayable) displayable[component_of(s, t)] = 1;
+  }
+  for (size_t c = 0; c < nc; ++c) stats.components_removed += seen[c] && !displayable[c];
+  for (size_t t = 0; t < nt; ++t)
+    if (displayable[component_of(s, t)]) faces.push_back(uint32_t(t));
+  return faces;
+}
+
+}  // namespace
+
+Scene simplify(const Scene& scene, const std::vector<Label>& labels, const SimplifyOptions& opt,
+               SimplifyStats* stats_out, std::vector<uint32_t>* out_source) {
+  auto t0 = std::chrono::steady_clock::now();
+  check_input(scene, labels, opt);
+  SimplifyStats stats;
+  for (Label l : labels) stats.triangles_before[size_t(l)]++;
+  const bool labelled = opt.mode == SimplifyMode::Paper || opt.mode == SimplifyMode::Bounded;
+
+  detail::Work work;
+  work.scene = &scene;
+  work.labels = &labels;
+  work.diagonal = scene_bounds(scene).diagonal();
+  stats.bbox_diagonal = work.diagonal;
+  work.faces = faces_in_play(scene, labels, labelled, stats);
+  work.weld = detail::weld_vertices(scene.positions, opt.weld_tolerance_rel * work.diagonal);
+
+  detail::Result r;
+  if (opt.mode == SimplifyMode::Cluster)
+    detail::cluster_simplify(work, opt, stats, r);
+  else
+    detail::collapse_simplify(work, opt, stats, r);
+
+  Scene out;
+  out.positions = std::move(r.positions);
+  out.indices = std::move(r.indices);
+  out.component_names = scene.component_names;
+  out.materials = scene.materials;
+  out.offset = scene.offset;
+  for (uint32_t src : r.source) {
+    if (!scene.component.empty()) out.component.push_back(scene.component[src]);
+    if (!scene.material.empty()) out.material.push_back(scene.material[src]);
+    stats.triangles_after[size_t(labels[src])]++;
+  }
+  if (out_source) *out_source = std::move(r.source);
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (stats_out) *stats_out = stats;
+  return out;
+}
+
+}  // namespace perclod

@@ -1,0 +1,49 @@
+// Internal interfaces of perclod_simplify: welding, the collapse simplifier and
+// vertex clustering share one flat description of the work to do.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "perclod/simplify.h"
+
+namespace perclod::detail {
+
+// Vertices welded by position: input vertex i becomes welded vertex remap[i];
+// a welded vertex keeps the position of its first input vertex.
+struct Welded {
+  std::vector<uint32_t> remap;
+  std::vector<float> positions;  // x,y,z per welded vertex
+};
+
+// Welds vertices whose positions round to the same cell of size `tolerance`
+// (two points closer than the tolerance but on either side of a cell border
+// stay apart; exact duplicates always weld). tolerance <= 0: exact duplicates.
+Welded weld_vertices(const std::vector<float>& positions, double tolerance);
+
+// What a simplifier works on: the input triangles still in play (after
+// all-undisplayable components are dropped) and the welded vertices.
+struct Work {
+  const Scene* scene = nullptr;
+  const std::vector<Label>* labels = nullptr;
+  std::vector<uint32_t> faces;  // input triangle indices in play
+  Welded weld;
+  double diagonal = 0.0;        // bounding-box diagonal of the input
+};
+
+// A simplified triangle list; source[t] = input triangle of output triangle t.
+struct Result {
+  std::vector<float> positions;
+  std::vector<uint32_t> indices;
+  std::vector<uint32_t> source;
+};
+
+// Paper, Bounded and Qem: quadric half-edge collapses on an OpenMesh TriMesh.
+void collapse_simplify(const Work& work, const SimplifyOptions& opt, SimplifyStats& stats,
+                       Result& out);
+
+// Cluster: Rossignac-Borrel vertex clustering (with Belblidia's bbox option).
+void cluster_simplify(const Work& work, const SimplifyOptions& opt, SimplifyStats& stats,
+                      Result& out);
+
+}  // namespace perclod::detail
