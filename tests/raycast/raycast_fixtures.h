@@ -24,8 +24,11 @@ inline uint32_t add_vertex(Scene& s, const V3& p) {
 }
 
 inline void ensure_component(Scene& s, uint32_t component) {
-  while (s.component_names.size() <= component)
-    s.component_names.push_back("c" + std::to_string(s.component_names.size()));
+  while (s.component_names.size() <= component) {
+    std::string name = std::to_string(s.component_names.size());
+    name.insert(name.begin(), 'c');
+    s.component_names.push_back(std::move(name));
+  }
   if (s.materials.empty()) s.materials.push_back({});
 }
 
