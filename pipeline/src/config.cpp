@@ -78,6 +78,18 @@ BatchConfig load_batch_config(const std::string& path) {
   c.display = rel(get<std::string>(n, path, "display", ""));
   c.facades = get<std::string>(n, path, "facades", "all");
   c.out = get<std::string>(n, path, "out", "out");
+  c.tracer = get<std::string>(n, path, "tracer", c.tracer);
+  if (c.tracer != "octree" && c.tracer != "embree") throw config_error(path, "'tracer' must be octree or embree");
+  c.verify = get<bool>(n, path, "verify", c.verify);
+  c.ratio = get<double>(n, path, "ratio", c.ratio);
+  if (!(c.ratio >= 0 && c.ratio <= 1)) throw config_error(path, "'ratio' must be within [0, 1]");
+  c.simplify = get<std::string>(n, path, "simplify", c.simplify);
+  if (c.simplify != "paper" && c.simplify != "bounded" && c.simplify != "qem" && c.simplify != "cluster")
+    throw config_error(path, "'simplify' must be paper, bounded, qem or cluster");
+  c.k = get<double>(n, path, "k", c.k);
+  require_positive(path, "k", c.k);
+  c.format = get<std::string>(n, path, "format", c.format);
+  if (c.format != "obj" && c.format != "glb") throw config_error(path, "'format' must be obj or glb");
   if (n["distances"]) {
     if (!n["distances"].IsSequence()) throw config_error(path, "'distances' must be a list of metres");
     for (const auto& d : n["distances"]) {

@@ -23,6 +23,12 @@ struct BatchConfig {
   std::vector<double> distances;     // metres
   std::string facades = "all";
   std::string out = "out";
+  std::string tracer = "octree";     // octree | embree
+  bool verify = false;               // also trace with Embree and report agreement
+  double ratio = 0.5;                // label rule: imperceptible / traced >= ratio
+  std::string simplify = "paper";    // paper | bounded | qem | cluster
+  double k = 1.0;                    // bounded tolerance / cluster cell in pixels
+  std::string format = "obj";        // LOD file format: obj | glb
 };
 BatchConfig load_batch_config(const std::string& path);
 

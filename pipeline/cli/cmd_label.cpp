@@ -1,0 +1,79 @@
+// perclod label MODEL --distance D: render, perceive, cast, label, marking renders.
+#include <cstdio>
+
+#include "commands.h"
+#include "common.h"
+#include "perclod/image_io.h"
+#include "perclod/labels_io.h"
+#include "perclod/lod.h"
+
+namespace perclod::cli {
+
+void register_label(CLI::App& app) {
+  auto* cmd = app.add_subcommand("label", "Label every triangle perceptible, imperceptible or undisplayable at a distance");
+  struct Args {
+    ModelArgs model;
+    DisplayArgs display;
+    double distance = 0;
+    std::string facades = "all", out = "out", tracer = "octree";
+    bool verify = false, json = false;
+    double ratio = 0.5, threshold = -1, closer = 0.25;
+  };
+  auto a = std::make_shared<Args>();
+  a->model.add(cmd);
+  a->display.add(cmd);
+  cmd->add_option("--distance,-d", a->distance, "Viewing distance in metres")->required()->check(CLI::PositiveNumber);
+  cmd->add_option("--facade,-f", a->facades, "Facades: all, or a comma list (+x -x +y -y with Z up)");
+  cmd->add_option("--tracer", a->tracer, "Pixel-to-triangle tracer: octree (default) or embree")
+      ->check(CLI::IsMember({"octree", "embree"}));
+  cmd->add_flag("--verify", a->verify, "Also trace with Embree (tie-rule reference) and report per-pixel agreement");
+  cmd->add_option("--ratio", a->ratio, "Imperceptible when imperceptible/traced >= ratio (default 0.5)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--threshold", a->threshold, "Perception threshold T in grey levels (default: calibrated)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--closer", a->closer, "Second marking render at distance x this factor (default 0.25)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--out,-o", a->out, "Output directory (created)");
+  cmd->add_flag("--json", a->json, "Print the JSON summary on stdout");
+  cmd->footer(
+      "Writes OUT/<model>_labels_<d>m.txt (format in README.md), OUT/<model>_label_<d>m.json, and per facade\n"
+      "<model>_<f>_<d>m.png, _simulated.png, _difference.png, _mask.png, _marking.png, _marking_near.png.");
+  cmd->callback([a] {
+    Scene s = a->model.load();
+    LabelJob job;
+    job.up = a->model.up_axis();
+    job.display = a->display.profile();
+    job.perception = perception_settings_for(job.display);
+    if (a->threshold >= 0) job.perception.threshold = a->threshold;
+    job.facades = parse_facades(a->facades, job.up);
+    job.distance = a->distance;
+    job.ratio = a->ratio;
+    job.verify = a->verify;
+    job.closer_factor = a->closer;
+    job.out_dir = a->out;
+    job.stem = file_stem(a->model.path);
+    std::unique_ptr<Tracer> tracer;
+    if (parse_tracer(a->tracer) == TracerKind::Octree) tracer = std::make_unique<OctreeTracer>(s);
+    else tracer = std::make_unique<EmbreeTracer>(s, EmbreeMode::Fast);
+    std::fprintf(stderr, "%s built in %.0f ms\n", tracer->name(), tracer->build_seconds() * 1e3);
+    Renderer renderer;
+    renderer.set_scene(s);
+    LabelResult r = label_scene(renderer, s, *tracer, job, [](const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
+    LabelFile lf{r.labels, r.totals.traced, r.totals.imperceptible, {}};
+    for (const auto& f : job.facades) lf.views.emplace_back(f, job.distance);
+    std::string base = a->out + "/" + job.stem;
+    std::string labels_path = base + "_labels_" + distance_tag(job.distance) + ".txt";
+    write_labels(labels_path, lf);
+    r.report["labels_file"] = labels_path;
+    r.report["marking_renders"] = write_marking_renders(renderer, s, r.labels, job);
+    r.report["tracer_build_seconds"] = tracer->build_seconds();
+    write_text_atomic(base + "_label_" + distance_tag(job.distance) + ".json", r.report.dump(2) + "\n");
+    const auto& l = r.report["labels"];
+    std::fprintf(stderr, "labels: %d perceptible, %d imperceptible, %d undisplayable -> %s\n",
+                 l["perceptible"].get<int>(), l["imperceptible"].get<int>(), l["undisplayable"].get<int>(),
+                 labels_path.c_str());
+    if (a->json) print_json(r.report);
+  });
+}
+
+}  // namespace perclod::cli
