@@ -1,0 +1,84 @@
+// label and run through the CLI, on the demo building.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli_util.h"
+#include "perclod/labels_io.h"
+#include "perclod/load.h"
+
+using perclod::test::run_cli;
+namespace fs = std::filesystem;
+
+static const std::string kBuilding = PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj";
+
+static fs::path fresh_dir(const std::string& name) {
+  fs::path p = fs::temp_directory_path() / ("perclod-" + name + "-" + std::to_string(getpid()));
+  fs::remove_all(p);
+  return p;
+}
+
+TEST(CliPipeline, LabelWritesLabelsMarkingRendersAndAgreement) {
+  fs::path out = fresh_dir("label");
+  auto r = run_cli("label " + kBuilding + " --up z -d 56 -f +x,-y --verify --json -o " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["views"].size(), 2u);
+  for (const auto& v : j["views"]) {
+    EXPECT_GE(v["octree_vs_embree"]["identical_rate"].get<double>(), 0.9999);
+    EXPECT_EQ(v["octree_vs_embree"]["real_disagreements"], 0);
+    EXPECT_GE(v["rays_vs_id_buffer"]["identical_rate"].get<double>(), 0.998);
+  }
+  auto lf = perclod::read_labels(j["labels_file"].get<std::string>());
+  ASSERT_EQ(lf.labels.size(), 12456u);
+  size_t counts[3] = {0, 0, 0};
+  for (size_t t = 0; t < lf.labels.size(); ++t) {
+    counts[uint8_t(lf.labels[t])]++;
+    // The file's counts and labels obey the rule (perceptible in any view wins, so
+    // a summed count can only be checked where it is unambiguous).
+    if (lf.traced[t] == 0) EXPECT_EQ(lf.labels[t], perclod::Label::Undisplayable);
+    if (lf.imperceptible[t] == 0 && lf.traced[t] > 0) EXPECT_EQ(lf.labels[t], perclod::Label::Perceptible);
+  }
+  EXPECT_EQ(counts[0], j["labels"]["perceptible"].get<size_t>());
+  EXPECT_EQ(counts[2], j["labels"]["undisplayable"].get<size_t>());
+  EXPECT_GT(counts[0], 0u);
+  EXPECT_GT(counts[2], 0u);  // two facades of four: the back walls cannot be seen
+  for (const auto& f : j["marking_renders"]) EXPECT_TRUE(fs::exists(f.get<std::string>())) << f;
+  EXPECT_EQ(j["marking_renders"].size(), 4u);  // 2 facades x (view, nearer)
+  fs::remove_all(out);
+}
+
+TEST(CliPipeline, RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput) {
+  fs::path out = fresh_dir("run");
+  fs::create_directories(out);
+  std::ofstream(out / "job.yaml") << "model: " << kBuilding << "\nup: z\ndistances: [56, 427]\nfacades: all\nout: "
+                                  << (out / "result").string() << "\n";
+  auto r = run_cli("run " + (out / "job.yaml").string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["lods"].size(), 2u);
+  size_t previous = SIZE_MAX;
+  for (const auto& lod : j["lods"]) {
+    std::string path = lod["lod_file"];
+    ASSERT_TRUE(fs::exists(path)) << path;
+    perclod::Scene s = perclod::load_scene(path);
+    EXPECT_EQ(s.triangle_count(), lod["simplify"]["total_after"].get<size_t>());
+    EXPECT_LT(s.triangle_count(), 12456u);
+    // Every perceptible triangle survives.
+    EXPECT_EQ(lod["simplify"]["triangles_after"]["perceptible"], lod["labels"]["perceptible"]);
+    EXPECT_LE(s.triangle_count(), previous);  // farther never needs more
+    previous = s.triangle_count();
+  }
+  EXPECT_TRUE(fs::exists(out / "result" / "bldg_4018215_report.json"));
+  // A bad config value names the file and the key, and writes nothing.
+  std::ofstream(out / "bad.yaml") << "model: " << kBuilding << "\ndistances: [56, -1]\nout: " << (out / "bad").string() << "\n";
+  auto bad = run_cli("run " + (out / "bad.yaml").string());
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("bad.yaml"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("'distances'"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(out / "bad"));
+  fs::remove_all(out);
+}
