@@ -14,6 +14,22 @@ int up_index(UpAxis up) { return up == UpAxis::Z ? 2 : 1; }
 
 Eigen::Vector3d to_vec(const std::array<float, 3>& a) { return {a[0], a[1], a[2]}; }
 
+// "az30el15" -> (30, 15). False when `name` is not a free-view name.
+bool parse_free_view(const std::string& name, double& az, double& el) {
+  if (name.rfind("az", 0) != 0) return false;
+  size_t e = name.find("el");
+  if (e == std::string::npos) return false;
+  try {
+    size_t used = 0;
+    az = std::stod(name.substr(2, e - 2), &used);
+    if (used != e - 2) return false;
+    el = std::stod(name.substr(e + 2), &used);
+    return used == name.size() - e - 2;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
 }  // namespace
 
 UpAxis parse_up_axis(const std::string& s) {
@@ -29,10 +45,12 @@ std::vector<std::string> parse_facades(const std::string& spec, UpAxis up) {
   std::stringstream ss(spec);
   std::string f;
   while (std::getline(ss, f, ',')) {
-    bool ok = f.size() == 2 && (f[0] == '+' || f[0] == '-') && (f[1] == 'x' || f[1] == h2);
+    double az, el;
+    bool ok = (f.size() == 2 && (f[0] == '+' || f[0] == '-') && (f[1] == 'x' || f[1] == h2)) ||
+              (parse_free_view(f, az, el) && std::fabs(el) < 89.9);
     if (!ok)
       throw std::invalid_argument("facade '" + f + "' is not one of +x -x +" + std::string(1, h2) + " -" +
-                                  std::string(1, h2) + " all (the up axis is " +
+                                  std::string(1, h2) + " all, nor a free view azAel<E> such as az30el15 (the up axis is " +
                                   (up == UpAxis::Z ? "z" : "y") + ")");
     out.push_back(f);
   }
@@ -57,6 +75,9 @@ void fit_clip_planes(Camera& cam, const Bounds& b) {
 Camera facade_camera(const Bounds& b, UpAxis up, const std::string& facade, double distance,
                      const DisplayProfile& display) {
   if (!(distance > 0)) throw std::invalid_argument("viewing distance must be positive");
+  double az, el;
+  if (parse_free_view(facade, az, el)) return free_camera(b, up, az, el, distance, display);
+  if (facade.size() != 2) throw std::invalid_argument("bad facade name '" + facade + "'");
   int axis = facade.at(1) == 'x' ? 0 : facade[1] == 'y' ? 1 : 2;
   if (axis == up_index(up)) throw std::invalid_argument("facade '" + facade + "' is along the up axis");
   double sign = facade[0] == '-' ? -1.0 : 1.0;

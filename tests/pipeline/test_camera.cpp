@@ -92,6 +92,23 @@ TEST(Views, FacadeNamesFollowTheUpAxis) {
   EXPECT_EQ(parse_facades("+x,-y", UpAxis::Z), (std::vector<std::string>{"+x", "-y"}));
   EXPECT_THROW(parse_facades("+z", UpAxis::Z), std::invalid_argument);  // the up axis is no facade
   EXPECT_THROW(parse_facades("north", UpAxis::Z), std::invalid_argument);
+  EXPECT_EQ(parse_facades("az30el15,-x", UpAxis::Z), (std::vector<std::string>{"az30el15", "-x"}));
+  EXPECT_THROW(parse_facades("az30el95", UpAxis::Z), std::invalid_argument);
+  EXPECT_THROW(parse_facades("az30", UpAxis::Z), std::invalid_argument);
+}
+
+TEST(Views, FreeViewLooksAtTheCentreFromAzimuthAndElevation) {
+  Bounds b;
+  b.lo = {-3, -4, 0};
+  b.hi = {3, 4, 10};  // centre (0, 0, 5), half diagonal sqrt(9 + 16 + 25) = 7.07
+  DisplayProfile d;
+  Camera c = facade_camera(b, UpAxis::Z, "az90el30", 20, d);
+  Eigen::Vector3d to_eye = (c.eye - Eigen::Vector3d(0, 0, 5)).normalized();
+  EXPECT_NEAR(to_eye.x(), 0, 1e-9);                      // azimuth 90: on +y
+  EXPECT_NEAR(to_eye.y(), std::cos(M_PI / 6), 1e-9);
+  EXPECT_NEAR(to_eye.z(), std::sin(M_PI / 6), 1e-9);     // 30 degrees up
+  EXPECT_NEAR((c.eye - Eigen::Vector3d(0, 0, 5)).norm(), 20 + std::sqrt(50.0), 1e-6);  // d beyond the bounding sphere
+  EXPECT_NEAR(c.forward.dot(-to_eye), 1, 1e-12);
 }
 
 TEST(Config, BadValuesNameTheFileAndTheKey) {

@@ -26,9 +26,11 @@ struct ViewSpec {
   double azimuth_deg = 0, elevation_deg = 0;
 };
 
-// "all" -> the four facades; otherwise a comma list of facade names. Throws on a bad name.
+// "all" -> the four facades; otherwise a comma list of facade names or free
+// views "az<A>el<E>" (degrees, e.g. az30el15). Throws on a bad name.
 std::vector<std::string> parse_facades(const std::string& spec, UpAxis up);
 
+// A facade name ("+x") or a free view name ("az30el15", see free_camera).
 Camera facade_camera(const Bounds& bounds, UpAxis up, const std::string& facade, double distance,
                      const DisplayProfile& display);
 // Free view: azimuth around the up axis from +x (degrees, counter-clockwise seen
