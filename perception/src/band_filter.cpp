@@ -34,9 +34,14 @@ float* scratch_of(size_t n) {
   return v.data();
 }
 
-std::vector<float> to_float(const std::vector<double>& taps) {
-  return std::vector<float>(taps.begin(), taps.end());
-}
+// Taps in float on the stack (half length <= 16, checked by the settings).
+struct FloatTaps {
+  float h[17] = {};
+  explicit FloatTaps(const std::vector<double>& taps) {
+    for (size_t m = 0; m < taps.size() && m < 17; ++m) h[m] = float(taps[m]);
+  }
+  float operator[](int m) const { return h[m]; }
+};
 
 }  // namespace
 
@@ -49,8 +54,8 @@ void scale_band(const Band& b, float weight) {
 
 void fir_rows(const Band& b, const std::vector<double>& taps) {
   if (b.w < 1 || b.h < 1 || taps.empty()) return;
-  const int m_len = int(taps.size()) - 1;
-  const std::vector<float> h = to_float(taps);
+  const int m_len = std::min(int(taps.size()) - 1, 16);
+  const FloatTaps h(taps);
   const bool even = b.parent_w % 2 == 0;
   float* pad = scratch_of(size_t(b.w + 2 * m_len));
   float* p = pad + m_len;  // p[-m_len .. w + m_len)
@@ -73,8 +78,8 @@ void fir_rows(const Band& b, const std::vector<double>& taps) {
 
 void fir_columns(const Band& b, const std::vector<double>& taps) {
   if (b.w < 1 || b.h < 1 || taps.empty()) return;
-  const int m_len = int(taps.size()) - 1;
-  const std::vector<float> h = to_float(taps);
+  const int m_len = std::min(int(taps.size()) - 1, 16);
+  const FloatTaps h(taps);
   const bool even = b.parent_h % 2 == 0;
   const size_t w = size_t(b.w);
   // Copy the band with m_len extended rows above and below.

@@ -133,7 +133,9 @@ struct PerceptionResult {
 // Throws std::invalid_argument on bad sizes or settings.
 PerceptionResult perceive(const uint8_t* rgb, int w, int h, const PerceptionSettings& s,
                           const uint8_t* background_mask = nullptr);
-// Same, reusing `out`'s buffers (no allocation once warm).
+// Same, reusing `out`'s buffers: no allocation once warm. The first call in a
+// process pays for first-touching ~13 bytes per pixel of fresh memory; a batch
+// should keep one PerceptionResult per thread and call this.
 void perceive_into(const uint8_t* rgb, int w, int h, const PerceptionSettings& s,
                    const uint8_t* background_mask, PerceptionResult& out);
 
