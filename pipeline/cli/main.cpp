@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   perclod::cli::register_generate(app);
   perclod::cli::register_render(app);
   perclod::cli::register_perceive(app);
+  perclod::cli::register_label(app);
   perclod::cli::register_run(app);
 
   try {
