@@ -10,6 +10,8 @@
 
 #include <algorithm>
 
+#include "simd.h"
+
 namespace perclod::detail {
 namespace {
 
@@ -45,14 +47,14 @@ struct FloatTaps {
 
 }  // namespace
 
-void scale_band(const Band& b, float weight) {
+PERCLOD_SIMD_CLONES void scale_band(const Band& b, float weight) {
   for (int y = 0; y < b.h; ++y) {
     float* row = b.data + size_t(y) * b.stride;
     for (int x = 0; x < b.w; ++x) row[x] *= weight;
   }
 }
 
-void fir_rows(const Band& b, const std::vector<double>& taps) {
+PERCLOD_SIMD_CLONES void fir_rows(const Band& b, const std::vector<double>& taps) {
   if (b.w < 1 || b.h < 1 || taps.empty()) return;
   const int m_len = std::min(int(taps.size()) - 1, 16);
   const FloatTaps h(taps);
@@ -76,7 +78,7 @@ void fir_rows(const Band& b, const std::vector<double>& taps) {
   }
 }
 
-void fir_columns(const Band& b, const std::vector<double>& taps) {
+PERCLOD_SIMD_CLONES void fir_columns(const Band& b, const std::vector<double>& taps) {
   if (b.w < 1 || b.h < 1 || taps.empty()) return;
   const int m_len = std::min(int(taps.size()) - 1, 16);
   const FloatTaps h(taps);

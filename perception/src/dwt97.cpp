@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "perclod/perception.h"
+#include "simd.h"
 
 namespace perclod {
 namespace {
@@ -255,10 +256,10 @@ void inverse2d(T* img, int w, int h, int levels) {
 
 }  // namespace
 
-void dwt97_forward(float* img, int w, int h, int levels) { forward2d(img, w, h, levels); }
-void dwt97_inverse(float* img, int w, int h, int levels) { inverse2d(img, w, h, levels); }
-void dwt97_forward(double* img, int w, int h, int levels) { forward2d(img, w, h, levels); }
-void dwt97_inverse(double* img, int w, int h, int levels) { inverse2d(img, w, h, levels); }
+PERCLOD_SIMD_CLONES void dwt97_forward(float* img, int w, int h, int levels) { forward2d(img, w, h, levels); }
+PERCLOD_SIMD_CLONES void dwt97_inverse(float* img, int w, int h, int levels) { inverse2d(img, w, h, levels); }
+PERCLOD_SIMD_CLONES void dwt97_forward(double* img, int w, int h, int levels) { forward2d(img, w, h, levels); }
+PERCLOD_SIMD_CLONES void dwt97_inverse(double* img, int w, int h, int levels) { inverse2d(img, w, h, levels); }
 
 void dwt97_forward_1d(double* x, int n) {
   if (n < 1) throw std::invalid_argument("dwt97: signal length must be at least 1");

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "perclod/perception.h"
+#include "simd.h"
 
 namespace perclod {
 namespace {
@@ -28,7 +29,7 @@ std::array<float, 256> srgb_to_linear_255() {
 
 }  // namespace
 
-void luminance_into(const uint8_t* rgb, int w, int h, PerceptionSettings::Luminance mode, float* out) {
+PERCLOD_SIMD_CLONES void luminance_into(const uint8_t* rgb, int w, int h, PerceptionSettings::Luminance mode, float* out) {
   if (w < 1 || h < 1) throw std::invalid_argument("luminance: image size must be at least 1x1");
   if (!rgb || !out) throw std::invalid_argument("luminance: null pixel buffer");
   const size_t n = size_t(w) * size_t(h);

@@ -8,6 +8,7 @@
 
 #include "band_filter.h"
 #include "perclod/perception.h"
+#include "simd.h"
 
 namespace perclod {
 namespace {
@@ -96,6 +97,30 @@ const std::vector<BandResponse>& cached_band_responses(const PerceptionSettings&
   return bands;
 }
 
+// diff = lum - sim, mask = |diff| > t; returns the masked count among
+// non-background pixels and stores how many those are.
+PERCLOD_SIMD_CLONES long long difference_and_mask(const float* lum, const float* sim, size_t n, float t,
+                                                  const uint8_t* background, float* diff, uint8_t* mask,
+                                                  long long* counted) {
+  long long imperceptible = 0;
+  for (size_t i = 0; i < n; ++i) {
+    diff[i] = lum[i] - sim[i];
+    mask[i] = std::abs(diff[i]) > t ? 1 : 0;
+  }
+  if (!background) {
+    for (size_t i = 0; i < n; ++i) imperceptible += mask[i];
+    *counted = (long long)n;
+    return imperceptible;
+  }
+  long long c = 0;
+  for (size_t i = 0; i < n; ++i) {
+    c += background[i] ? 0 : 1;
+    imperceptible += background[i] ? 0 : mask[i];
+  }
+  *counted = c;
+  return imperceptible;
+}
+
 }  // namespace
 
 PerceptionSettings perception_settings_for(const DisplayProfile& display) {
@@ -132,22 +157,8 @@ void perceive_luminance(const float* lum, int w, int h, const PerceptionSettings
   const float* sim = out.simulated.data();
   float* diff = out.difference.data();
   uint8_t* mask = out.mask.data();
-  long long counted = 0, imperceptible = 0;
-  if (background_mask) {
-    for (size_t i = 0; i < n; ++i) {
-      diff[i] = lum[i] - sim[i];
-      mask[i] = std::abs(diff[i]) > t ? 1 : 0;
-      counted += background_mask[i] ? 0 : 1;
-      imperceptible += background_mask[i] ? 0 : mask[i];
-    }
-  } else {
-    for (size_t i = 0; i < n; ++i) {
-      diff[i] = lum[i] - sim[i];
-      mask[i] = std::abs(diff[i]) > t ? 1 : 0;
-      imperceptible += mask[i];
-    }
-    counted = (long long)n;
-  }
+  long long counted = 0;
+  long long imperceptible = difference_and_mask(lum, sim, n, t, background_mask, diff, mask, &counted);
   out.counted_pixels = counted;
   out.imperceptible_fraction = counted ? double(imperceptible) / double(counted) : 0.0;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
