@@ -92,6 +92,49 @@ TEST(Gratings, NearFmaxAmplitudeFallsByTheCsfFactor) {
   }
 }
 
+// Borders: a cosine on x = 0..256 with 2 f 256 an integer is whole-sample
+// symmetric about both ends, so its symmetric extension is the same cosine on
+// x = -256..512. If the DWT and the band FIRs extend every band with the right
+// symmetry, the small image's difference equals the big image's middle third.
+TEST(Gratings, BordersBehaveAsTheSymmetricExtensionOfTheImage) {
+  const int small = 257, big = 769, h = 8;
+  for (int m : {150, 205, 250}) {
+    const double f = m / 512.0;
+    auto image = [&](int w, int x0) {
+      std::vector<float> img(size_t(w) * h);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) img[size_t(y) * w + x] = float(128 + 50 * std::cos(2 * kPi * f * (x + x0)));
+      return img;
+    };
+    for (bool transpose : {false, true}) {
+      std::vector<float> a = image(small, 0), b = image(big, -256);
+      int aw = small, ah = h, bw = big, bh = h;
+      if (transpose) {  // same along y: exercises the column filters
+        auto t = [&](const std::vector<float>& v, int w, int hh) {
+          std::vector<float> o(v.size());
+          for (int y = 0; y < hh; ++y)
+            for (int x = 0; x < w; ++x) o[size_t(x) * hh + y] = v[size_t(y) * w + x];
+          return o;
+        };
+        a = t(a, small, h);
+        b = t(b, big, h);
+        std::swap(aw, ah);
+        std::swap(bw, bh);
+      }
+      PerceptionResult ra = simulate(a, aw, ah), rb = simulate(b, bw, bh);
+      float worst = 0;
+      for (int i = 0; i < small; ++i)
+        for (int j = 0; j < h; ++j) {
+          size_t ia = transpose ? size_t(i) * h + j : size_t(j) * small + i;
+          size_t ib = transpose ? size_t(i + 256) * h + j : size_t(j) * big + i + 256;
+          worst = std::max(worst, std::abs(ra.difference[ia] - rb.difference[ib]));
+        }
+      EXPECT_LT(worst, 2e-3f) << "m " << m << (transpose ? " columns" : " rows");
+      EXPECT_GT(max_abs(ra.difference), 2.0f);
+    }
+  }
+}
+
 // Diagonal gratings sit at sqrt(2) times the axis frequency.
 TEST(Gratings, DiagonalGratingFollowsTheCsfAtSqrt2TimesTheAxisFrequency) {
   const PerceptionSettings s;
