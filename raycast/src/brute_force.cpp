@@ -27,12 +27,13 @@ void BruteForceTracer::trace(const Camera& cam, uint32_t* out, float* tout) cons
   detail::eye_float(cam, eye);
   const float znear = float(cam.znear), zfar = float(cam.zfar);
   const size_t nt = tris_.size() / 9;
+  const detail::PixelDirections dirs(cam);
   tbb::parallel_for(tbb::blocked_range<int>(0, cam.height), [&](const tbb::blocked_range<int>& r) {
     detail::DenormalsOff ftz;
     for (int y = r.begin(); y < r.end(); ++y)
       for (int x = 0; x < cam.width; ++x) {
         float d[3];
-        detail::pixel_direction(cam, x, y, d);
+        dirs.direction(x, y, d);
         const detail::ShearedRay ray = detail::shear_ray(d);
         // Pass 1: the nearest t. Pass 2: lowest index within its tie window.
         float best = zfar;

@@ -147,6 +147,7 @@ void EmbreeTracer::trace(const Camera& cam, uint32_t* out, float* tout) const {
   const float znear = float(cam.znear), zfar = float(cam.zfar);
   const int W = cam.width, H = cam.height;
   RTCScene sc = impl_->scene;
+  const detail::PixelDirections dirs(cam);
 
   if (impl_->mode == EmbreeMode::Fast) {
     const int tx = (W + 3) / 4, ty = (H + 3) / 4;
@@ -163,7 +164,7 @@ void EmbreeTracer::trace(const Camera& cam, uint32_t* out, float* tout) const {
           const int x = x0 + (i & 3), y = y0 + (i >> 2);
           valid[i] = (x < W && y < H) ? -1 : 0;
           float d[3] = {0, 0, 1};
-          if (valid[i]) detail::pixel_direction(cam, x, y, d);
+          if (valid[i]) dirs.direction(x, y, d);
           rh.ray.org_x[i] = eye[0];
           rh.ray.org_y[i] = eye[1];
           rh.ray.org_z[i] = eye[2];
@@ -202,7 +203,7 @@ void EmbreeTracer::trace(const Camera& cam, uint32_t* out, float* tout) const {
     for (int y = r.begin(); y < r.end(); ++y)
       for (int x = 0; x < W; ++x) {
         float d[3];
-        detail::pixel_direction(cam, x, y, d);
+        dirs.direction(x, y, d);
         RTCRayHit rh;
         set_ray(rh, eye, d, znear, zfar);
         rtcIntersect1(sc, &ctx, &rh);

@@ -49,6 +49,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -60,6 +61,9 @@
 #include "perclod/raycast.h"
 #include "pixel_rays.h"
 #include "watertight.h"
+#ifndef PERCLOD_EDGES
+#define PERCLOD_EDGES 1
+#endif
 
 namespace perclod {
 
@@ -121,7 +125,10 @@ struct OctNode {
   uint32_t count() const { return info & ~kLeafBit; }
 };
 
-constexpr int kTile = 8;
+#ifndef PERCLOD_TILE
+#define PERCLOD_TILE 16
+#endif
+constexpr int kTile = PERCLOD_TILE;
 constexpr int kTilePixels = kTile * kTile;
 
 }  // namespace
@@ -342,9 +349,18 @@ void OctreeTracer::Impl::build(const Scene& scene) {
 
 namespace {
 
+#ifdef PERCLOD_RAYCAST_STATS
+struct Counters { uint64_t tri = 0, tri_proj = 0, tri_rect = 0, px = 0, box = 0, box_pass = 0, tiles = 0; };
+Counters g_count;
+#define COUNT(x) (++g_count.x)
+#else
+#define COUNT(x) ((void)0)
+#endif
+
 // What a tile needs to know about the camera.
 struct Frame {
   const Camera* cam;
+  const detail::PixelDirections* dirs;
   double eye[3], fwd[3], right[3], up[3];
   float eyef[3];
   float znear, zfar;
@@ -387,7 +403,7 @@ void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
     for (int i = 0; i < tile.w; ++i) {
       const int p = j * tile.w + i;
       float d[3];
-      detail::pixel_direction(cam, x0 + i, y0 + j, d);
+      f.dirs->direction(x0 + i, y0 + j, d);
       tile.ray[p] = detail::shear_ray(d);
       tile.best[p] = f.zfar;
       tile.bound[p] = f.zfar;
@@ -408,37 +424,80 @@ void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
   tile.tmax = double(f.zfar) * (1.0 + 1e-5) + 1e-7;
 }
 
+// floor(v) clamped to [lo, hi] (and ceil), without libm calls: the clamp
+// keeps the int conversion in range.
+inline int floor_within(double v, int lo, int hi) {
+  if (!(v > lo)) return lo;  // also NaN
+  if (v >= hi) return hi;
+  const int i = int(v);  // truncation toward zero
+  return double(i) > v ? i - 1 : i;
+}
+inline int ceil_within(double v, int lo, int hi) {
+  if (!(v > lo)) return lo;
+  if (v >= hi) return hi;
+  const int i = int(v);
+  return double(i) < v ? i + 1 : i;
+}
+
 // Conservative: false only when no ray of the tile can hit inside the box
-// within its current t range.
+// within its current t range. A box in front of the eye is projected by
+// interval arithmetic (x = N / D with N and D ranging over the box), and
+// survives only if its projected rectangle (plus the float-rounding margin)
+// contains a pixel centre of the tile: sub-pixel geometry that falls between
+// the rays is dropped here, as a packet tracer's per-ray box tests would.
+// A box reaching the eye plane gets the four frustum planes instead.
 bool box_visible(const Frame& f, const Tile& tile, const Box& b) {
-  double lo[3], hi[3];
+  COUNT(box);
+  double lo[3], hi[3], mag = 0;
   for (int k = 0; k < 3; ++k) {
     lo[k] = double(b.lo[k]) - f.eye[k];
     hi[k] = double(b.hi[k]) - f.eye[k];
+    mag = std::max({mag, std::fabs(lo[k]), std::fabs(hi[k])});
   }
-  double dmin = 0, dmax = 0;
+  double dmin = 0, dmax = 0, nxmin = 0, nxmax = 0, nymin = 0, nymax = 0;
   for (int k = 0; k < 3; ++k) {
-    if (f.fwd[k] >= 0) {
-      dmin += f.fwd[k] * lo[k];
-      dmax += f.fwd[k] * hi[k];
-    } else {
-      dmin += f.fwd[k] * hi[k];
-      dmax += f.fwd[k] * lo[k];
-    }
+    const double fl = f.fwd[k] * lo[k], fh = f.fwd[k] * hi[k];
+    dmin += std::min(fl, fh);
+    dmax += std::max(fl, fh);
+    const double rl = f.right[k] * lo[k], rh = f.right[k] * hi[k];
+    nxmin += std::min(rl, rh);
+    nxmax += std::max(rl, rh);
+    const double ul = f.up[k] * lo[k], uh = f.up[k] * hi[k];
+    nymin += std::min(ul, uh);
+    nymax += std::max(ul, uh);
   }
-  if (dmin > tile.tmax) return false;
+  if (dmin - 4e-6 * mag > tile.tmax) return false;
   if (dmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
+  if (dmin > 1e-4 * mag) {
+    const double i0 = 1.0 / dmin, i1 = 1.0 / dmax;
+    const double xlo = nxmin * (nxmin >= 0 ? i1 : i0), xhi = nxmax * (nxmax >= 0 ? i0 : i1);
+    const double ylo = nymin * (nymin >= 0 ? i1 : i0), yhi = nymax * (nymax >= 0 ? i0 : i1);
+    const double margin = 1e-3 + 4e-6 * (mag / dmin) * std::max(f.fx, f.fy);
+    const double pxlo = f.cx + f.fx * xlo, pxhi = f.cx + f.fx * xhi;
+    const double pylo = f.cy - f.fy * yhi, pyhi = f.cy - f.fy * ylo;
+    const int xa = ceil_within(pxlo - margin - 0.5, tile.x0, tile.x0 + tile.w);
+    const int xb = floor_within(pxhi + margin - 0.5, tile.x0 - 1, tile.x0 + tile.w - 1);
+    if (xa > xb) return false;
+    const int ya = ceil_within(pylo - margin - 0.5, tile.y0, tile.y0 + tile.h);
+    const int yb = floor_within(pyhi + margin - 0.5, tile.y0 - 1, tile.y0 + tile.h - 1);
+    if (ya > yb) return false;
+    COUNT(box_pass);
+    return true;
+  }
   for (int p = 0; p < 4; ++p) {
     const double* n = tile.plane[p];
     double s = 0;
     for (int k = 0; k < 3; ++k) s += n[k] * (n[k] >= 0 ? hi[k] : lo[k]);
     if (s < 0) return false;
   }
+  COUNT(box_pass);
   return true;
 }
 
+
 // The exact per-pixel work for one triangle. Returns true if any pixel changed.
 bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
+  COUNT(tri);
   float A[3], B[3], C[3];
   for (int k = 0; k < 3; ++k) {
     A[k] = tri.v[k] - f.eyef[k];
@@ -452,16 +511,29 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
     for (int k = 0; k < 3; ++k) mag = std::max(mag, double(std::fabs(V[c][k])));
   }
   const double zmin = std::min({z[0], z[1], z[2]}), zmax = std::max({z[0], z[1], z[2]});
-  if (zmin > tile.tmax) return false;
+  // A hit's t is a convex combination of the vertices' depths; the float
+  // test can undershoot it by a few ulps of the vertex magnitudes.
+  const double zlow = zmin - 4e-6 * mag;
+  if (zlow > tile.tmax) return false;
   if (zmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
 
+  COUNT(tri_proj);
   int xa = tile.x0, xb = tile.x0 + tile.w - 1, ya = tile.y0, yb = tile.y0 + tile.h - 1;
+  // Edge functions of the projected triangle, in pixels (interior >= 0),
+  // used as a pre-filter when the triangle spans more than one pixel.
+  double ea[3] = {0, 0, 0}, eb[3] = {0, 0, 0}, ec[3] = {0, 0, 0};
+  bool edges = false;
+  double margin = 0;
   if (zmin > 1e-4 * mag) {  // fully in front of the eye: restrict to the projected rectangle
     double pxmin = INFINITY, pxmax = -INFINITY, pymin = INFINITY, pymax = -INFINITY;
+    double P[3][2];
     for (int c = 0; c < 3; ++c) {
       const double rx = f.right[0] * V[c][0] + f.right[1] * V[c][1] + f.right[2] * V[c][2];
       const double ry = f.up[0] * V[c][0] + f.up[1] * V[c][1] + f.up[2] * V[c][2];
-      const double px = f.cx + f.fx * rx / z[c], py = f.cy - f.fy * ry / z[c];
+      const double iz = 1.0 / z[c];
+      const double px = f.cx + f.fx * rx * iz, py = f.cy - f.fy * ry * iz;
+      P[c][0] = px;
+      P[c][1] = py;
       pxmin = std::min(pxmin, px);
       pxmax = std::max(pxmax, px);
       pymin = std::min(pymin, py);
@@ -469,18 +541,49 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
     }
     // Float rounding of the watertight test, in pixels: a few ulps of the
     // vertex magnitude seen at the nearest depth.
-    const double margin = 1e-3 + 4e-6 * (mag / zmin) * std::max(f.fx, f.fy);
-    xa = std::max(xa, int(std::ceil(pxmin - margin - 0.5)));
-    xb = std::min(xb, int(std::floor(pxmax + margin - 0.5)));
-    ya = std::max(ya, int(std::ceil(pymin - margin - 0.5)));
-    yb = std::min(yb, int(std::floor(pymax + margin - 0.5)));
+    margin = 1e-3 + 4e-6 * (mag / zmin) * std::max(f.fx, f.fy);
+    xa = std::max(xa, ceil_within(pxmin - margin - 0.5, tile.x0, tile.x0 + tile.w));
+    xb = std::min(xb, floor_within(pxmax + margin - 0.5, tile.x0 - 1, tile.x0 + tile.w));
+    ya = std::max(ya, ceil_within(pymin - margin - 0.5, tile.y0, tile.y0 + tile.h));
+    yb = std::min(yb, floor_within(pymax + margin - 0.5, tile.y0 - 1, tile.y0 + tile.h));
     if (xa > xb || ya > yb) return false;
+    if (xa < xb || ya < yb) {
+      // Unnormalised edge functions; the margin is scaled by |ex| + |ey|,
+      // which is at least the edge length, so the filter stays conservative.
+      const double area2 = (P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[1][1] - P[0][1]) * (P[2][0] - P[0][0]);
+      double l1max = 0;
+      for (int i = 0; i < 3; ++i) {
+        const int j = i == 2 ? 0 : i + 1;
+        l1max = std::max(l1max, std::fabs(P[j][0] - P[i][0]) + std::fabs(P[j][1] - P[i][1]));
+      }
+      edges = PERCLOD_EDGES && std::fabs(area2) > 1e-6 * l1max * l1max;
+      if (edges) {
+        const double sgn = area2 > 0 ? 1.0 : -1.0;
+        for (int i = 0; i < 3; ++i) {
+          const int j = i == 2 ? 0 : i + 1;
+          const double ex = P[j][0] - P[i][0], ey = P[j][1] - P[i][1];
+          ea[i] = -sgn * ey;
+          eb[i] = sgn * ex;
+          ec[i] = -(ea[i] * P[i][0] + eb[i] * P[i][1]) + margin * (std::fabs(ex) + std::fabs(ey));
+        }
+      }
+    }
   }
+  COUNT(tri_rect);
   bool changed = false;
   const uint32_t id = tri.index + 1;
+  const float zlow_f = float(zlow) > zlow ? std::nextafter(float(zlow), -INFINITY) : float(zlow);
   for (int y = ya; y <= yb; ++y)
     for (int x = xa; x <= xb; ++x) {
       const int p = (y - tile.y0) * tile.w + (x - tile.x0);
+      if (zlow_f > tile.bound[p]) continue;  // all of the triangle lies beyond this pixel's window
+      if (edges) {
+        const double X = x + 0.5, Y = y + 0.5;
+        if (ea[0] * X + eb[0] * Y + ec[0] < 0 || ea[1] * X + eb[1] * Y + ec[1] < 0 ||
+            ea[2] * X + eb[2] * Y + ec[2] < 0)
+          continue;  // farther than `margin` pixels outside the projected triangle
+      }
+      COUNT(px);
       if (tile.collect) {
         float t;
         if (tile.tie[p] && id < tile.hit[p] &&
@@ -514,6 +617,8 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
 void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) const {
   Frame f;
   f.cam = &cam;
+  const detail::PixelDirections dirs(cam);
+  f.dirs = &dirs;
   for (int k = 0; k < 3; ++k) {
     f.eye[k] = cam.eye[k];
     f.fwd[k] = cam.forward[k];
@@ -521,6 +626,8 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
     f.up[k] = cam.up[k];
   }
   detail::eye_float(cam, f.eyef);
+  // Rays start at the float eye: every conservative test measures from it.
+  for (int k = 0; k < 3; ++k) f.eye[k] = double(f.eyef[k]);
   f.znear = float(cam.znear);
   f.zfar = float(cam.zfar);
   const double th = cam.tan_half_y();
@@ -590,6 +697,7 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
     Tile tile;
     for (int ti = r.begin(); ti < r.end(); ++ti) {
       setup_tile(f, tile, (ti % tiles_x) * kTile, (ti / tiles_x) * kTile);
+      COUNT(tiles);
       walk(tile, s);
       bool any_tie = false;
       const int n = tile.w * tile.h;
@@ -610,6 +718,13 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
 }
 
 // ---------------------------------------------------------------- public
+
+#ifdef PERCLOD_RAYCAST_STATS
+void print_raycast_stats() {
+  const auto& c = g_count;
+  std::printf("tiles %lu tri %lu proj %lu rect %lu px %lu box %lu pass %lu\n", c.tiles, c.tri, c.tri_proj, c.tri_rect, c.px, c.box, c.box_pass);
+}
+#endif
 
 OctreeTracer::OctreeTracer(const Scene& scene, const OctreeOptions& options)
     : impl_(std::make_unique<Impl>()) {

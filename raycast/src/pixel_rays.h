@@ -1,6 +1,8 @@
 // pixel_rays.h - the float ray of a pixel, identical for every tracer (private).
 #pragma once
 
+#include <vector>
+
 #include "perclod/camera.h"
 
 namespace perclod::detail {
@@ -14,6 +16,27 @@ inline void pixel_direction(const Camera& c, int x, int y, float d[3]) {
   d[1] = float(v.y());
   d[2] = float(v.z());
 }
+
+// The same directions for a whole image without a tan() per pixel: the
+// per-column and per-row screen offsets are computed once with the exact
+// expressions of Camera::ray_direction, so direction() is bit-identical to
+// pixel_direction().
+class PixelDirections {
+ public:
+  explicit PixelDirections(const Camera& c) : cam_(c), sx_(size_t(c.width)), sy_(size_t(c.height)) {
+    const double th = c.tan_half_y();
+    for (int x = 0; x < c.width; ++x) sx_[size_t(x)] = (2.0 * (x + 0.5) / c.width - 1.0) * th * c.aspect();
+    for (int y = 0; y < c.height; ++y) sy_[size_t(y)] = (1.0 - 2.0 * (y + 0.5) / c.height) * th;
+  }
+  void direction(int x, int y, float d[3]) const {
+    const double sx = sx_[size_t(x)], sy = sy_[size_t(y)];
+    for (int k = 0; k < 3; ++k) d[k] = float(cam_.forward[k] + sx * cam_.right[k] + sy * cam_.up[k]);
+  }
+
+ private:
+  const Camera& cam_;
+  std::vector<double> sx_, sy_;
+};
 
 inline void eye_float(const Camera& c, float o[3]) {
   o[0] = float(c.eye.x());
