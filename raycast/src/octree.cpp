@@ -374,6 +374,7 @@ struct Tile {
   float bound[kTilePixels];   // largest t still accepted
   uint32_t hit[kTilePixels];  // triangle index + 1, 0 = none
   uint8_t tie[kTilePixels];
+  int unhit;  // pixels without a hit yet (normal pass)
   double plane[4][3];  // inward normals of the frustum planes through the eye
   double centre_dir[3];
   double tmax;  // max over pixels of bound (a little enlarged)
@@ -385,6 +386,7 @@ inline float tie_bound(float t, float zfar) {
 }
 
 void update_tile_tmax(Tile& tile) {
+  if (!tile.collect && tile.unhit > 0) return;  // some pixel still accepts up to zfar
   float m = 0.0f;
   const int n = tile.w * tile.h;
   for (int i = 0; i < n; ++i)
@@ -399,6 +401,7 @@ void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
   tile.w = std::min(kTile, cam.width - x0);
   tile.h = std::min(kTile, cam.height - y0);
   tile.collect = false;
+  tile.unhit = tile.w * tile.h;
   for (int j = 0; j < tile.h; ++j)
     for (int i = 0; i < tile.w; ++i) {
       const int p = j * tile.w + i;
@@ -446,7 +449,7 @@ inline int ceil_within(double v, int lo, int hi) {
 // contains a pixel centre of the tile: sub-pixel geometry that falls between
 // the rays is dropped here, as a packet tracer's per-ray box tests would.
 // A box reaching the eye plane gets the four frustum planes instead.
-bool box_visible(const Frame& f, const Tile& tile, const Box& b) {
+bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near) {
   COUNT(box);
   double lo[3], hi[3], mag = 0;
   for (int k = 0; k < 3; ++k) {
@@ -466,7 +469,8 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b) {
     nymin += std::min(ul, uh);
     nymax += std::max(ul, uh);
   }
-  if (dmin - 4e-6 * mag > tile.tmax) return false;
+  near = dmin - 4e-6 * mag;  // below any t the float test can return inside the box
+  if (near > tile.tmax) return false;
   if (dmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
   if (dmin > 1e-4 * mag) {
     const double i0 = 1.0 / dmin, i1 = 1.0 / dmax;
@@ -594,6 +598,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
       float t;
       if (!detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t)) continue;
       if (tile.hit[p] == 0) {
+        --tile.unhit;
         tile.best[p] = t;
         tile.hit[p] = id;
         tile.bound[p] = tie_bound(t, f.zfar);
@@ -642,18 +647,53 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
   // Front-to-back child order for an eye in octant 0 of a node (see top).
   static constexpr int kOrder[8] = {0, 1, 2, 4, 3, 5, 6, 7};
 
+  // One component's BVH, children nearest-box first. Its root box is visible.
+  auto walk_component = [&](Tile& tile, uint32_t c, double root_near) {
+    struct Entry {
+      double near;
+      uint32_t node;
+    };
+    Entry stack[128];
+    int top = 0;
+    stack[top++] = {root_near, components[c].bvh_root};
+    while (top > 0) {
+      const Entry e = stack[--top];
+      if (e.near > tile.tmax) continue;
+      const BvhNode& b = bvh[e.node];
+      if (b.count() == 0) {
+        double n0, n1;
+        const bool v0 = box_visible(f, tile, bvh[b.first].box, n0);
+        const bool v1 = box_visible(f, tile, bvh[b.first + 1].box, n1);
+        if (v0 && v1) {
+          const bool left_near = n0 <= n1;
+          stack[top++] = left_near ? Entry{n1, b.first + 1} : Entry{n0, b.first};
+          stack[top++] = left_near ? Entry{n0, b.first} : Entry{n1, b.first + 1};
+        } else if (v0) {
+          stack[top++] = {n0, b.first};
+        } else if (v1) {
+          stack[top++] = {n1, b.first + 1};
+        }
+        continue;
+      }
+      bool changed = false;
+      for (uint32_t i = 0; i < b.count(); ++i) changed |= test_triangle(f, tile, tris[b.first + i]);
+      if (changed) update_tile_tmax(tile);
+    }
+  };
+
   auto walk = [&](Tile& tile, Scratch& s) {
     if (++s.clock == 0) {  // wrapped: restart the stamps
       std::fill(s.stamp.begin(), s.stamp.end(), 0u);
       s.clock = 1;
     }
     update_tile_tmax(tile);
+    double near;
     uint32_t stack[128];
     int top = 0;
     if (!octree.empty() && !tris.empty()) stack[top++] = 0;
     while (top > 0) {
       const OctNode& node = octree[stack[--top]];
-      if (!box_visible(f, tile, node.box)) continue;
+      if (!box_visible(f, tile, node.box, near)) continue;
       if (!node.leaf()) {
         int side = 0;
         for (int k = 0; k < 3; ++k)
@@ -661,29 +701,31 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
         for (int j = 7; j >= 0; --j) stack[top++] = node.first + uint32_t(kOrder[j] ^ side);
         continue;
       }
+      // The leaf's untested, visible components, nearest box first.
+      struct Pick {
+        double near;
+        uint32_t c;
+      };
+      Pick picks[256];
+      uint32_t np = 0;
       for (uint32_t r = 0; r < node.count(); ++r) {
         const uint32_t c = leaf_refs[node.first + r];
         if (s.stamp[c] == s.clock) continue;
         s.stamp[c] = s.clock;
-        const ComponentNode& comp = components[c];
-        if (!box_visible(f, tile, comp.box)) continue;
-        uint32_t bstack[128];
-        int btop = 0;
-        bstack[btop++] = comp.bvh_root;
-        while (btop > 0) {
-          const BvhNode& b = bvh[bstack[--btop]];
-          if (!box_visible(f, tile, b.box)) continue;
-          if (b.count() == 0) {
-            const bool left_first = tile.centre_dir[b.axis()] > 0;
-            bstack[btop++] = left_first ? b.first + 1 : b.first;
-            bstack[btop++] = left_first ? b.first : b.first + 1;
-            continue;
-          }
-          bool changed = false;
-          for (uint32_t i = 0; i < b.count(); ++i) changed |= test_triangle(f, tile, tris[b.first + i]);
-          if (changed) update_tile_tmax(tile);
+        if (!box_visible(f, tile, components[c].box, near)) continue;
+        if (np == 256) {  // a huge leaf (max_components_per_leaf > 256): no sorting
+          walk_component(tile, c, near);
+          continue;
         }
+        uint32_t k = np++;
+        while (k > 0 && picks[k - 1].near > near) {
+          picks[k] = picks[k - 1];
+          --k;
+        }
+        picks[k] = {near, c};
       }
+      for (uint32_t k = 0; k < np; ++k)
+        if (picks[k].near <= tile.tmax) walk_component(tile, picks[k].c, picks[k].near);
     }
   };
 
