@@ -64,7 +64,7 @@ Instances make_instances(const Work& w, bool per_component) {
   for (uint32_t t : w.faces) {
     uint32_t g = per_component && !s.component.empty() ? s.component[t] : 0;
     for (int k = 0; k < 3; ++k) {
-      uint32_t wv = w.weld.remap[s.indices[3 * size_t(t) + k]];
+      uint32_t wv = w.weld.corner[3 * size_t(t) + k];
       auto [it, fresh] = id.try_emplace((uint64_t(g) << 32) | wv, uint32_t(in.welded.size()));
       if (fresh) {
         in.welded.push_back(wv);

@@ -83,15 +83,14 @@ struct QuietOpenMesh {
   bool was;
 };
 
-void build_mesh(Model& m, const Work& w, SimplifyStats& stats) {
-  const Scene& s = *w.scene;
+void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, SimplifyStats& stats) {
   QuietOpenMesh quiet;
   std::vector<int> vh_of(w.weld.positions.size() / 3, -1);
-  m.mesh.reserve(w.faces.size(), 3 * w.faces.size() / 2, w.faces.size());
-  m.vert_welded.reserve(w.faces.size());
-  for (uint32_t src : w.faces) {
+  m.mesh.reserve(faces.size(), 3 * faces.size() / 2, faces.size());
+  m.vert_welded.reserve(faces.size());
+  for (uint32_t src : faces) {
     uint32_t c[3];
-    for (int k = 0; k < 3; ++k) c[k] = w.weld.remap[s.indices[3 * size_t(src) + k]];
+    for (int k = 0; k < 3; ++k) c[k] = w.weld.corner[3 * size_t(src) + k];
     FH f;
     bool degenerate = c[0] == c[1] || c[1] == c[2] || c[0] == c[2];
     if (!degenerate) {
@@ -260,94 +259,185 @@ bool link_ok(const Mesh& mesh, HH h, const std::vector<VH>& ring1) {
   return true;
 }
 
-// The cheapest legal collapse of v0: costs of all outgoing half-edges first,
-// then the (dearer) legality checks in order of cost until one passes.
-bool best_candidate(const Model& m, VH v0, const Limits& lim, std::vector<VH>& ring1,
-                    std::vector<Candidate>& options, Candidate& best) {
+// Cost and error of collapsing h (v0 -> v1); false when h may never
+// collapse (v0 locked, a constraint line, error above the tolerance).
+bool evaluate(const Model& m, HH h, const Limits& lim, Candidate& c) {
   const Mesh& mesh = m.mesh;
-  const Vec p0 = to_d(mesh.point(v0));
-  const Quadric& qa0 = m.qa[v0.idx()];
-  options.clear();
-  int val0 = 0;
-  for (HH h : mesh.voh_range(v0)) {
-    ++val0;
-    VH v1 = mesh.to_vertex_handle(h);
-    if (m.feature_edge[mesh.edge_handle(h).idx()]) continue;
-    const Vec p1 = to_d(mesh.point(v1));
-    double l2 = (p1 - p0).sqrnorm();
-    double cost = (qa0 + m.qa[v1.idx()]).eval(p1[0], p1[1], p1[2]) + lim.tie * l2 * l2;
-    double err = 0;
-    if (lim.tolerance >= 0) {
-      err = std::sqrt((m.qd[v0.idx()] + m.qd[v1.idx()]).eval(p1[0], p1[1], p1[2]));
-      if (err > lim.tolerance) continue;
-    }
-    options.push_back({h, cost, err});
-  }
-  std::sort(options.begin(), options.end(),
-            [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
-  for (const Candidate& c : options) {
-    VH v1 = mesh.to_vertex_handle(c.h);
-    ring1.clear();
-    for (VH n : mesh.vv_range(v1)) ring1.push_back(n);
-    if (val0 + int(ring1.size()) - 4 > lim.max_valence) continue;
-    if (!link_ok(mesh, c.h, ring1)) continue;
-    if (!geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim)) continue;
-    best = c;
-    if (lim.tolerance < 0)
-      best.error = std::sqrt((m.qd[v0.idx()] + m.qd[v1.idx()]).eval(mesh.point(v1)[0], mesh.point(v1)[1], mesh.point(v1)[2]));
-    return true;
-  }
-  return false;
+  VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
+  if (m.locked[v0.idx()] || m.feature_edge[mesh.edge_handle(h).idx()]) return false;
+  const auto& q1 = mesh.point(v1);
+  const double x = q1[0], y = q1[1], z = q1[2];
+  double l2 = (to_d(q1) - to_d(mesh.point(v0))).sqrnorm();
+  c.h = h;
+  c.cost = (m.qa[v0.idx()] + m.qa[v1.idx()]).eval(x, y, z) + lim.tie * l2 * l2;
+  c.error = std::sqrt((m.qd[v0.idx()] + m.qd[v1.idx()]).eval(x, y, z));
+  return lim.tolerance < 0 || c.error <= lim.tolerance;
+}
+
+// Everything that depends on the neighbourhood: fan size, link condition,
+// flips and slivers. Checked when a collapse comes off the queue.
+bool legal(const Mesh& mesh, HH h, const Limits& lim, std::vector<VH>& ring1) {
+  VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
+  ring1.clear();
+  for (VH n : mesh.vv_range(v1)) ring1.push_back(n);
+  if (int(mesh.valence(v0)) + int(ring1.size()) - 4 > lim.max_valence) return false;
+  if (!link_ok(mesh, h, ring1)) return false;
+  return geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim);
 }
 
 // ---- the collapse loop ------------------------------------------------------
 
-struct Entry {
-  double cost;
-  uint32_t vertex;
-  uint32_t stamp;
-  bool operator<(const Entry& o) const { return cost > o.cost; }  // min-heap
-};
-
-class Collapser {
+// A binary min-heap of half-edges keyed by cost, indexed so a cost can change
+// in place: a collapse re-keys its few affected half-edges instead of piling
+// stale entries onto the queue.
+class HalfedgeHeap {
  public:
-  Collapser(Model& m, const Limits& lim, size_t target) : m_(m), lim_(lim), target_(target) {
-    cand_.resize(m.mesh.n_vertices());
-    stamp_.assign(m.mesh.n_vertices(), 0);
+  explicit HalfedgeHeap(size_t n) : pos_(n, -1) {}
+  bool empty() const { return heap_.empty(); }
+  uint32_t top() const { return heap_[0].h; }
+  void set(uint32_t h, double cost) {
+    if (pos_[h] < 0) {
+      pos_[h] = int(heap_.size());
+      heap_.push_back({cost, h});
+      up(size_t(pos_[h]));
+    } else {
+      size_t i = size_t(pos_[h]);
+      double old = heap_[i].cost;
+      heap_[i].cost = cost;
+      if (cost < old) up(i); else down(i);
+    }
+  }
+  void remove(uint32_t h) {
+    if (pos_[h] < 0) return;
+    size_t i = size_t(pos_[h]);
+    pos_[h] = -1;
+    Node last = heap_.back();
+    heap_.pop_back();
+    if (i == heap_.size()) return;
+    heap_[i] = last;
+    pos_[last.h] = int(i);
+    up(i);
+    down(size_t(pos_[last.h]));
   }
 
-  void run(SimplifyStats& stats) {
-    for (VH v : m_.mesh.vertices()) update(v);
-    while (!heap_.empty() && m_.faces_alive > target_) {
-      Entry e = heap_.top();
-      heap_.pop();
-      VH v0(int(e.vertex));
-      if (e.stamp != stamp_[e.vertex] || m_.mesh.status(v0).deleted()) continue;
-      Candidate c = cand_[e.vertex];
-      ring_.clear();
-      for (VH n : m_.mesh.vv_range(m_.mesh.to_vertex_handle(c.h))) ring_.push_back(n);
-      if (m_.mesh.status(c.h).deleted() || !link_ok(m_.mesh, c.h, ring_)) {
-        update(v0);  // the neighbourhood changed under it: look again
-        continue;
-      }
-      collapse(c, stats);
+ private:
+  struct Node {
+    double cost;
+    uint32_t h;
+  };
+  void place(size_t i, const Node& n) {
+    heap_[i] = n;
+    pos_[n.h] = int(i);
+  }
+  void up(size_t i) {
+    Node n = heap_[i];
+    while (i > 0) {
+      size_t p = (i - 1) / 2;
+      if (!(n.cost < heap_[p].cost)) break;
+      place(i, heap_[p]);
+      i = p;
+    }
+    place(i, n);
+  }
+  void down(size_t i) {
+    Node n = heap_[i];
+    const size_t size = heap_.size();
+    for (;;) {
+      size_t c = 2 * i + 1;
+      if (c >= size) break;
+      if (c + 1 < size && heap_[c + 1].cost < heap_[c].cost) ++c;
+      if (!(heap_[c].cost < n.cost)) break;
+      place(i, heap_[c]);
+      i = c;
+    }
+    place(i, n);
+  }
+  std::vector<Node> heap_;
+  std::vector<int> pos_;
+};
+
+// The queue holds every half-edge that may collapse (both directions of an
+// edge). A collapse into v1 changes the costs of v1's edges only, so only
+// those are re-keyed; legality is checked when a half-edge reaches the top.
+// One refused there leaves the queue and is tried again in the next pass if
+// the mesh around it has changed since, until a pass collapses nothing.
+class Collapser {
+ public:
+  Collapser(Model& m, const Limits& lim, size_t target)
+      : m_(m), lim_(lim), target_(target), heap_(m.mesh.n_halfedges()) {}
+
+  void run(SimplifyStats& stats, int max_passes = 8) {
+    changed_.assign(m_.mesh.n_vertices(), 0);
+    for (auto e : m_.mesh.edges()) queue_edge(e);
+    for (int pass = 0; pass < max_passes && m_.faces_alive > target_; ++pass) {
+      if (pass > 0) requeue_refused();
+      if (drain(stats) == 0) break;
     }
   }
 
  private:
-  void update(VH v) {
-    uint32_t i = uint32_t(v.idx());
-    ++stamp_[i];
-    if (m_.locked[i] || m_.mesh.status(v).deleted()) return;
-    Candidate c;
-    if (!best_candidate(m_, v, lim_, ring_, options_, c)) return;
-    cand_[i] = c;
-    heap_.push({c.cost, i, stamp_[i]});
+  // A refused half-edge comes back only if the one-ring of one of its ends
+  // changed after the refusal (legality depends on nothing else).
+  void requeue_refused() {
+    std::vector<Refusal> retry;
+    retry.swap(refused_);
+    const Mesh& mesh = m_.mesh;
+    for (const Refusal& r : retry) {
+      HH h{int(r.halfedge)};
+      if (mesh.status(mesh.edge_handle(h)).deleted()) continue;
+      if (changed_[mesh.from_vertex_handle(h).idx()] <= r.when &&
+          changed_[mesh.to_vertex_handle(h).idx()] <= r.when) {
+        refused_.push_back(r);  // still refused, nothing to retry yet
+        continue;
+      }
+      Candidate c;
+      if (evaluate(m_, h, lim_, c)) heap_.set(r.halfedge, c.cost);
+    }
+  }
+
+  size_t drain(SimplifyStats& stats) {
+    size_t done = 0;
+    Mesh& mesh = m_.mesh;
+    while (!heap_.empty() && m_.faces_alive > target_) {
+      HH h(int(heap_.top()));
+      heap_.remove(uint32_t(h.idx()));
+      Candidate c;
+      if (!evaluate(m_, h, lim_, c)) continue;
+      if (!legal(mesh, h, lim_, ring_)) {
+        refused_.push_back({uint32_t(h.idx()), clock_});
+        continue;
+      }
+      collapse(c, stats);
+      ++done;
+    }
+    return done;
+  }
+
+  void queue_edge(OpenMesh::EdgeHandle e) {
+    for (int side = 0; side < 2; ++side) {
+      HH h = m_.mesh.halfedge_handle(e, side);
+      Candidate c;
+      if (evaluate(m_, h, lim_, c))
+        heap_.set(uint32_t(h.idx()), c.cost);
+      else
+        heap_.remove(uint32_t(h.idx()));
+    }
   }
 
   void collapse(const Candidate& c, SimplifyStats& stats) {
     Mesh& mesh = m_.mesh;
     VH v0 = mesh.from_vertex_handle(c.h), v1 = mesh.to_vertex_handle(c.h);
+    // The edges that disappear with v0 leave the queue first.
+    for (HH h : mesh.voh_range(v0)) {
+      heap_.remove(uint32_t(h.idx()));
+      heap_.remove(uint32_t(mesh.opposite_halfedge_handle(h).idx()));
+    }
+    for (HH h : {c.h, mesh.opposite_halfedge_handle(c.h)})
+      if (mesh.face_handle(h).is_valid()) {
+        HH n = mesh.next_halfedge_handle(h);
+        heap_.remove(uint32_t(n.idx()));
+        heap_.remove(uint32_t(mesh.opposite_halfedge_handle(n).idx()));
+      }
     size_t removed = mesh.face_handle(c.h).is_valid() + mesh.face_handle(mesh.opposite_halfedge_handle(c.h)).is_valid();
     mesh.collapse(c.h);
     m_.faces_alive -= removed;
@@ -356,18 +446,26 @@ class Collapser {
     m_.merged_into[v0.idx()] = uint32_t(v1.idx());
     stats.collapses++;
     stats.max_error = std::max(stats.max_error, c.error);
-    update(v1);
-    for (VH n : mesh.vv_range(v1)) update(n);
+    ++clock_;
+    changed_[v1.idx()] = clock_;
+    for (HH h : mesh.voh_range(v1)) {
+      changed_[mesh.to_vertex_handle(h).idx()] = clock_;
+      queue_edge(mesh.edge_handle(h));
+    }
   }
 
   Model& m_;
   Limits lim_;
   size_t target_;
-  std::vector<Candidate> cand_;
-  std::vector<uint32_t> stamp_;
-  std::vector<VH> ring_;  // scratch: one-ring of a v1
-  std::vector<Candidate> options_;  // scratch: collapses of one v0
-  std::priority_queue<Entry> heap_;
+  HalfedgeHeap heap_;
+  std::vector<VH> ring_;          // scratch: one-ring of a v1
+  struct Refusal {
+    uint32_t halfedge;
+    uint64_t when;  // clock_ at the refusal
+  };
+  std::vector<Refusal> refused_;
+  uint64_t clock_ = 0;             // collapses so far
+  std::vector<uint64_t> changed_;  // per vertex: clock_ when its one-ring last changed
 };
 
 // ---- leftover pieces ----------------------------------------------------------
@@ -377,9 +475,65 @@ uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
   return x;
 }
 
-// Deletes connected pieces (faces sharing a vertex) that have no perceptible
-// face: all of them in Paper mode; in Bounded mode those whose faces are all
-// undisplayable or whose bounding-box diagonal is within the tolerance.
+// A connected piece (faces sharing a vertex) as the removal rule sees it.
+struct Piece {
+  bool perceptible = false, all_undisplayable = true, used = false;
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+
+  void add(Label l, const float* p) {
+    used = true;
+    perceptible |= l == Label::Perceptible;
+    all_undisplayable &= l == Label::Undisplayable;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  }
+  // No perceptible face, and: Paper mode, or all undisplayable, or (Bounded)
+  // a bounding-box diagonal within the tolerance.
+  bool removable(SimplifyMode mode, double tolerance) const {
+    if (!used || perceptible) return false;
+    if (mode == SimplifyMode::Paper || all_undisplayable) return true;
+    double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+    return std::sqrt(dx * dx + dy * dy + dz * dz) <= tolerance;
+  }
+};
+
+// Before the mesh is built: drops the faces of removable pieces of the welded
+// triangle list, so no time goes into building and collapsing them.
+std::vector<uint32_t> drop_pieces_early(const Work& w, SimplifyMode mode, double tolerance,
+                                        SimplifyStats& stats) {
+  const size_t nv = w.weld.positions.size() / 3;
+  std::vector<uint32_t> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto corner = [&](uint32_t t, int k) { return w.weld.corner[3 * size_t(t) + k]; };
+  for (uint32_t t : w.faces) {
+    uint32_t a = find(parent, corner(t, 0));
+    for (int k = 1; k < 3; ++k) {
+      uint32_t b = find(parent, corner(t, k));
+      if (a != b) parent[b] = a;
+    }
+  }
+  std::vector<Piece> piece(nv);
+  for (uint32_t t : w.faces)
+    for (int k = 0; k < 3; ++k)
+      piece[find(parent, corner(t, 0))].add((*w.labels)[t], &w.weld.positions[3 * size_t(corner(t, k))]);
+  std::vector<uint8_t> drop(nv, 0);
+  for (size_t i = 0; i < nv; ++i)
+    if (piece[i].removable(mode, tolerance)) {
+      drop[i] = 1;
+      stats.pieces_removed++;
+    }
+  std::vector<uint32_t> kept;
+  kept.reserve(w.faces.size());
+  for (uint32_t t : w.faces)
+    if (!drop[find(parent, corner(t, 0))]) kept.push_back(t);
+  stats.pieces_triangles_removed += w.faces.size() - kept.size();
+  return kept;
+}
+
+// After collapsing: deletes the removable pieces of the mesh (collapses can
+// split a piece; non-manifold faces are pieces of their own here).
 void remove_pieces(Model& m, const Work& w, SimplifyMode mode, double tolerance,
                    SimplifyStats& stats) {
   Mesh& mesh = m.mesh;
@@ -393,36 +547,18 @@ void remove_pieces(Model& m, const Work& w, SimplifyMode mode, double tolerance,
       if (a != b) parent[b] = a;
     }
   }
-  struct Piece {
-    bool perceptible = false, all_undisplayable = true;
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  };
   std::vector<Piece> piece(mesh.n_vertices());
   for (FH f : mesh.faces()) {
-    uint32_t src = m.face_source[f.idx()];
-    VH v0 = *mesh.cfv_iter(f);
-    Piece& p = piece[find(parent, uint32_t(v0.idx()))];
-    Label l = (*w.labels)[src];
-    p.perceptible |= l == Label::Perceptible;
-    p.all_undisplayable &= l == Label::Undisplayable;
-    for (VH v : mesh.fv_range(f))
-      for (int a = 0; a < 3; ++a) {
-        p.lo[a] = std::min(p.lo[a], mesh.point(v)[a]);
-        p.hi[a] = std::max(p.hi[a], mesh.point(v)[a]);
-      }
+    Label l = (*w.labels)[m.face_source[f.idx()]];
+    Piece& p = piece[find(parent, uint32_t(mesh.cfv_iter(f)->idx()))];
+    for (VH v : mesh.fv_range(f)) p.add(l, mesh.point(v).data());
   }
   std::vector<uint8_t> drop(mesh.n_vertices(), 0);
-  for (size_t i = 0; i < piece.size(); ++i) {
-    const Piece& p = piece[i];
-    if (p.perceptible || p.lo[0] > p.hi[0]) continue;
-    double dx = p.hi[0] - p.lo[0], dy = p.hi[1] - p.lo[1], dz = p.hi[2] - p.lo[2];
-    double diag = std::sqrt(dx * dx + dy * dy + dz * dz);
-    bool remove = mode == SimplifyMode::Paper || p.all_undisplayable || diag <= tolerance;
-    if (remove) {
+  for (size_t i = 0; i < piece.size(); ++i)
+    if (piece[i].removable(mode, tolerance)) {
       drop[i] = 1;
       stats.pieces_removed++;
     }
-  }
   std::vector<FH> doomed;
   for (FH f : mesh.faces())
     if (drop[find(parent, uint32_t(mesh.cfv_iter(f)->idx()))]) doomed.push_back(f);
@@ -460,7 +596,7 @@ void write_result(Model& m, const Work& w, bool keep_perceptible_exact, Simplify
         const float* p = &s.positions[3 * size_t(iv)];
         VH match;
         for (VH v : fv)
-          if (m.vert_welded[v.idx()] == w.weld.remap[iv]) match = v;
+          if (m.vert_welded[v.idx()] == w.weld.corner[3 * size_t(src) + c]) match = v;
         const auto& mp = match.is_valid() ? mesh.point(match) : Mesh::Point(0, 0, 0);
         if (match.is_valid() && std::memcmp(mp.data(), p, 3 * sizeof(float)) == 0) {
           out.indices.push_back(emit_vertex(match));
@@ -505,18 +641,18 @@ void displacement_stats(Model& m, const Work& w, SimplifyStats& stats) {
 void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats& stats,
                        Result& out) {
   const bool labelled = opt.mode != SimplifyMode::Qem;
+  double tolerance = -1;
+  if (opt.mode == SimplifyMode::Bounded) tolerance = stats.tolerance = opt.k * opt.pixel_footprint;
+  // Pieces that will be removed anyway are neither built nor collapsed.
+  std::vector<uint32_t> faces = labelled ? drop_pieces_early(w, opt.mode, tolerance, stats) : w.faces;
   Model m;
-  build_mesh(m, w, stats);
+  build_mesh(m, w, faces, stats);
   stats.vertices_before = m.mesh.n_vertices();
   m.locked.assign(m.mesh.n_vertices(), 0);
   init_quadrics(m, opt);
   if (labelled) lock_perceptible(m, w);
-
-  double tolerance = -1;
-  if (opt.mode == SimplifyMode::Bounded) tolerance = stats.tolerance = opt.k * opt.pixel_footprint;
-  // Pieces that will be removed anyway need no collapses (pieces only split).
+  // Non-manifold faces were added as pieces of their own: drop those too.
   if (labelled) remove_pieces(m, w, opt.mode, tolerance, stats);
-
   Limits lim;
   lim.cos_normal = std::cos(opt.max_normal_change_deg * M_PI / 180.0);
   lim.min_quality = opt.min_triangle_quality;

@@ -105,7 +105,7 @@ Scene simplify(const Scene& scene, const std::vector<Label>& labels, const Simpl
   work.diagonal = scene_bounds(scene).diagonal();
   stats.bbox_diagonal = work.diagonal;
   work.faces = faces_in_play(scene, labels, labelled, stats);
-  work.weld = detail::weld_vertices(scene.positions, opt.weld_tolerance_rel * work.diagonal);
+  detail::weld_corners(work, opt.weld_per_component, opt.weld_tolerance_rel * work.diagonal);
 
   detail::Result r;
   if (opt.mode == SimplifyMode::Cluster)

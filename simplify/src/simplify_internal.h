@@ -9,17 +9,13 @@
 
 namespace perclod::detail {
 
-// Vertices welded by position: input vertex i becomes welded vertex remap[i];
-// a welded vertex keeps the position of its first input vertex.
+// Welded vertices: corner k of input triangle t is welded vertex
+// corner[3t+k] (UINT32_MAX for triangles not in play); a welded vertex keeps
+// the position of the first input vertex that went into it.
 struct Welded {
-  std::vector<uint32_t> remap;
+  std::vector<uint32_t> corner;
   std::vector<float> positions;  // x,y,z per welded vertex
 };
-
-// Welds vertices whose positions round to the same cell of size `tolerance`
-// (two points closer than the tolerance but on either side of a cell border
-// stay apart; exact duplicates always weld). tolerance <= 0: exact duplicates.
-Welded weld_vertices(const std::vector<float>& positions, double tolerance);
 
 // What a simplifier works on: the input triangles still in play (after
 // all-undisplayable components are dropped) and the welded vertices.
@@ -30,6 +26,13 @@ struct Work {
   Welded weld;
   double diagonal = 0.0;        // bounding-box diagonal of the input
 };
+
+// Fills work.weld for work.faces: corners whose positions round to the same
+// cell of size `tolerance` weld (two points closer than the tolerance but on
+// either side of a cell border stay apart; equal positions always weld;
+// tolerance 0 welds equal positions only). With per_component, only corners
+// of the same component weld.
+void weld_corners(Work& work, bool per_component, double tolerance);
 
 // A simplified triangle list; source[t] = input triangle of output triangle t.
 struct Result {

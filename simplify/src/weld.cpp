@@ -1,10 +1,13 @@
 // Vertex welding by position: quantise to a grid of cell size `tolerance`,
 // sort, and give each run of equal keys one welded vertex. Sorting (rather
-// than hashing) keeps it cache-friendly and deterministic.
+// than hashing) keeps it cache-friendly and deterministic. With
+// `per_component`, the component is part of the key: corners of different
+// components never weld, even where the input shares a vertex between them.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <unordered_map>
 
 #include "simplify_internal.h"
 
@@ -13,65 +16,93 @@ namespace perclod::detail {
 namespace {
 
 struct Key {
-  int64_t x, y, z;
+  int64_t g, x, y, z;
   bool operator<(const Key& o) const {
+    if (g != o.g) return g < o.g;
     if (x != o.x) return x < o.x;
     if (y != o.y) return y < o.y;
     return z < o.z;
   }
-  bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+  bool operator==(const Key& o) const { return g == o.g && x == o.x && y == o.y && z == o.z; }
 };
 
-Key quantise(const float* p, double inv_cell) {
-  return {std::llround(p[0] * inv_cell), std::llround(p[1] * inv_cell), std::llround(p[2] * inv_cell)};
+Key make_key(const float* p, uint32_t group, double inv_cell) {
+  if (inv_cell > 0)
+    return {group, std::llround(p[0] * inv_cell), std::llround(p[1] * inv_cell), std::llround(p[2] * inv_cell)};
+  // Exact: bit patterns of the floats (+0 and -0 made equal).
+  int32_t b[3];
+  for (int a = 0; a < 3; ++a) {
+    float v = p[a] == 0.0f ? 0.0f : p[a];
+    std::memcpy(&b[a], &v, 4);
+  }
+  return {group, b[0], b[1], b[2]};
 }
 
 }  // namespace
 
-Welded weld_vertices(const std::vector<float>& positions, double tolerance) {
-  const size_t n = positions.size() / 3;
-  Welded w;
-  w.remap.assign(n, 0);
-  double inv_cell = tolerance > 0 ? 1.0 / tolerance : 0.0;
-  std::vector<Key> keys(n);
-  for (size_t i = 0; i < n; ++i) {
-    const float* p = &positions[3 * i];
-    if (inv_cell > 0) {
-      keys[i] = quantise(p, inv_cell);
-    } else {
-      // Bit patterns of the floats: equal positions, equal keys (+0/-0 aside).
-      int32_t b[3];
-      for (int a = 0; a < 3; ++a) {
-        float v = p[a] == 0.0f ? 0.0f : p[a];
-        std::memcpy(&b[a], &v, 4);
+void weld_corners(Work& w, bool per_component, double tolerance) {
+  const Scene& s = *w.scene;
+  const size_t nv = s.vertex_count();
+  // 1. Items: (input vertex, group) pairs in order of first use.
+  std::vector<uint32_t> item_vertex, item_group;
+  std::vector<uint32_t> primary(nv, UINT32_MAX);  // item of (v, first group seen)
+  std::unordered_map<uint64_t, uint32_t> extra;   // items of (v, other groups)
+  std::vector<uint32_t> corner_item(3 * s.triangle_count(), UINT32_MAX);
+  for (uint32_t t : w.faces) {
+    uint32_t g = per_component && !s.component.empty() ? s.component[t] : 0;
+    for (int k = 0; k < 3; ++k) {
+      uint32_t v = s.indices[3 * size_t(t) + k];
+      uint32_t& p = primary[v];
+      uint32_t item;
+      if (p == UINT32_MAX) {
+        p = item = uint32_t(item_vertex.size());
+        item_vertex.push_back(v);
+        item_group.push_back(g);
+      } else if (item_group[p] == g) {
+        item = p;
+      } else {
+        auto [it, fresh] = extra.try_emplace((uint64_t(v) << 32) | g, uint32_t(item_vertex.size()));
+        if (fresh) {
+          item_vertex.push_back(v);
+          item_group.push_back(g);
+        }
+        item = it->second;
       }
-      keys[i] = {b[0], b[1], b[2]};
+      corner_item[3 * size_t(t) + k] = item;
     }
   }
-  std::vector<uint32_t> order(n);
+  // 2. Weld the items by (group, quantised position); the first item of a
+  // run gives the welded vertex its position, ids follow first use.
+  const size_t ni = item_vertex.size();
+  const double inv_cell = tolerance > 0 ? 1.0 / tolerance : 0.0;
+  std::vector<Key> keys(ni);
+  for (size_t i = 0; i < ni; ++i) keys[i] = make_key(&s.positions[3 * size_t(item_vertex[i])], item_group[i], inv_cell);
+  std::vector<uint32_t> order(ni);
   std::iota(order.begin(), order.end(), 0u);
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    if (keys[a] == keys[b]) return a < b;  // first input vertex leads its run
+    if (keys[a] == keys[b]) return a < b;
     return keys[a] < keys[b];
   });
-  w.positions.reserve(positions.size());
-  // Welded ids follow first appearance in input order, so output is stable.
-  std::vector<uint32_t> leader(n);
-  for (size_t i = 0; i < n;) {
+  std::vector<uint32_t> leader(ni);
+  for (size_t i = 0; i < ni;) {
     size_t j = i;
-    while (j < n && keys[order[j]] == keys[order[i]]) leader[order[j++]] = order[i];
+    while (j < ni && keys[order[j]] == keys[order[i]]) leader[order[j++]] = order[i];
     i = j;
   }
-  std::vector<uint32_t> id_of(n, UINT32_MAX);
-  for (size_t i = 0; i < n; ++i) {
+  std::vector<uint32_t> id_of(ni, UINT32_MAX), welded_of_item(ni);
+  w.weld.positions.clear();
+  for (size_t i = 0; i < ni; ++i) {
     uint32_t l = leader[i];
     if (id_of[l] == UINT32_MAX) {
-      id_of[l] = uint32_t(w.positions.size() / 3);
-      w.positions.insert(w.positions.end(), &positions[3 * l], &positions[3 * l + 3]);
+      id_of[l] = uint32_t(w.weld.positions.size() / 3);
+      const float* p = &s.positions[3 * size_t(item_vertex[l])];
+      w.weld.positions.insert(w.weld.positions.end(), p, p + 3);
     }
-    w.remap[i] = id_of[l];
+    welded_of_item[i] = id_of[l];
   }
-  return w;
+  w.weld.corner.assign(corner_item.size(), UINT32_MAX);
+  for (size_t c = 0; c < corner_item.size(); ++c)
+    if (corner_item[c] != UINT32_MAX) w.weld.corner[c] = welded_of_item[corner_item[c]];
 }
 
 }  // namespace perclod::detail

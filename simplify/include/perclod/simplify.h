@@ -57,6 +57,10 @@ struct SimplifyOptions {
   double feature_angle_deg = 40.0;
 
   double weld_tolerance_rel = 1e-6;  // vertex welding, relative to the bbox diagonal
+  // Weld only corners of the same component. Components that merely touch
+  // (a frame on a wall) then stay apart instead of forming non-manifold
+  // junctions whose faces would have to be isolated (bench_simplify).
+  bool weld_per_component = true;
   double max_normal_change_deg = 60.0;  // refuse collapses that turn a face more
   double min_triangle_quality = 0.05;   // refuse slivers (4*sqrt3*area / sum of edge^2)
   int max_valence = 24;                 // refuse collapses that make bigger fans

@@ -1,0 +1,321 @@
+// bench_simplify: time and peak memory of perclod's labelled simplification
+// beside meshoptimizer and OpenMesh's stock Decimater reaching the same
+// triangle count, on a ~1M-triangle generated facade and on the 53 Ingolstadt
+// LOD3 buildings. One process, same run; every measurement runs in a forked
+// child so its peak RSS (getrusage of the child) is its own. Prints medians
+// and ratios.
+//
+// Labels: a documented synthetic rule (no renderer involved). The viewer
+// looks along +y (the generated facade faces -y; the Ingolstadt models are Z
+// up); p(d) is the pixel footprint of the paper's display profile at 56 m.
+//   normal . (0,1,0) >= 0                 -> undisplayable (faces away)
+//   front-facing, area >= (2 p(d))^2      -> perceptible
+//   front-facing, smaller                 -> imperceptible
+//
+// Rows:
+//   perclod paper       label-constrained collapses until nothing is removable (the count N)
+//   perclod bounded     same, error bounded by 1 x p(d)
+//   decimater+locks     the alternative design: OpenMesh Decimater with perceptible
+//                       vertices locked, ModQuadric + ModAspectRatio + ModNormalFlipping
+//   perclod qem         plain quadric to N, labels ignored
+//   meshoptimizer       meshopt_simplify to N (welding by meshopt_generateVertexRemap included)
+//   decimater stock     ModQuadric + ModAspectRatio(10) to N faces
+//
+// Usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater]
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+#ifdef PERCLOD_HAVE_MESHOPTIMIZER
+#include <meshoptimizer.h>
+#endif
+
+#include "perclod/display.h"
+#include "perclod/facade.h"
+#include "perclod/load.h"
+#include "perclod/simplify.h"
+
+using namespace perclod;
+
+namespace {
+
+// ---- measurement -------------------------------------------------------
+
+struct Sample {
+  double seconds = 0;
+  size_t triangles = 0;
+  long peak_kb = 0;
+  bool ok = false;
+};
+
+// Runs `work` (returns the output triangle count) in a forked child.
+Sample run_forked(const std::function<size_t()>& work) {
+  int fd[2];
+  if (pipe(fd) != 0) return {};
+  pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    auto t0 = std::chrono::steady_clock::now();
+    size_t n = work();
+    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    double msg[2] = {s, double(n)};
+    ssize_t w = write(fd[1], msg, sizeof msg);
+    _exit(w == sizeof msg ? 0 : 1);
+  }
+  close(fd[1]);
+  double msg[2] = {0, 0};
+  ssize_t got = read(fd[0], msg, sizeof msg);
+  close(fd[0]);
+  int status = 0;
+  rusage ru{};
+  wait4(pid, &status, 0, &ru);
+  Sample r;
+  r.ok = got == sizeof msg && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  r.seconds = msg[0];
+  r.triangles = size_t(msg[1]);
+  r.peak_kb = ru.ru_maxrss;
+  return r;
+}
+
+struct Row {
+  std::string name;
+  double seconds = 0;
+  size_t triangles = 0;
+  long peak_kb = 0;
+};
+
+Row measure(const std::string& name, int runs, const std::function<size_t()>& work) {
+  std::vector<Sample> s;
+  for (int i = 0; i < runs; ++i) {
+    Sample x = run_forked(work);
+    if (!x.ok) {
+      std::fprintf(stderr, "  %s: run failed\n", name.c_str());
+      continue;
+    }
+    s.push_back(x);
+  }
+  Row r{name};
+  if (s.empty()) return r;
+  std::sort(s.begin(), s.end(), [](const Sample& a, const Sample& b) { return a.seconds < b.seconds; });
+  const Sample& m = s[s.size() / 2];
+  r.seconds = m.seconds;
+  r.triangles = m.triangles;
+  for (const Sample& x : s) r.peak_kb = std::max(r.peak_kb, x.peak_kb);
+  std::fprintf(stderr, "  %-18s %9.3f s  %9zu tris  %7.0f MB\n", name.c_str(), r.seconds, r.triangles,
+               r.peak_kb / 1024.0);
+  return r;
+}
+
+// ---- labels --------------------------------------------------------------
+
+double pixel_footprint(double distance) {
+  DisplayProfile d;
+  return 2.0 * distance * std::tan(0.5 * d.fov_y()) / d.height;
+}
+
+std::vector<Label> synthetic_labels(const Scene& s, double min_area) {
+  std::vector<Label> l(s.triangle_count());
+  for (size_t t = 0; t < l.size(); ++t) {
+    const float* p[3];
+    for (int k = 0; k < 3; ++k) p[k] = &s.positions[3 * size_t(s.indices[3 * t + k])];
+    double e1[3], e2[3];
+    for (int a = 0; a < 3; ++a) {
+      e1[a] = p[1][a] - p[0][a];
+      e2[a] = p[2][a] - p[0][a];
+    }
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    double area = 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    l[t] = n[1] >= 0 ? Label::Undisplayable : area >= min_area ? Label::Perceptible : Label::Imperceptible;
+  }
+  return l;
+}
+
+// ---- peers -----------------------------------------------------------------
+
+struct Welded {
+  std::vector<float> positions;
+  std::vector<unsigned> indices;
+};
+
+#ifdef PERCLOD_HAVE_MESHOPTIMIZER
+Welded meshopt_weld(const Scene& s) {
+  Welded w;
+  std::vector<unsigned> remap(s.vertex_count());
+  size_t n = meshopt_generateVertexRemap(remap.data(), s.indices.data(), s.indices.size(), s.positions.data(),
+                                         s.vertex_count(), 3 * sizeof(float));
+  w.indices.resize(s.indices.size());
+  meshopt_remapIndexBuffer(w.indices.data(), s.indices.data(), s.indices.size(), remap.data());
+  w.positions.resize(3 * n);
+  meshopt_remapVertexBuffer(w.positions.data(), s.positions.data(), s.vertex_count(), 3 * sizeof(float),
+                            remap.data());
+  return w;
+}
+
+size_t meshopt_to(const Scene& s, size_t target) {
+  Welded w = meshopt_weld(s);
+  std::vector<unsigned> out(w.indices.size());
+  size_t n = meshopt_simplify(out.data(), w.indices.data(), w.indices.size(), w.positions.data(),
+                              w.positions.size() / 3, 3 * sizeof(float), 3 * target, 1.0f, 0, nullptr);
+  return n / 3;
+}
+#endif
+
+struct DTraits : OpenMesh::DefaultTraits {
+  VertexAttributes(OpenMesh::Attributes::Status);
+  EdgeAttributes(OpenMesh::Attributes::Status);
+  FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
+};
+using DMesh = OpenMesh::TriMesh_ArrayKernelT<DTraits>;
+
+// A TriMesh from the scene, vertices welded exactly; refused (non-manifold)
+// faces are re-added with their own vertices, like OpenMesh's reader does.
+void build_dmesh(const Scene& s, DMesh& mesh, std::vector<uint32_t>& face_src) {
+  omerr().disable();
+  Welded w;
+#ifdef PERCLOD_HAVE_MESHOPTIMIZER
+  w = meshopt_weld(s);
+#else
+  w.positions = s.positions;
+  w.indices.assign(s.indices.begin(), s.indices.end());
+#endif
+  std::vector<DMesh::VertexHandle> vh(w.positions.size() / 3);
+  for (size_t i = 0; i < vh.size(); ++i)
+    vh[i] = mesh.add_vertex(DMesh::Point(w.positions[3 * i], w.positions[3 * i + 1], w.positions[3 * i + 2]));
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    unsigned a = w.indices[3 * t], b = w.indices[3 * t + 1], c = w.indices[3 * t + 2];
+    if (a == b || b == c || a == c) continue;  // the stock tools cannot hold these
+    auto f = mesh.add_face(vh[a], vh[b], vh[c]);
+    if (!f.is_valid()) {
+      DMesh::VertexHandle d[3];
+      for (int k = 0; k < 3; ++k) d[k] = mesh.add_vertex(mesh.point(vh[w.indices[3 * t + k]]));
+      f = mesh.add_face(d[0], d[1], d[2]);
+    }
+    face_src.resize(f.idx() + 1);
+    face_src[f.idx()] = uint32_t(t);
+  }
+  mesh.update_face_normals();
+}
+
+size_t decimater_stock_to(const Scene& s, size_t target) {
+  DMesh mesh;
+  std::vector<uint32_t> src;
+  build_dmesh(s, mesh, src);
+  OpenMesh::Decimater::DecimaterT<DMesh> dec(mesh);
+  OpenMesh::Decimater::ModQuadricT<DMesh>::Handle hq;
+  OpenMesh::Decimater::ModAspectRatioT<DMesh>::Handle ha;
+  dec.add(hq);
+  dec.add(ha);
+  dec.module(hq).unset_max_err();
+  dec.module(ha).set_aspect_ratio(10.0f);
+  dec.initialize();
+  dec.decimate_to_faces(0, target);
+  mesh.garbage_collection();
+  return mesh.n_faces();
+}
+
+size_t decimater_locked(const Scene& s, const std::vector<Label>& labels) {
+  DMesh mesh;
+  std::vector<uint32_t> src;
+  build_dmesh(s, mesh, src);
+  for (auto f : mesh.faces())
+    if (labels[src[f.idx()]] == Label::Perceptible)
+      for (auto v : mesh.fv_range(f)) mesh.status(v).set_locked(true);
+  OpenMesh::Decimater::DecimaterT<DMesh> dec(mesh);
+  OpenMesh::Decimater::ModQuadricT<DMesh>::Handle hq;
+  OpenMesh::Decimater::ModAspectRatioT<DMesh>::Handle ha;
+  OpenMesh::Decimater::ModNormalFlippingT<DMesh>::Handle hn;
+  dec.add(hq);
+  dec.add(ha);
+  dec.add(hn);
+  dec.module(hq).unset_max_err();
+  dec.module(ha).set_aspect_ratio(10.0f);
+  dec.module(hn).set_max_normal_deviation(60.0);
+  dec.initialize();
+  dec.decimate();
+  mesh.garbage_collection();
+  return mesh.n_faces();
+}
+
+// ---- one model ---------------------------------------------------------------
+
+void bench_model(const std::string& title, const Scene& scene, int runs, bool with_decimater) {
+  const double p = pixel_footprint(56.0);
+  auto labels = synthetic_labels(scene, 4 * p * p);
+  size_t count[3] = {0, 0, 0};
+  for (Label l : labels) count[size_t(l)]++;
+  std::printf("\n== %s: %zu triangles (perceptible %zu, imperceptible %zu, undisplayable %zu), p(56 m) = %.4f m, %d runs\n",
+              title.c_str(), scene.triangle_count(), count[0], count[1], count[2], p, runs);
+
+  SimplifyOptions paper;
+  Row ours = measure("perclod paper", runs, [&] { return simplify(scene, labels, paper).triangle_count(); });
+  SimplifyOptions bounded;
+  bounded.mode = SimplifyMode::Bounded;
+  bounded.pixel_footprint = p;
+  Row ours_b = measure("perclod bounded", runs, [&] { return simplify(scene, labels, bounded).triangle_count(); });
+  const size_t target = ours.triangles;
+  SimplifyOptions qem;
+  qem.mode = SimplifyMode::Qem;
+  qem.target_triangles = target;
+  Row ours_q = measure("perclod qem", runs, [&] { return simplify(scene, labels, qem).triangle_count(); });
+  std::vector<Row> rows = {ours, ours_b, ours_q};
+#ifdef PERCLOD_HAVE_MESHOPTIMIZER
+  rows.push_back(measure("meshoptimizer", runs, [&] { return meshopt_to(scene, target); }));
+#endif
+  if (with_decimater) {
+    rows.push_back(measure("decimater+locks", std::min(runs, 3), [&] { return decimater_locked(scene, labels); }));
+    rows.push_back(measure("decimater stock", std::min(runs, 3), [&] { return decimater_stock_to(scene, target); }));
+  }
+  std::printf("%-18s %10s %10s %10s %9s %14s\n", "method", "median s", "triangles", "peak MB", "x paper",
+              "tris/s in");
+  for (const Row& r : rows)
+    std::printf("%-18s %10.3f %10zu %10.0f %9.2f %14.0f\n", r.name.c_str(), r.seconds, r.triangles,
+                r.peak_kb / 1024.0, ours.seconds > 0 ? r.seconds / ours.seconds : 0.0,
+                r.seconds > 0 ? scene.triangle_count() / r.seconds : 0.0);
+  std::printf("target N = %zu (perclod paper's output); ratio column = method time / perclod paper time\n", target);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 5;
+  size_t facade_triangles = 1000000;
+  bool with_decimater = true;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--facade-triangles" && i + 1 < argc) facade_triangles = std::strtoull(argv[++i], nullptr, 10);
+    else if (a == "--skip-decimater") with_decimater = false;
+    else {
+      std::fprintf(stderr, "usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater]\n");
+      return 2;
+    }
+  }
+  std::printf("bench_simplify: medians of %d runs (Decimater rows: at most 3), each in a forked child;\n"
+              "peak MB = largest child peak RSS (includes the input scene the child inherits)\n", runs);
+  Row base = measure("(empty child)", 1, [] { return size_t(0); });
+  std::printf("empty child peak RSS: %.0f MB\n", base.peak_kb / 1024.0);
+
+  Scene facade = generate_facade(facade_params_for_triangles(facade_triangles));
+  bench_model("generated facade", facade, runs, with_decimater);
+  facade = Scene{};
+
+  std::string path = std::string(PERCLOD_SHARED_DATA) + "/ingolstadt/ingolstadt_lod3_all53.obj";
+  Scene city = load_scene(path);
+  bench_model("ingolstadt_lod3_all53.obj", city, runs, with_decimater);
+  return 0;
+}
