@@ -350,7 +350,7 @@ void OctreeTracer::Impl::build(const Scene& scene) {
 namespace {
 
 #ifdef PERCLOD_RAYCAST_STATS
-struct Counters { uint64_t tri = 0, tri_proj = 0, tri_rect = 0, px = 0, box = 0, box_pass = 0, tiles = 0; };
+struct Counters { uint64_t px_hit = 0, px_noedge = 0, tri = 0, tri_proj = 0, tri_rect = 0, px = 0, box = 0, box_pass = 0, tiles = 0; };
 Counters g_count;
 #define COUNT(x) (++g_count.x)
 #else
@@ -577,16 +577,33 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   bool changed = false;
   const uint32_t id = tri.index + 1;
   const float zlow_f = float(zlow) > zlow ? std::nextafter(float(zlow), -INFINITY) : float(zlow);
-  for (int y = ya; y <= yb; ++y)
-    for (int x = xa; x <= xb; ++x) {
+  // Scanline spans: on row y the edge functions bound the pixel centres to
+  // [xl, xr] (each edge with ea != 0 gives one side; ea == 0 accepts or
+  // rejects the whole row). Only centres in the span get the exact test.
+  double inv_ea[3] = {0, 0, 0};
+  if (edges)
+    for (int i = 0; i < 3; ++i) inv_ea[i] = ea[i] != 0 ? 1.0 / ea[i] : 0.0;
+  for (int y = ya; y <= yb; ++y) {
+    int x_from = xa, x_to = xb;
+    if (edges) {
+      const double Y = y + 0.5;
+      double xl = -INFINITY, xr = INFINITY;
+      bool empty = false;
+      for (int i = 0; i < 3; ++i) {
+        const double r = eb[i] * Y + ec[i];  // edge value at X = 0
+        if (ea[i] > 0) xl = std::max(xl, -r * inv_ea[i]);
+        else if (ea[i] < 0) xr = std::min(xr, -r * inv_ea[i]);
+        else empty |= r < 0;
+      }
+      if (empty) continue;
+      // X = x + 0.5 in [xl, xr], widened by a rounding hair.
+      const double hair = 1e-9 * (std::fabs(xl) + std::fabs(xr) + 1.0);
+      x_from = std::max(x_from, ceil_within(xl - hair - 0.5, tile.x0, tile.x0 + tile.w));
+      x_to = std::min(x_to, floor_within(xr + hair - 0.5, tile.x0 - 1, tile.x0 + tile.w));
+    }
+    for (int x = x_from; x <= x_to; ++x) {
       const int p = (y - tile.y0) * tile.w + (x - tile.x0);
       if (zlow_f > tile.bound[p]) continue;  // all of the triangle lies beyond this pixel's window
-      if (edges) {
-        const double X = x + 0.5, Y = y + 0.5;
-        if (ea[0] * X + eb[0] * Y + ec[0] < 0 || ea[1] * X + eb[1] * Y + ec[1] < 0 ||
-            ea[2] * X + eb[2] * Y + ec[2] < 0)
-          continue;  // farther than `margin` pixels outside the projected triangle
-      }
       COUNT(px);
       if (tile.collect) {
         float t;
@@ -596,7 +613,11 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
         continue;
       }
       float t;
+#ifdef PERCLOD_RAYCAST_STATS
+      if (!edges) COUNT(px_noedge);
+#endif
       if (!detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t)) continue;
+      COUNT(px_hit);
       if (tile.hit[p] == 0) {
         --tile.unhit;
         tile.best[p] = t;
@@ -614,6 +635,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
         if (id < tile.hit[p]) tile.hit[p] = id;
       }
     }
+  }
   return changed;
 }
 
@@ -764,6 +786,7 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
 #ifdef PERCLOD_RAYCAST_STATS
 void print_raycast_stats() {
   const auto& c = g_count;
+  std::printf("px_hit %lu px_noedge %lu\n", c.px_hit, c.px_noedge);
   std::printf("tiles %lu tri %lu proj %lu rect %lu px %lu box %lu pass %lu\n", c.tiles, c.tri, c.tri_proj, c.tri_rect, c.px, c.box, c.box_pass);
 }
 #endif
