@@ -20,25 +20,33 @@
 //               leaf: 9 floats of vertex positions and the original index.
 //
 // Traversal: all primary rays of a camera share one origin, the eye. The
-// image is cut into 8x8-pixel tiles; each tile walks the structure once for
-// its 64 rays:
-//   * a node is skipped when its box lies outside the tile's frustum (four
-//     planes through the eye and the tile's outer pixel edges, so every pixel
-//     centre of the tile is half a pixel inside) or when its nearest eye depth
-//     exceeds the farthest t any pixel of the tile still accepts;
+// image is cut into 16x16-pixel tiles; each tile walks the structure once for
+// its 256 rays (a tile is the "packet"; tiles are spread over oneTBB threads):
+//   * a box in front of the eye is projected to the image by interval
+//     arithmetic and skipped unless its rectangle (plus a float-rounding
+//     margin) contains one of the tile's pixel centres, so geometry that falls
+//     between the rays is dropped as a packet tracer's per-ray box tests would
+//     drop it; a box reaching the eye plane is tested against the tile's
+//     frustum (four planes through the eye and the tile's outer pixel edges);
+//     a box is also skipped when its nearest eye depth exceeds the farthest t
+//     any pixel of the tile still accepts;
 //   * octree children are visited front to back: a ray from the eye crosses
 //     each splitting plane at most once, away from the eye's side, so ordering
 //     children by the number of axes on which they lie across the centre from
 //     the eye (0, then 1, 2, 3) is a valid front-to-back order for every ray
 //     of the tile at once (this replaces Revelles' per-ray parametric order,
-//     and is exact also for an eye on a splitting plane or rays parallel to
-//     one);
+//     and stays exact for an eye on a splitting plane or rays parallel to one);
 //   * a component is tested once per tile (a per-thread stamp array), against
-//     all the tile's rays, whichever leaf reaches it first;
-//   * a triangle is projected to the image (in double) and only the tile's
-//     pixel centres inside its bounding rectangle (plus a rounding margin) get
-//     the exact watertight test; a triangle touching the eye plane is tested
-//     against the whole tile.
+//     all the tile's rays, whichever leaf reaches it first; a leaf's visible
+//     components and a BVH node's visible children are taken nearest box first;
+//   * a triangle is projected to the image (in double); its edge functions
+//     give, row by row, the span of pixel centres it can cover (widened by the
+//     rounding margin), and only those centres whose current t window reaches
+//     the triangle's nearest depth get the exact watertight test. A triangle
+//     touching the eye plane is tested against the whole tile.
+// The result is the same, bit for bit, as testing every ray against every
+// triangle (BruteForceTracer; the tests check it): the culling is
+// conservative and the exact test is the same function.
 // Tie rule: each pixel keeps the nearest t and accepts hits up to
 // t * (1 + 1e-6). When a second hit lands inside that window, the pixel is
 // flagged, and after the tile is done the flagged pixels are traced again with
@@ -49,7 +57,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -61,9 +68,6 @@
 #include "perclod/raycast.h"
 #include "pixel_rays.h"
 #include "watertight.h"
-#ifndef PERCLOD_EDGES
-#define PERCLOD_EDGES 1
-#endif
 
 namespace perclod {
 
@@ -125,10 +129,7 @@ struct OctNode {
   uint32_t count() const { return info & ~kLeafBit; }
 };
 
-#ifndef PERCLOD_TILE
-#define PERCLOD_TILE 16
-#endif
-constexpr int kTile = PERCLOD_TILE;
+constexpr int kTile = 16;
 constexpr int kTilePixels = kTile * kTile;
 
 }  // namespace
@@ -349,13 +350,6 @@ void OctreeTracer::Impl::build(const Scene& scene) {
 
 namespace {
 
-#ifdef PERCLOD_RAYCAST_STATS
-struct Counters { uint64_t px_hit = 0, px_noedge = 0, tri = 0, tri_proj = 0, tri_rect = 0, px = 0, box = 0, box_pass = 0, tiles = 0; };
-Counters g_count;
-#define COUNT(x) (++g_count.x)
-#else
-#define COUNT(x) ((void)0)
-#endif
 
 // What a tile needs to know about the camera.
 struct Frame {
@@ -450,7 +444,6 @@ inline int ceil_within(double v, int lo, int hi) {
 // the rays is dropped here, as a packet tracer's per-ray box tests would.
 // A box reaching the eye plane gets the four frustum planes instead.
 bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near) {
-  COUNT(box);
   double lo[3], hi[3], mag = 0;
   for (int k = 0; k < 3; ++k) {
     lo[k] = double(b.lo[k]) - f.eye[k];
@@ -485,7 +478,6 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near) {
     const int ya = ceil_within(pylo - margin - 0.5, tile.y0, tile.y0 + tile.h);
     const int yb = floor_within(pyhi + margin - 0.5, tile.y0 - 1, tile.y0 + tile.h - 1);
     if (ya > yb) return false;
-    COUNT(box_pass);
     return true;
   }
   for (int p = 0; p < 4; ++p) {
@@ -494,14 +486,12 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near) {
     for (int k = 0; k < 3; ++k) s += n[k] * (n[k] >= 0 ? hi[k] : lo[k]);
     if (s < 0) return false;
   }
-  COUNT(box_pass);
   return true;
 }
 
 
 // The exact per-pixel work for one triangle. Returns true if any pixel changed.
 bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
-  COUNT(tri);
   float A[3], B[3], C[3];
   for (int k = 0; k < 3; ++k) {
     A[k] = tri.v[k] - f.eyef[k];
@@ -521,7 +511,6 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   if (zlow > tile.tmax) return false;
   if (zmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
 
-  COUNT(tri_proj);
   int xa = tile.x0, xb = tile.x0 + tile.w - 1, ya = tile.y0, yb = tile.y0 + tile.h - 1;
   // Edge functions of the projected triangle, in pixels (interior >= 0),
   // used as a pre-filter when the triangle spans more than one pixel.
@@ -560,7 +549,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
         const int j = i == 2 ? 0 : i + 1;
         l1max = std::max(l1max, std::fabs(P[j][0] - P[i][0]) + std::fabs(P[j][1] - P[i][1]));
       }
-      edges = PERCLOD_EDGES && std::fabs(area2) > 1e-6 * l1max * l1max;
+      edges = std::fabs(area2) > 1e-6 * l1max * l1max;
       if (edges) {
         const double sgn = area2 > 0 ? 1.0 : -1.0;
         for (int i = 0; i < 3; ++i) {
@@ -573,7 +562,6 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
       }
     }
   }
-  COUNT(tri_rect);
   bool changed = false;
   const uint32_t id = tri.index + 1;
   const float zlow_f = float(zlow) > zlow ? std::nextafter(float(zlow), -INFINITY) : float(zlow);
@@ -604,7 +592,6 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
     for (int x = x_from; x <= x_to; ++x) {
       const int p = (y - tile.y0) * tile.w + (x - tile.x0);
       if (zlow_f > tile.bound[p]) continue;  // all of the triangle lies beyond this pixel's window
-      COUNT(px);
       if (tile.collect) {
         float t;
         if (tile.tie[p] && id < tile.hit[p] &&
@@ -613,11 +600,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
         continue;
       }
       float t;
-#ifdef PERCLOD_RAYCAST_STATS
-      if (!edges) COUNT(px_noedge);
-#endif
       if (!detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t)) continue;
-      COUNT(px_hit);
       if (tile.hit[p] == 0) {
         --tile.unhit;
         tile.best[p] = t;
@@ -761,7 +744,6 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
     Tile tile;
     for (int ti = r.begin(); ti < r.end(); ++ti) {
       setup_tile(f, tile, (ti % tiles_x) * kTile, (ti / tiles_x) * kTile);
-      COUNT(tiles);
       walk(tile, s);
       bool any_tie = false;
       const int n = tile.w * tile.h;
@@ -783,13 +765,6 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
 
 // ---------------------------------------------------------------- public
 
-#ifdef PERCLOD_RAYCAST_STATS
-void print_raycast_stats() {
-  const auto& c = g_count;
-  std::printf("px_hit %lu px_noedge %lu\n", c.px_hit, c.px_noedge);
-  std::printf("tiles %lu tri %lu proj %lu rect %lu px %lu box %lu pass %lu\n", c.tiles, c.tri, c.tri_proj, c.tri_rect, c.px, c.box, c.box_pass);
-}
-#endif
 
 OctreeTracer::OctreeTracer(const Scene& scene, const OctreeOptions& options)
     : impl_(std::make_unique<Impl>()) {
