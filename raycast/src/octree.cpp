@@ -358,6 +358,8 @@ struct Frame {
   double eye[3], fwd[3], right[3], up[3];
   float eyef[3];
   float znear, zfar;
+  bool pos_fwd[3], pos_right[3], pos_up[3];  // coefficient >= 0
+  double fmax;  // max(fx, fy)
   double fx, fy, cx, cy;  // image point = (cx + fx * x/z, cy - fy * y/z) in camera axes
 };
 
@@ -443,24 +445,27 @@ inline int ceil_within(double v, int lo, int hi) {
 // contains a pixel centre of the tile: sub-pixel geometry that falls between
 // the rays is dropped here, as a packet tracer's per-ray box tests would.
 // A box reaching the eye plane gets the four frustum planes instead.
-bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near) {
+struct PixelRect {
+  int xa, xb, ya, yb;  // inclusive pixel range inside the tile
+};
+
+bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, PixelRect& rect) {
   double lo[3], hi[3], mag = 0;
   for (int k = 0; k < 3; ++k) {
     lo[k] = double(b.lo[k]) - f.eye[k];
     hi[k] = double(b.hi[k]) - f.eye[k];
-    mag = std::max({mag, std::fabs(lo[k]), std::fabs(hi[k])});
+    mag = std::max(mag, std::max(-lo[k], hi[k]));  // >= max |coordinate| (lo <= hi)
   }
+  // Extremes of a linear function over the box: the corner picked by the
+  // signs of its coefficients (precomputed per frame in Frame::pos_*).
   double dmin = 0, dmax = 0, nxmin = 0, nxmax = 0, nymin = 0, nymax = 0;
   for (int k = 0; k < 3; ++k) {
-    const double fl = f.fwd[k] * lo[k], fh = f.fwd[k] * hi[k];
-    dmin += std::min(fl, fh);
-    dmax += std::max(fl, fh);
-    const double rl = f.right[k] * lo[k], rh = f.right[k] * hi[k];
-    nxmin += std::min(rl, rh);
-    nxmax += std::max(rl, rh);
-    const double ul = f.up[k] * lo[k], uh = f.up[k] * hi[k];
-    nymin += std::min(ul, uh);
-    nymax += std::max(ul, uh);
+    dmin += f.fwd[k] * (f.pos_fwd[k] ? lo[k] : hi[k]);
+    dmax += f.fwd[k] * (f.pos_fwd[k] ? hi[k] : lo[k]);
+    nxmin += f.right[k] * (f.pos_right[k] ? lo[k] : hi[k]);
+    nxmax += f.right[k] * (f.pos_right[k] ? hi[k] : lo[k]);
+    nymin += f.up[k] * (f.pos_up[k] ? lo[k] : hi[k]);
+    nymax += f.up[k] * (f.pos_up[k] ? hi[k] : lo[k]);
   }
   near = dmin - 4e-6 * mag;  // below any t the float test can return inside the box
   if (near > tile.tmax) return false;
@@ -469,7 +474,7 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near) {
     const double i0 = 1.0 / dmin, i1 = 1.0 / dmax;
     const double xlo = nxmin * (nxmin >= 0 ? i1 : i0), xhi = nxmax * (nxmax >= 0 ? i0 : i1);
     const double ylo = nymin * (nymin >= 0 ? i1 : i0), yhi = nymax * (nymax >= 0 ? i0 : i1);
-    const double margin = 1e-3 + 4e-6 * (mag / dmin) * std::max(f.fx, f.fy);
+    const double margin = 1e-3 + 4e-6 * mag * i0 * f.fmax;
     const double pxlo = f.cx + f.fx * xlo, pxhi = f.cx + f.fx * xhi;
     const double pylo = f.cy - f.fy * yhi, pyhi = f.cy - f.fy * ylo;
     const int xa = ceil_within(pxlo - margin - 0.5, tile.x0, tile.x0 + tile.w);
@@ -478,6 +483,7 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near) {
     const int ya = ceil_within(pylo - margin - 0.5, tile.y0, tile.y0 + tile.h);
     const int yb = floor_within(pyhi + margin - 0.5, tile.y0 - 1, tile.y0 + tile.h - 1);
     if (ya > yb) return false;
+    rect = {xa, xb, ya, yb};
     return true;
   }
   for (int p = 0; p < 4; ++p) {
@@ -486,9 +492,48 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near) {
     for (int k = 0; k < 3; ++k) s += n[k] * (n[k] >= 0 ? hi[k] : lo[k]);
     if (s < 0) return false;
   }
+  rect = {tile.x0, tile.x0 + tile.w - 1, tile.y0, tile.y0 + tile.h - 1};
   return true;
 }
 
+
+// The exact test of one pixel's ray and the tie-rule bookkeeping. Returns
+// true when the pixel's nearest hit changed.
+inline bool test_pixel(const Frame& f, Tile& tile, int p, uint32_t id, const float A[3], const float B[3],
+                       const float C[3]) {
+  float t;
+  if (tile.collect) {
+    if (tile.tie[p] && id < tile.hit[p] && detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t))
+      tile.hit[p] = id;
+    return false;
+  }
+  if (!detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t)) return false;
+  if (tile.hit[p] == 0) {
+    --tile.unhit;
+  } else if (t >= tile.best[p]) {  // inside the window of the nearest: a tie to resolve
+    tile.tie[p] = 1;
+    if (id < tile.hit[p]) tile.hit[p] = id;
+    return false;
+  } else if (tile.best[p] <= tie_bound(t, f.zfar)) {
+    tile.tie[p] = 1;  // the old nearest lies inside the new window
+  }
+  tile.best[p] = t;
+  tile.hit[p] = id;
+  tile.bound[p] = tie_bound(t, f.zfar);
+  return true;
+}
+
+// A triangle against a single pixel (its leaf box covers one pixel centre of
+// the tile): no projection needed, the exact test decides.
+inline bool test_triangle_at(const Frame& f, Tile& tile, const PackedTri& tri, int x, int y) {
+  float A[3], B[3], C[3];
+  for (int k = 0; k < 3; ++k) {
+    A[k] = tri.v[k] - f.eyef[k];
+    B[k] = tri.v[3 + k] - f.eyef[k];
+    C[k] = tri.v[6 + k] - f.eyef[k];
+  }
+  return test_pixel(f, tile, (y - tile.y0) * tile.w + (x - tile.x0), tri.index + 1, A, B, C);
+}
 
 // The exact per-pixel work for one triangle. Returns true if any pixel changed.
 bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
@@ -519,11 +564,12 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   double margin = 0;
   if (zmin > 1e-4 * mag) {  // fully in front of the eye: restrict to the projected rectangle
     double pxmin = INFINITY, pxmax = -INFINITY, pymin = INFINITY, pymax = -INFINITY;
-    double P[3][2];
+    double P[3][2], izmax = 0;  // izmax = 1 / zmin
     for (int c = 0; c < 3; ++c) {
       const double rx = f.right[0] * V[c][0] + f.right[1] * V[c][1] + f.right[2] * V[c][2];
       const double ry = f.up[0] * V[c][0] + f.up[1] * V[c][1] + f.up[2] * V[c][2];
       const double iz = 1.0 / z[c];
+      izmax = std::max(izmax, iz);
       const double px = f.cx + f.fx * rx * iz, py = f.cy - f.fy * ry * iz;
       P[c][0] = px;
       P[c][1] = py;
@@ -534,7 +580,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
     }
     // Float rounding of the watertight test, in pixels: a few ulps of the
     // vertex magnitude seen at the nearest depth.
-    margin = 1e-3 + 4e-6 * (mag / zmin) * std::max(f.fx, f.fy);
+    margin = 1e-3 + 4e-6 * mag * izmax * f.fmax;
     xa = std::max(xa, ceil_within(pxmin - margin - 0.5, tile.x0, tile.x0 + tile.w));
     xb = std::min(xb, floor_within(pxmax + margin - 0.5, tile.x0 - 1, tile.x0 + tile.w));
     ya = std::max(ya, ceil_within(pymin - margin - 0.5, tile.y0, tile.y0 + tile.h));
@@ -592,31 +638,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
     for (int x = x_from; x <= x_to; ++x) {
       const int p = (y - tile.y0) * tile.w + (x - tile.x0);
       if (zlow_f > tile.bound[p]) continue;  // all of the triangle lies beyond this pixel's window
-      if (tile.collect) {
-        float t;
-        if (tile.tie[p] && id < tile.hit[p] &&
-            detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t))
-          tile.hit[p] = id;
-        continue;
-      }
-      float t;
-      if (!detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t)) continue;
-      if (tile.hit[p] == 0) {
-        --tile.unhit;
-        tile.best[p] = t;
-        tile.hit[p] = id;
-        tile.bound[p] = tie_bound(t, f.zfar);
-        changed = true;
-      } else if (t < tile.best[p]) {
-        if (tile.best[p] <= tie_bound(t, f.zfar)) tile.tie[p] = 1;
-        tile.best[p] = t;
-        tile.hit[p] = id;
-        tile.bound[p] = tie_bound(t, f.zfar);
-        changed = true;
-      } else {  // inside the window of the nearest: a tie to resolve
-        tile.tie[p] = 1;
-        if (id < tile.hit[p]) tile.hit[p] = id;
-      }
+      changed |= test_pixel(f, tile, p, id, A, B, C);
     }
   }
   return changed;
@@ -645,6 +667,12 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
   f.fy = 0.5 * cam.height / th;
   f.cx = 0.5 * cam.width;
   f.cy = 0.5 * cam.height;
+  f.fmax = std::max(f.fx, f.fy);
+  for (int k = 0; k < 3; ++k) {
+    f.pos_fwd[k] = f.fwd[k] >= 0;
+    f.pos_right[k] = f.right[k] >= 0;
+    f.pos_up[k] = f.up[k] >= 0;
+  }
 
   const int tiles_x = (cam.width + kTile - 1) / kTile, tiles_y = (cam.height + kTile - 1) / kTile;
   const uint32_t nc = uint32_t(components.size());
@@ -653,35 +681,42 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
   static constexpr int kOrder[8] = {0, 1, 2, 4, 3, 5, 6, 7};
 
   // One component's BVH, children nearest-box first. Its root box is visible.
-  auto walk_component = [&](Tile& tile, uint32_t c, double root_near) {
+  auto walk_component = [&](Tile& tile, uint32_t c, double root_near, const PixelRect& root_rect) {
     struct Entry {
       double near;
       uint32_t node;
+      PixelRect rect;
     };
     Entry stack[128];
     int top = 0;
-    stack[top++] = {root_near, components[c].bvh_root};
+    stack[top++] = {root_near, components[c].bvh_root, root_rect};
     while (top > 0) {
       const Entry e = stack[--top];
       if (e.near > tile.tmax) continue;
       const BvhNode& b = bvh[e.node];
       if (b.count() == 0) {
         double n0, n1;
-        const bool v0 = box_visible(f, tile, bvh[b.first].box, n0);
-        const bool v1 = box_visible(f, tile, bvh[b.first + 1].box, n1);
+        PixelRect r0, r1;
+        const bool v0 = box_visible(f, tile, bvh[b.first].box, n0, r0);
+        const bool v1 = box_visible(f, tile, bvh[b.first + 1].box, n1, r1);
         if (v0 && v1) {
           const bool left_near = n0 <= n1;
-          stack[top++] = left_near ? Entry{n1, b.first + 1} : Entry{n0, b.first};
-          stack[top++] = left_near ? Entry{n0, b.first} : Entry{n1, b.first + 1};
+          stack[top++] = left_near ? Entry{n1, b.first + 1, r1} : Entry{n0, b.first, r0};
+          stack[top++] = left_near ? Entry{n0, b.first, r0} : Entry{n1, b.first + 1, r1};
         } else if (v0) {
-          stack[top++] = {n0, b.first};
+          stack[top++] = {n0, b.first, r0};
         } else if (v1) {
-          stack[top++] = {n1, b.first + 1};
+          stack[top++] = {n1, b.first + 1, r1};
         }
         continue;
       }
       bool changed = false;
-      for (uint32_t i = 0; i < b.count(); ++i) changed |= test_triangle(f, tile, tris[b.first + i]);
+      if (e.rect.xa == e.rect.xb && e.rect.ya == e.rect.yb) {  // the leaf covers one pixel centre
+        for (uint32_t i = 0; i < b.count(); ++i)
+          changed |= test_triangle_at(f, tile, tris[b.first + i], e.rect.xa, e.rect.ya);
+      } else {
+        for (uint32_t i = 0; i < b.count(); ++i) changed |= test_triangle(f, tile, tris[b.first + i]);
+      }
       if (changed) update_tile_tmax(tile);
     }
   };
@@ -693,12 +728,13 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
     }
     update_tile_tmax(tile);
     double near;
+    PixelRect rect;
     uint32_t stack[128];
     int top = 0;
     if (!octree.empty() && !tris.empty()) stack[top++] = 0;
     while (top > 0) {
       const OctNode& node = octree[stack[--top]];
-      if (!box_visible(f, tile, node.box, near)) continue;
+      if (!box_visible(f, tile, node.box, near, rect)) continue;
       if (!node.leaf()) {
         int side = 0;
         for (int k = 0; k < 3; ++k)
@@ -710,6 +746,7 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
       struct Pick {
         double near;
         uint32_t c;
+        PixelRect rect;
       };
       Pick picks[256];
       uint32_t np = 0;
@@ -717,9 +754,9 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
         const uint32_t c = leaf_refs[node.first + r];
         if (s.stamp[c] == s.clock) continue;
         s.stamp[c] = s.clock;
-        if (!box_visible(f, tile, components[c].box, near)) continue;
+        if (!box_visible(f, tile, components[c].box, near, rect)) continue;
         if (np == 256) {  // a huge leaf (max_components_per_leaf > 256): no sorting
-          walk_component(tile, c, near);
+          walk_component(tile, c, near, rect);
           continue;
         }
         uint32_t k = np++;
@@ -727,10 +764,10 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
           picks[k] = picks[k - 1];
           --k;
         }
-        picks[k] = {near, c};
+        picks[k] = {near, c, rect};
       }
       for (uint32_t k = 0; k < np; ++k)
-        if (picks[k].near <= tile.tmax) walk_component(tile, picks[k].c, picks[k].near);
+        if (picks[k].near <= tile.tmax) walk_component(tile, picks[k].c, picks[k].near, picks[k].rect);
     }
   };
 
