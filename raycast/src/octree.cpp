@@ -20,8 +20,8 @@
 //               leaf: 9 floats of vertex positions and the original index.
 //
 // Traversal: all primary rays of a camera share one origin, the eye. The
-// image is cut into 16x16-pixel tiles; each tile walks the structure once for
-// its 256 rays (a tile is the "packet"; tiles are spread over oneTBB threads):
+// image is cut into 32x32-pixel tiles; each tile walks the structure once for
+// its 1024 rays (a tile is the "packet"; tiles are spread over oneTBB threads):
 //   * a box in front of the eye is projected to the image by interval
 //     arithmetic and skipped unless its rectangle (plus a float-rounding
 //     margin) contains one of the tile's pixel centres, so geometry that falls
@@ -129,7 +129,7 @@ struct OctNode {
   uint32_t count() const { return info & ~kLeafBit; }
 };
 
-constexpr int kTile = 16;
+constexpr int kTile = 32;
 constexpr int kTilePixels = kTile * kTile;
 
 }  // namespace
@@ -459,16 +459,16 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, P
   // Extremes of a linear function over the box: the corner picked by the
   // signs of its coefficients (precomputed per frame in Frame::pos_*).
   double dmin = 0, dmax = 0, nxmin = 0, nxmax = 0, nymin = 0, nymax = 0;
+  for (int k = 0; k < 3; ++k) dmin += f.fwd[k] * (f.pos_fwd[k] ? lo[k] : hi[k]);
+  near = dmin - 4e-6 * mag;  // below any t the float test can return inside the box
+  if (near > tile.tmax) return false;  // occluded for every pixel of the tile
   for (int k = 0; k < 3; ++k) {
-    dmin += f.fwd[k] * (f.pos_fwd[k] ? lo[k] : hi[k]);
     dmax += f.fwd[k] * (f.pos_fwd[k] ? hi[k] : lo[k]);
     nxmin += f.right[k] * (f.pos_right[k] ? lo[k] : hi[k]);
     nxmax += f.right[k] * (f.pos_right[k] ? hi[k] : lo[k]);
     nymin += f.up[k] * (f.pos_up[k] ? lo[k] : hi[k]);
     nymax += f.up[k] * (f.pos_up[k] ? hi[k] : lo[k]);
   }
-  near = dmin - 4e-6 * mag;  // below any t the float test can return inside the box
-  if (near > tile.tmax) return false;
   if (dmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
   if (dmin > 1e-4 * mag) {
     const double i0 = 1.0 / dmin, i1 = 1.0 / dmax;
@@ -771,7 +771,7 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
     }
   };
 
-  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 8), [&](const tbb::blocked_range<int>& r) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 2), [&](const tbb::blocked_range<int>& r) {
     detail::DenormalsOff ftz;
     Scratch& s = scratch.local();
     if (s.stamp.size() != nc) {

@@ -31,9 +31,9 @@ inline ShearedRay shear_ray(const float d[3]) {
   r.kx = uint8_t(kx);
   r.ky = uint8_t(ky);
   r.kz = uint8_t(kz);
-  r.sx = d[kx] / d[kz];
-  r.sy = d[ky] / d[kz];
-  r.sz = 1.0f / d[kz];
+  r.sz = 1.0f / d[kz];  // one division; every tracer shares this setup
+  r.sx = d[kx] * r.sz;
+  r.sy = d[ky] * r.sz;
   return r;
 }
 
