@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   perclod::cli::register_render(app);
   perclod::cli::register_perceive(app);
   perclod::cli::register_label(app);
+  perclod::cli::register_simplify(app);
   perclod::cli::register_run(app);
 
   try {

@@ -88,31 +88,46 @@ void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, Sim
   std::vector<int> vh_of(w.weld.positions.size() / 3, -1);
   m.mesh.reserve(faces.size(), 3 * faces.size() / 2, faces.size());
   m.vert_welded.reserve(faces.size());
-  for (uint32_t src : faces) {
-    uint32_t c[3];
-    for (int k = 0; k < 3; ++k) c[k] = w.weld.corner[3 * size_t(src) + k];
-    FH f;
-    bool degenerate = c[0] == c[1] || c[1] == c[2] || c[0] == c[2];
-    if (!degenerate) {
-      VH v[3];
-      for (int k = 0; k < 3; ++k) {
-        if (vh_of[c[k]] < 0) vh_of[c[k]] = add_vertex(m, w, c[k]).idx();
-        v[k] = VH(vh_of[c[k]]);
-      }
-      f = m.mesh.add_face(v[0], v[1], v[2]);
-    }
-    if (!f.is_valid()) {
-      // Non-manifold edge or vertex (or repeated corners): the face gets its
-      // own vertices, disconnected from its neighbours, and stays.
-      (degenerate ? stats.degenerate_faces : stats.nonmanifold_faces_duplicated)++;
-      VH v[3];
-      for (int k = 0; k < 3; ++k) v[k] = add_vertex(m, w, c[k]);
-      f = m.mesh.add_face(v[0], v[1], v[2]);
-    }
+  auto record = [&](FH f, uint32_t src) {
     if (size_t(f.idx()) != m.face_source.size())
       throw std::logic_error("simplify: OpenMesh face numbering out of step");
     m.face_source.push_back(src);
+  };
+  // Shared vertices first. A face OpenMesh refuses (non-manifold edge or
+  // vertex) may fit once its neighbours are in: those are retried after the
+  // first pass, and only faces refused again get their own vertices.
+  std::vector<uint32_t> refused;
+  auto try_shared = [&](uint32_t src) {
+    const uint32_t* c = &w.weld.corner[3 * size_t(src)];
+    VH v[3];
+    for (int k = 0; k < 3; ++k) {
+      if (vh_of[c[k]] < 0) vh_of[c[k]] = add_vertex(m, w, c[k]).idx();
+      v[k] = VH(vh_of[c[k]]);
+    }
+    FH f = m.mesh.add_face(v[0], v[1], v[2]);
+    if (f.is_valid()) record(f, src);
+    return f.is_valid();
+  };
+  auto add_alone = [&](uint32_t src) {  // disconnected from its neighbours, but kept
+    const uint32_t* c = &w.weld.corner[3 * size_t(src)];
+    VH v[3];
+    for (int k = 0; k < 3; ++k) v[k] = add_vertex(m, w, c[k]);
+    record(m.mesh.add_face(v[0], v[1], v[2]), src);
+  };
+  for (uint32_t src : faces) {
+    const uint32_t* c = &w.weld.corner[3 * size_t(src)];
+    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) {
+      stats.degenerate_faces++;
+      add_alone(src);
+    } else if (!try_shared(src)) {
+      refused.push_back(src);
+    }
   }
+  for (uint32_t src : refused)
+    if (!try_shared(src)) {
+      stats.nonmanifold_faces_duplicated++;
+      add_alone(src);
+    }
   m.faces_alive = m.face_source.size();
   m.merged_into.resize(m.mesh.n_vertices());
   std::iota(m.merged_into.begin(), m.merged_into.end(), 0u);
@@ -189,6 +204,13 @@ void lock_perceptible(Model& m, const Work& w) {
 
 // ---- candidates ------------------------------------------------------------
 
+// Distance bound of collapsing v0 into v1: sqrt of the unit-weight quadric
+// of both, evaluated at v1.
+double collapse_error(const Model& m, VH v0, VH v1) {
+  const auto& p = m.mesh.point(v1);
+  return std::sqrt((m.qd[v0.idx()] + m.qd[v1.idx()]).eval(p[0], p[1], p[2]));
+}
+
 struct Candidate {
   HH h;
   double cost = 0;
@@ -259,8 +281,9 @@ bool link_ok(const Mesh& mesh, HH h, const std::vector<VH>& ring1) {
   return true;
 }
 
-// Cost and error of collapsing h (v0 -> v1); false when h may never
-// collapse (v0 locked, a constraint line, error above the tolerance).
+// Cost of collapsing h (v0 -> v1), and its error when there is a tolerance;
+// false when h may never collapse (v0 locked, a constraint line, error above
+// the tolerance).
 bool evaluate(const Model& m, HH h, const Limits& lim, Candidate& c) {
   const Mesh& mesh = m.mesh;
   VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
@@ -270,8 +293,9 @@ bool evaluate(const Model& m, HH h, const Limits& lim, Candidate& c) {
   double l2 = (to_d(q1) - to_d(mesh.point(v0))).sqrnorm();
   c.h = h;
   c.cost = (m.qa[v0.idx()] + m.qa[v1.idx()]).eval(x, y, z) + lim.tie * l2 * l2;
-  c.error = std::sqrt((m.qd[v0.idx()] + m.qd[v1.idx()]).eval(x, y, z));
-  return lim.tolerance < 0 || c.error <= lim.tolerance;
+  if (lim.tolerance < 0) return true;
+  c.error = collapse_error(m, v0, v1);
+  return c.error <= lim.tolerance;
 }
 
 // Everything that depends on the neighbourhood: fan size, link condition,
@@ -294,6 +318,14 @@ class HalfedgeHeap {
  public:
   explicit HalfedgeHeap(size_t n) : pos_(n, -1) {}
   bool empty() const { return heap_.empty(); }
+  // Bulk insert of half-edges not in the heap yet, then one O(n) heapify.
+  void build(const std::vector<std::pair<double, uint32_t>>& items) {
+    for (const auto& [cost, h] : items) {
+      pos_[h] = int(heap_.size());
+      heap_.push_back({cost, h});
+    }
+    for (size_t i = heap_.size() / 2; i-- > 0;) down(i);
+  }
   uint32_t top() const { return heap_[0].h; }
   void set(uint32_t h, double cost) {
     if (pos_[h] < 0) {
@@ -368,7 +400,15 @@ class Collapser {
 
   void run(SimplifyStats& stats, int max_passes = 8) {
     changed_.assign(m_.mesh.n_vertices(), 0);
-    for (auto e : m_.mesh.edges()) queue_edge(e);
+    std::vector<std::pair<double, uint32_t>> initial;
+    initial.reserve(m_.mesh.n_halfedges());
+    for (auto e : m_.mesh.edges())
+      for (int side = 0; side < 2; ++side) {
+        HH h = m_.mesh.halfedge_handle(e, side);
+        Candidate c;
+        if (evaluate(m_, h, lim_, c)) initial.push_back({c.cost, uint32_t(h.idx())});
+      }
+    heap_.build(initial);
     for (int pass = 0; pass < max_passes && m_.faces_alive > target_; ++pass) {
       if (pass > 0) requeue_refused();
       if (drain(stats) == 0) break;
@@ -407,6 +447,7 @@ class Collapser {
         refused_.push_back({uint32_t(h.idx()), clock_});
         continue;
       }
+      if (lim_.tolerance < 0) c.error = collapse_error(m_, mesh.from_vertex_handle(h), mesh.to_vertex_handle(h));
       collapse(c, stats);
       ++done;
     }
