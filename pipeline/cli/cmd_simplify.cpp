@@ -98,8 +98,10 @@ void run_simplify(SimplifyArgs a) {
     return;
   }
   std::printf("output       %s\n", a.out.c_str());
-  std::printf("mode         %s at %.1f m (p(d) = %.4f m, tolerance %.4f m)\n", a.mode.c_str(), a.distance,
-              a.opt.pixel_footprint, st.tolerance);
+  std::printf("mode         %s at %.1f m (p(d) = %.4f m", a.mode.c_str(), a.distance, a.opt.pixel_footprint);
+  if (st.tolerance > 0)
+    std::printf(", %s %.4f m", a.opt.mode == SimplifyMode::Cluster ? "cell" : "tolerance", st.tolerance);
+  std::printf(")\n");
   std::printf("             %12s %12s %12s %12s\n", "perceptible", "impercept.", "undisplay.", "total");
   std::printf("before       %12zu %12zu %12zu %12zu\n", st.triangles_before[0], st.triangles_before[1],
               st.triangles_before[2], st.total_before());

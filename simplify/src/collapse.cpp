@@ -104,6 +104,12 @@ void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, Sim
       if (vh_of[c[k]] < 0) vh_of[c[k]] = add_vertex(m, w, c[k]).idx();
       v[k] = VH(vh_of[c[k]]);
     }
+    // An edge already used in this direction is a complex edge: refuse it
+    // here rather than let OpenMesh format an error message.
+    for (int k = 0; k < 3; ++k) {
+      HH h = m.mesh.find_halfedge(v[k], v[(k + 1) % 3]);
+      if (h.is_valid() && !m.mesh.is_boundary(h)) return false;
+    }
     FH f = m.mesh.add_face(v[0], v[1], v[2]);
     if (f.is_valid()) record(f, src);
     return f.is_valid();
