@@ -410,3 +410,42 @@ TEST(RaycastScenes, FastEmbreeAndTBufferMatchOctree) {
 
 }  // namespace
 }  // namespace perclod::test
+
+namespace perclod::test {
+namespace {
+
+// The structure's settings change speed, never the answer: every variant
+// reproduces the brute-force oracle, and the octree really splits when asked.
+TEST(RaycastScenes, OctreeSettingsDoNotChangeResults) {
+  Scene s = box_lattice();
+  for (int j = 0; j < 30; ++j)  // plus one 1,800-triangle component: a deep BVH
+    for (int i = 0; i < 30; ++i)
+      add_quad(s, V3(-7 + 0.4 * i, -7 + 0.4 * j, -4.5), V3(-6.6 + 0.4 * i, -7 + 0.4 * j, -4.5),
+               V3(-6.6 + 0.4 * i, -6.6 + 0.4 * j, -4.4), V3(-7 + 0.4 * i, -6.6 + 0.4 * j, -4.5), 200);
+  const Camera cam = look_at(V3(4, -6, 14), V3(0, 0, -2), V3(0, 0, 1), 1.0, 80, 60, 0.1, 100);
+  const auto expected = BruteForceTracer(s).trace(cam);
+  ASSERT_GT(count_nonzero(expected), 2000u);
+  OctreeOptions flat;
+  flat.max_depth = 0;
+  OctreeOptions deep;
+  deep.max_components_per_leaf = 1;
+  OctreeOptions tiny_leaves;
+  tiny_leaves.max_triangles_per_bvh_leaf = 1;
+  OctreeOptions huge_leaves;
+  huge_leaves.max_triangles_per_bvh_leaf = 4096;
+  for (const OctreeOptions& o : {OctreeOptions{}, flat, deep, tiny_leaves, huge_leaves}) {
+    const OctreeTracer oct(s, o);
+    EXPECT_EQ(oct.trace(cam), expected) << "depth " << o.max_depth << " per leaf " << o.max_components_per_leaf
+                                        << " bvh leaf " << o.max_triangles_per_bvh_leaf;
+    EXPECT_GT(oct.memory_bytes(), 40 * s.triangle_count());
+    EXPECT_GE(oct.build_seconds(), 0.0);
+  }
+  EXPECT_EQ(OctreeTracer(s, flat).stats().octree_nodes, 1u);
+  const auto st = OctreeTracer(s, deep).stats();
+  EXPECT_GE(st.depth_reached, 2);
+  EXPECT_LE(st.depth_reached, 9);
+  EXPECT_GT(OctreeTracer(s, tiny_leaves).stats().bvh_nodes, OctreeTracer(s).stats().bvh_nodes);
+}
+
+}  // namespace
+}  // namespace perclod::test
