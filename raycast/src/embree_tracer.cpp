@@ -14,6 +14,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <limits>
@@ -32,6 +33,7 @@ struct EmbreeTracer::Impl {
   RTCScene scene = nullptr;
   size_t triangles = 0, vertices = 0;
   double build_seconds = 0;
+  std::atomic<int64_t> device_bytes{0};  // what Embree reports allocating (BVH + buffers)
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -44,6 +46,12 @@ namespace {
 [[noreturn]] void embree_fail(RTCDevice device, const char* what) {
   const RTCError e = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
   throw std::runtime_error(std::string("embree: ") + what + " failed (error " + std::to_string(int(e)) + ")");
+}
+
+// Embree's memory monitor: a running total of the device's allocations.
+bool track_memory(void* user, ssize_t bytes, bool /*post*/) {
+  static_cast<std::atomic<int64_t>*>(user)->fetch_add(int64_t(bytes), std::memory_order_relaxed);
+  return true;
 }
 
 // Context of the tie query: the filter keeps the lowest primID.
@@ -88,6 +96,7 @@ EmbreeTracer::EmbreeTracer(const Scene& scene, EmbreeMode mode) : impl_(std::mak
   const auto t0 = std::chrono::steady_clock::now();
   impl_->device = rtcNewDevice(nullptr);
   if (!impl_->device) embree_fail(nullptr, "rtcNewDevice");
+  rtcSetDeviceMemoryMonitorFunction(impl_->device, track_memory, &impl_->device_bytes);
   impl_->scene = rtcNewScene(impl_->device);
   if (!impl_->scene) embree_fail(impl_->device, "rtcNewScene");
   int flags = RTC_SCENE_FLAG_ROBUST;
@@ -134,9 +143,10 @@ const char* EmbreeTracer::name() const {
 double EmbreeTracer::build_seconds() const { return impl_->build_seconds; }
 
 size_t EmbreeTracer::memory_bytes() const {
-  // Embree does not report its BVH size; this counts the geometry copies it
-  // holds (vertex and index buffers). The benchmark says so.
-  return impl_->vertices * 3 * sizeof(float) + impl_->triangles * 3 * sizeof(uint32_t);
+  // Embree's own count of what the device holds (BVH, buffers, build
+  // leftovers), from its memory monitor.
+  const int64_t b = impl_->device_bytes.load(std::memory_order_relaxed);
+  return b > 0 ? size_t(b) : 0;
 }
 
 void EmbreeTracer::trace(const Camera& cam, uint32_t* out, float* tout) const {

@@ -86,6 +86,8 @@ void bench_scene(const std::string& name, const Scene& scene, int runs) {
               "%zu octree nodes, %zu leaves, depth %d, %zu leaf refs, %zu components, %zu BVH nodes\n",
               octree.memory_bytes() / 1e6, octree.memory_bytes() / tris, st.octree_nodes, st.octree_leaves,
               st.depth_reached, st.leaf_references, st.components, st.bvh_nodes);
+  std::printf("embree device memory (its monitor, robust BVH + buffers): %.1f MB = %.1f bytes/triangle\n",
+              fast.memory_bytes() / 1e6, fast.memory_bytes() / tris);
 
   for (const auto& [view, cam] : bench_cameras(scene)) {
     std::printf("-- view: %s, %dx%d, eye %.1f m from the centre, znear %.3f zfar %.1f\n", view.c_str(), cam.width,

@@ -398,7 +398,10 @@ TEST(RaycastScenes, FastEmbreeAndTBufferMatchOctree) {
   std::vector<uint32_t> a(n), b(n);
   std::vector<float> ta(n), tb(n);
   OctreeTracer(s).trace(cam, a.data(), ta.data());
-  EmbreeTracer(s, EmbreeMode::Fast).trace(cam, b.data(), tb.data());
+  const EmbreeTracer fast(s, EmbreeMode::Fast);
+  EXPECT_GT(fast.memory_bytes(), s.triangle_count() * 12);  // at least its copy of the geometry
+  EXPECT_STREQ(fast.name(), "embree-fast");
+  fast.trace(cam, b.data(), tb.data());
   const Agreement g = compare_traced(s, cam, a.data(), b.data());
   EXPECT_EQ(g.real_disagreements, 0u);
   EXPECT_GT(g.covered, 2000u);

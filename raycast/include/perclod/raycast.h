@@ -20,6 +20,17 @@
 //    reference (Verify: rtcIntersect1 plus a second, restricted query that
 //    applies the tie rule) or as a fast production tracer (Fast:
 //    rtcIntersect16 packets of 4x4 pixels; exact ties resolved arbitrarily).
+//
+// Typical use for one view (the `perclod label` glue):
+//   OctreeTracer tracer(scene);                       // once per scene
+//   std::vector<uint32_t> ids = tracer.trace(camera); // per view, W*H
+//   TriangleCounts counts = count_triangles(ids.data(), mask.data(), ids.size(),
+//                                           scene.triangle_count());
+//   std::vector<Label> view_labels = label_triangles(counts, ratio);
+//   ... over the views: combine_views({view_labels...}), then
+//   marking_colors(labels) -> RenderOptions' per-triangle colours.
+//   Cross-checks: compare_traced(scene, camera, ids, embree_ids) and
+//   compare_with_id_buffer(scene, camera, ids, render.ids).
 #pragma once
 
 #include <cstdint>
@@ -42,7 +53,8 @@ class Tracer {
   // Throws std::invalid_argument for a camera with a non-positive size or
   // clip range that is not 0 <= znear < zfar.
   virtual void trace(const Camera& camera, uint32_t* tri_plus_one, float* t = nullptr) const = 0;
-  // Bytes held by the acceleration structure (and its copy of the geometry).
+  // Bytes held by the acceleration structure (and its copy of the geometry);
+  // for Embree, what its device memory monitor reports.
   virtual size_t memory_bytes() const = 0;
   // Wall-clock seconds the constructor spent building the structure.
   virtual double build_seconds() const = 0;
