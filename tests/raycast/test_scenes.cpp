@@ -452,3 +452,29 @@ TEST(RaycastScenes, OctreeSettingsDoNotChangeResults) {
 
 }  // namespace
 }  // namespace perclod::test
+
+namespace perclod::test {
+namespace {
+
+// Zero-area triangles (repeated index, collinear vertices) are valid input,
+// never hit, and do not disturb their neighbours.
+TEST(RaycastScenes, DegenerateTrianglesAreNeverHit) {
+  const Camera cam = front_camera(40, 30);
+  Scene s;
+  const uint32_t a = add_vertex(s, V3(-1, -1, -5)), b = add_vertex(s, V3(1, -1, -5));
+  const uint32_t c = add_vertex(s, V3(1, 1, -5)), m = add_vertex(s, V3(0, 0, -5));
+  add_triangle(s, a, a, c, 0);  // repeated index
+  add_triangle(s, a, m, c, 0);  // collinear: the diagonal
+  add_triangle(s, a, b, c, 1);  // a real triangle behind both
+  const Traced r = trace_all(s, cam);
+  for (const auto* buf : {&r.octree, &r.embree, &r.brute}) {
+    const TriangleCounts counts = count_triangles(buf->data(), nullptr, buf->size(), s.triangle_count());
+    EXPECT_EQ(counts.traced[0], 0u);
+    EXPECT_EQ(counts.traced[1], 0u);
+    EXPECT_GT(counts.traced[2], 50u);
+  }
+  expect_octree_equals_oracle(s, cam);
+}
+
+}  // namespace
+}  // namespace perclod::test
