@@ -56,7 +56,7 @@ struct Model {
   std::vector<uint8_t> locked;         // vertex may not be v0
   std::vector<uint8_t> feature_edge;   // constraint line: never collapsed
   std::vector<Quadric> qa;             // area-weighted: the priority
-  std::vector<Quadric> qd;             // unit-weight: the distance bound
+  std::vector<Quadric> qd;             // unit-weight: the distance bound (Bounded mode only)
   std::vector<uint32_t> merged_into;   // v0 -> v1 of its collapse
   size_t faces_alive = 0;
 };
@@ -153,14 +153,16 @@ void add_edge_plane(Model& m, VH a, VH b, const Vec& n, double weight) {
   double d = -(q | pa);
   for (VH v : {a, b}) {
     m.qa[v.idx()].add_plane(q[0], q[1], q[2], d, weight * e.sqrnorm());
-    m.qd[v.idx()].add_plane(q[0], q[1], q[2], d, 1.0);
+    if (!m.qd.empty()) m.qd[v.idx()].add_plane(q[0], q[1], q[2], d, 1.0);
   }
 }
 
-void init_quadrics(Model& m, const SimplifyOptions& opt) {
+// with_distance: also the unit-weight quadrics behind Bounded's error bound
+// (memory is time here: they are only built when a tolerance needs them).
+void init_quadrics(Model& m, const SimplifyOptions& opt, bool with_distance) {
   Mesh& mesh = m.mesh;
   m.qa.assign(mesh.n_vertices(), Quadric{});
-  m.qd.assign(mesh.n_vertices(), Quadric{});
+  if (with_distance) m.qd.assign(mesh.n_vertices(), Quadric{});
   std::vector<Vec> normal(mesh.n_faces(), Vec(0, 0, 0));
   for (FH f : mesh.faces()) {
     HH h = mesh.halfedge_handle(f);
@@ -175,7 +177,7 @@ void init_quadrics(Model& m, const SimplifyOptions& opt) {
     double d = -(n | p0);
     for (VH x : v) {
       m.qa[x.idx()].add_plane(n[0], n[1], n[2], d, 0.5 * len);
-      m.qd[x.idx()].add_plane(n[0], n[1], n[2], d, 1.0);
+      if (with_distance) m.qd[x.idx()].add_plane(n[0], n[1], n[2], d, 1.0);
     }
   }
   const double cos_feature = std::cos(opt.feature_angle_deg * M_PI / 180.0);
@@ -453,7 +455,6 @@ class Collapser {
         refused_.push_back({uint32_t(h.idx()), clock_});
         continue;
       }
-      if (lim_.tolerance < 0) c.error = collapse_error(m_, mesh.from_vertex_handle(h), mesh.to_vertex_handle(h));
       collapse(c, stats);
       ++done;
     }
@@ -489,7 +490,7 @@ class Collapser {
     mesh.collapse(c.h);
     m_.faces_alive -= removed;
     m_.qa[v1.idx()] += m_.qa[v0.idx()];
-    m_.qd[v1.idx()] += m_.qd[v0.idx()];
+    if (!m_.qd.empty()) m_.qd[v1.idx()] += m_.qd[v0.idx()];
     m_.merged_into[v0.idx()] = uint32_t(v1.idx());
     stats.collapses++;
     stats.max_error = std::max(stats.max_error, c.error);
@@ -696,7 +697,7 @@ void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats&
   build_mesh(m, w, faces, stats);
   stats.vertices_before = m.mesh.n_vertices();
   m.locked.assign(m.mesh.n_vertices(), 0);
-  init_quadrics(m, opt);
+  init_quadrics(m, opt, opt.mode == SimplifyMode::Bounded);
   if (labelled) lock_perceptible(m, w);
   // Non-manifold faces were added as pieces of their own: drop those too.
   if (labelled) remove_pieces(m, w, opt.mode, tolerance, stats);

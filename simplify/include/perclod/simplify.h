@@ -89,7 +89,7 @@ struct SimplifyStats {
   size_t cluster_dangling_edges = 0;   // Cluster: edges bounding no kept triangle (not in the Scene)
   size_t cluster_isolated_points = 0;  // Cluster: points bounding nothing (not in the Scene)
   double tolerance = 0.0;              // Bounded: k * p(d); Cluster: cell size
-  double max_error = 0.0;              // largest error estimate of a collapse taken
+  double max_error = 0.0;              // Bounded: largest error bound of a collapse taken (0 otherwise)
   // Belblidia's measures: displacement of each input vertex to the vertex that
   // represents it in the output, relative to the bounding-box diagonal.
   double max_displacement_rel = 0.0;
