@@ -1,6 +1,6 @@
-// Vertex welding by position: quantise to a grid of cell size `tolerance`,
-// sort, and give each run of equal keys one welded vertex. Sorting (rather
-// than hashing) keeps it cache-friendly and deterministic. With
+// Vertex welding by position: quantise to a grid of cell size `tolerance`
+// and give each distinct key one welded vertex (a hash table; ids in order of
+// first use, so the result is deterministic). With
 // `per_component`, the component is part of the key: corners of different
 // components never weld, even where the input shares a vertex between them.
 #include <algorithm>
@@ -17,12 +17,6 @@ namespace {
 
 struct Key {
   int64_t g, x, y, z;
-  bool operator<(const Key& o) const {
-    if (g != o.g) return g < o.g;
-    if (x != o.x) return x < o.x;
-    if (y != o.y) return y < o.y;
-    return z < o.z;
-  }
   bool operator==(const Key& o) const { return g == o.g && x == o.x && y == o.y && z == o.z; }
 };
 
@@ -71,34 +65,32 @@ void weld_corners(Work& w, bool per_component, double tolerance) {
       corner_item[3 * size_t(t) + k] = item;
     }
   }
-  // 2. Weld the items by (group, quantised position); the first item of a
-  // run gives the welded vertex its position, ids follow first use.
+  // 2. Weld the items by (group, quantised position) with an open-addressing
+  // hash table; welded ids follow first use, and a welded vertex keeps the
+  // position of its first item.
   const size_t ni = item_vertex.size();
   const double inv_cell = tolerance > 0 ? 1.0 / tolerance : 0.0;
-  std::vector<Key> keys(ni);
-  for (size_t i = 0; i < ni; ++i) keys[i] = make_key(&s.positions[3 * size_t(item_vertex[i])], item_group[i], inv_cell);
-  std::vector<uint32_t> order(ni);
-  std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    if (keys[a] == keys[b]) return a < b;
-    return keys[a] < keys[b];
-  });
-  std::vector<uint32_t> leader(ni);
-  for (size_t i = 0; i < ni;) {
-    size_t j = i;
-    while (j < ni && keys[order[j]] == keys[order[i]]) leader[order[j++]] = order[i];
-    i = j;
-  }
-  std::vector<uint32_t> id_of(ni, UINT32_MAX), welded_of_item(ni);
+  size_t cap = 16;
+  while (cap < 2 * ni) cap *= 2;
+  std::vector<uint32_t> slot(cap, UINT32_MAX);  // welded id per slot
+  std::vector<Key> welded_key;
+  welded_key.reserve(ni);
+  std::vector<uint32_t> welded_of_item(ni);
   w.weld.positions.clear();
+  w.weld.positions.reserve(3 * ni);
   for (size_t i = 0; i < ni; ++i) {
-    uint32_t l = leader[i];
-    if (id_of[l] == UINT32_MAX) {
-      id_of[l] = uint32_t(w.weld.positions.size() / 3);
-      const float* p = &s.positions[3 * size_t(item_vertex[l])];
+    const float* p = &s.positions[3 * size_t(item_vertex[i])];
+    Key k = make_key(p, item_group[i], inv_cell);
+    uint64_t h = uint64_t(k.g) * 0x9E3779B97F4A7C15ull ^ uint64_t(k.x) * 0xC2B2AE3D27D4EB4Full ^
+                 uint64_t(k.y) * 0x165667B19E3779F9ull ^ uint64_t(k.z) * 0x27D4EB2F165667C5ull;
+    size_t at = size_t(h ^ (h >> 29)) & (cap - 1);
+    while (slot[at] != UINT32_MAX && !(welded_key[slot[at]] == k)) at = (at + 1) & (cap - 1);
+    if (slot[at] == UINT32_MAX) {
+      slot[at] = uint32_t(welded_key.size());
+      welded_key.push_back(k);
       w.weld.positions.insert(w.weld.positions.end(), p, p + 3);
     }
-    welded_of_item[i] = id_of[l];
+    welded_of_item[i] = slot[at];
   }
   w.weld.corner.assign(corner_item.size(), UINT32_MAX);
   for (size_t c = 0; c < corner_item.size(); ++c)
