@@ -22,6 +22,10 @@
 //   meshopt @bounded    the same, to perclod bounded's count
 //   decimater stock     ModQuadric + ModAspectRatio(10) to N faces
 //
+// Also: a flat 80,000-triangle wall (the stock Decimater's zero-cost trap,
+// facts.md), ours in paper and bounded mode, meshoptimizer and the stock
+// Decimater (ModQuadric + ModAspectRatio) at bounded's count.
+//
 // Usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater]
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
@@ -294,6 +298,41 @@ void bench_model(const std::string& title, const Scene& scene, int runs, bool wi
               target);
 }
 
+// facts.md's Decimater trap: a flat 200x200-quad wall (80,000 triangles, all
+// zero-cost collapses), imperceptible but for one perceptible corner triangle.
+void bench_flat_wall(int runs, bool with_decimater) {
+  Scene s;
+  const int n = 200;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s.positions.insert(s.positions.end(), {0.1f * i, 0.0f, 0.1f * j});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      s.indices.insert(s.indices.end(), {a, c, b, a, d, c});  // facing -y
+      s.component.insert(s.component.end(), {0, 0});
+      s.material.insert(s.material.end(), {0, 0});
+    }
+  s.component_names = {"wall"};
+  s.materials = {Material{"wall"}};
+  std::vector<Label> labels(s.triangle_count(), Label::Imperceptible);
+  labels[0] = Label::Perceptible;
+  std::printf("\n== flat wall: %zu triangles, one perceptible, %d runs\n", s.triangle_count(), runs);
+  SimplifyOptions paper;
+  Row ours = measure("perclod paper", runs, [&] { return simplify(s, labels, paper).triangle_count(); });
+  SimplifyOptions bounded;
+  bounded.mode = SimplifyMode::Bounded;
+  bounded.pixel_footprint = pixel_footprint(56.0);
+  Row ours_b = measure("perclod bounded", runs, [&] { return simplify(s, labels, bounded).triangle_count(); });
+  std::vector<Row> rows = {ours, ours_b};
+#ifdef PERCLOD_HAVE_MESHOPTIMIZER
+  rows.push_back(measure("meshopt @bounded", runs, [&] { return meshopt_to(s, ours_b.triangles); }));
+#endif
+  if (with_decimater)
+    rows.push_back(measure("decimater stock", 1, [&] { return decimater_stock_to(s, ours_b.triangles); }));
+  for (const Row& r : rows)
+    std::printf("%-18s %10.3f s %10zu triangles %8.0f MB\n", r.name.c_str(), r.seconds, r.triangles, r.peak_kb / 1024.0);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -314,6 +353,7 @@ int main(int argc, char** argv) {
               "peak MB = largest child peak RSS (includes the input scene the child inherits)\n", runs);
   Row base = measure("(empty child)", 1, [] { return size_t(0); });
   std::printf("empty child peak RSS: %.0f MB\n", base.peak_kb / 1024.0);
+  bench_flat_wall(runs, with_decimater);
 
   Scene facade = generate_facade(facade_params_for_triangles(facade_triangles));
   bench_model("generated facade", facade, runs, with_decimater);
