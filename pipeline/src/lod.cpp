@@ -87,6 +87,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   res.report = {{"distance", job.distance}, {"tracer", tracer.name()}, {"views", nlohmann::json::array()}};
   std::vector<uint32_t> rays;
   std::vector<uint8_t> background;
+  PerceptionResult pr;  // reused across views: perceive_into allocates only once
   for (const auto& facade : job.facades) {
     Camera cam = facade_camera(bounds, job.up, facade, job.distance, job.display);
     auto t0 = Clock::now();
@@ -96,7 +97,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
     background.resize(img.ids.size());
     for (size_t i = 0; i < img.ids.size(); ++i) background[i] = img.ids[i] == 0;
     t0 = Clock::now();
-    PerceptionResult pr = perceive(img.rgb.data(), img.width, img.height, ps, background.data());
+    perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
     double t_perceive = since(t0);
 
     rays.resize(size_t(img.width) * img.height);
