@@ -37,20 +37,36 @@ inline ShearedRay shear_ray(const float d[3]) {
   return r;
 }
 
+// One edge function, P x Q in the sheared 2D frame. When the float value is
+// within its rounding error (shear and product), it is re-evaluated from the
+// vertices in double: the sign of a small value is then right (grazing rays
+// at thin, nearly edge-on triangles), and the decision depends only on this
+// edge's two vertices, so a neighbour sharing the edge decides identically.
+inline float edge_function(const ShearedRay& r, const float P[3], const float Q[3], float px, float py,
+                           float qx, float qy) {
+  const float e = qx * py - qy * px;
+  // Error bound: the shear (|P| scale) and the products, with a safety factor.
+  const float mag = (std::fabs(P[r.kx]) + std::fabs(r.sx * P[r.kz]) + std::fabs(P[r.ky]) +
+                     std::fabs(r.sy * P[r.kz])) * (std::fabs(qx) + std::fabs(qy)) +
+                    (std::fabs(Q[r.kx]) + std::fabs(r.sx * Q[r.kz]) + std::fabs(Q[r.ky]) +
+                     std::fabs(r.sy * Q[r.kz])) * (std::fabs(px) + std::fabs(py));
+  if (std::fabs(e) > 16.0f * 1.1920929e-7f * mag) return e;
+  const double dpx = double(P[r.kx]) - double(r.sx) * double(P[r.kz]);
+  const double dpy = double(P[r.ky]) - double(r.sy) * double(P[r.kz]);
+  const double dqx = double(Q[r.kx]) - double(r.sx) * double(Q[r.kz]);
+  const double dqy = double(Q[r.ky]) - double(r.sy) * double(Q[r.kz]);
+  return float(dqx * dpy - dqy * dpx);
+}
+
 // Hit with t in [tmin, tmax] (inclusive): returns true and sets t.
 inline bool watertight_hit(const ShearedRay& r, const float A[3], const float B[3],
                            const float C[3], float tmin, float tmax, float& t) {
   const float ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
   const float bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
   const float cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
-  float u = cx * by - cy * bx;
-  float v = ax * cy - ay * cx;
-  float w = bx * ay - by * ax;
-  if (u == 0.0f || v == 0.0f || w == 0.0f) {  // edge case: re-evaluate in double
-    u = float(double(cx) * double(by) - double(cy) * double(bx));
-    v = float(double(ax) * double(cy) - double(ay) * double(cx));
-    w = float(double(bx) * double(ay) - double(by) * double(ax));
-  }
+  const float u = edge_function(r, B, C, bx, by, cx, cy);  // cx * by - cy * bx
+  const float v = edge_function(r, C, A, cx, cy, ax, ay);  // ax * cy - ay * cx
+  const float w = edge_function(r, A, B, ax, ay, bx, by);  // bx * ay - by * ax
   if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
   const float det = u + v + w;
   if (det == 0.0f) return false;
