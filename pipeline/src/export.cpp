@@ -155,7 +155,12 @@ void export_glb(const Scene& s, const std::string& path) {
     fs::remove(tmp);
     throw std::runtime_error(path + ": cannot write GLB");
   }
-  fs::rename(tmp, path);
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error(path + ": cannot move the finished file into place");
+  }
 }
 
 }  // namespace
