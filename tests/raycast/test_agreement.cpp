@@ -1,61 +1,13 @@
 // Octree against Embree (verify mode) on the generated facade and on a real
 // model: identical on >= 99.99% of covered pixels, no real disagreement.
-// The real model is read by a minimal OBJ reader below (v and f lines, g/o
-// groups as components) because raycast_tests do not link the pipeline's
-// loader; the loader-based check against the renderer's ID buffer is the
-// pipeline's end-to-end test.
-#include <fstream>
-#include <sstream>
-
+// The real model comes through the pipeline's loader; the check against the
+// renderer's ID buffer is the pipeline's end-to-end test.
 #include "perclod/facade.h"
+#include "perclod/load.h"
 #include "raycast_fixtures.h"
 
 namespace perclod::test {
 namespace {
-
-// Reads v/f/g/o of an OBJ: polygons fan-triangulated, positions recentred on
-// the bounding-box centre (in double, like the loader). Throws on a bad face.
-Scene read_obj_minimal(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  std::vector<double> pos;
-  Scene s;
-  uint32_t comp = 0;
-  bool group_used = false;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      double x, y, z;
-      ls >> x >> y >> z;
-      pos.insert(pos.end(), {x, y, z});
-    } else if (tag == "g" || tag == "o") {
-      if (group_used) ++comp;
-      group_used = false;
-    } else if (tag == "f") {
-      std::vector<uint32_t> f;
-      std::string tok;
-      while (ls >> tok) {
-        long i = std::stol(tok.substr(0, tok.find('/')));
-        if (i < 0) i += long(pos.size() / 3) + 1;
-        if (i < 1 || size_t(i) > pos.size() / 3) throw std::runtime_error("bad face index in " + path);
-        f.push_back(uint32_t(i - 1));
-      }
-      for (size_t k = 2; k < f.size(); ++k) add_triangle(s, f[0], f[k - 1], f[k], comp);
-      group_used = true;
-    }
-  }
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (size_t i = 0; i < pos.size(); ++i) {
-    lo[i % 3] = std::min(lo[i % 3], pos[i]);
-    hi[i % 3] = std::max(hi[i % 3], pos[i]);
-  }
-  for (int k = 0; k < 3; ++k) s.offset[k] = 0.5 * (lo[k] + hi[k]);
-  for (size_t i = 0; i < pos.size(); ++i) s.positions.push_back(float(pos[i] - s.offset[i % 3]));
-  return s;
-}
 
 // Z-up facade view: eye `distance` in front of the bounding box's -y face.
 Camera facade_view(const Scene& s, double distance, double sideways, int w, int h) {
@@ -109,7 +61,7 @@ TEST(RaycastAgreement, GeneratedFacadeOctreeVsEmbree) {
 }
 
 TEST(RaycastAgreement, RealBuildingOctreeVsEmbree) {
-  const Scene s = read_obj_minimal(std::string(PERCLOD_SHARED_DATA) + "/ingolstadt/bldg_4018215.obj");
+  const Scene s = load_scene(std::string(PERCLOD_SHARED_DATA) + "/ingolstadt/bldg_4018215.obj");
   ASSERT_EQ(s.triangle_count(), 12456u);
   const OctreeTracer oct(s);
   const EmbreeTracer emb(s, EmbreeMode::Verify);

@@ -102,58 +102,6 @@ inline void add_sphere(Scene& s, double r, int rings, int segments, uint32_t com
   for (int j = 0; j < segments; ++j) add_tri(s, bottom, id(rings - 1, j + 1), id(rings - 1, j), comp);
 }
 
-// Minimal OBJ reader (v, f with any corner syntax and negative indices,
-// g/o start a new component); polygons are fanned. Positions are recentred on
-// the bounding-box centre like the real loader does.
-inline Scene read_obj(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  Scene s;
-  std::vector<double> v;
-  std::string line;
-  uint32_t comp = 0;
-  bool any_group = false;
-  s.materials.push_back(Material{"default"});
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      double x, y, z;
-      ls >> x >> y >> z;
-      v.insert(v.end(), {x, y, z});
-    } else if (tag == "g" || tag == "o") {
-      std::string name;
-      std::getline(ls, name);
-      if (any_group) ++comp;
-      any_group = true;
-      s.component_names.push_back(name);
-    } else if (tag == "f") {
-      std::vector<uint32_t> c;
-      std::string tok;
-      while (ls >> tok) {
-        long i = std::stol(tok.substr(0, tok.find('/')));
-        c.push_back(uint32_t(i < 0 ? long(v.size() / 3) + i : i - 1));
-      }
-      if (s.component_names.empty()) s.component_names.push_back("default");
-      for (size_t k = 1; k + 1 < c.size(); ++k) {
-        s.indices.insert(s.indices.end(), {c[0], c[k], c[k + 1]});
-        s.component.push_back(comp);
-        s.material.push_back(0);
-      }
-    }
-  }
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (size_t i = 0; i < v.size(); ++i) {
-    lo[i % 3] = std::min(lo[i % 3], v[i]);
-    hi[i % 3] = std::max(hi[i % 3], v[i]);
-  }
-  for (int a = 0; a < 3; ++a) s.offset[a] = 0.5 * (lo[a] + hi[a]);
-  s.positions.resize(v.size());
-  for (size_t i = 0; i < v.size(); ++i) s.positions[i] = float(v[i] - s.offset[i % 3]);
-  return s;
-}
-
 inline std::array<double, 3> normal_of(const Scene& s, size_t t, double* area = nullptr) {
   const float* p[3];
   for (int k = 0; k < 3; ++k) p[k] = &s.positions[3 * size_t(s.indices[3 * t + k])];

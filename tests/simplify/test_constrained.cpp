@@ -7,6 +7,7 @@
 #include <set>
 
 #include "fixtures.h"
+#include "perclod/load.h"
 #include "perclod/simplify.h"
 
 namespace perclod {
@@ -274,7 +275,7 @@ TEST(SimplifyPaper, ReportsDisplacementRelativeToTheBox) {
 TEST(SimplifyPaper, RealBuildingKeepsPerceptibleTriangles) {
   // One Ingolstadt LOD3 building (Z up) with the synthetic rule: viewer
   // looking along +y, perceptible from 0.05 m^2.
-  Scene in = test::read_obj(PERCLOD_SHARED_DATA "/ingolstadt/bldg_4018215.obj");
+  Scene in = load_scene(PERCLOD_SHARED_DATA "/ingolstadt/bldg_4018215.obj");
   ASSERT_EQ(in.triangle_count(), 12456u);
   auto labels = test::synthetic_labels(in, {0, 1, 0}, 0.01);
   for (SimplifyMode mode : {SimplifyMode::Paper, SimplifyMode::Bounded}) {
