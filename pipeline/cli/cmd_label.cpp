@@ -4,7 +4,7 @@
 #include "commands.h"
 #include "common.h"
 #include "perclod/image_io.h"
-#include "perclod/labels_io.h"
+#include "perclod/batch.h"
 #include "perclod/lod.h"
 
 namespace perclod::cli {
@@ -52,26 +52,18 @@ void register_label(CLI::App& app) {
     job.closer_factor = a->closer;
     job.out_dir = a->out;
     job.stem = file_stem(a->model.path);
-    std::unique_ptr<Tracer> tracer;
-    if (parse_tracer(a->tracer) == TracerKind::Octree) tracer = std::make_unique<OctreeTracer>(s);
-    else tracer = std::make_unique<EmbreeTracer>(s, EmbreeMode::Fast);
+    std::unique_ptr<Tracer> tracer = make_tracer(s, parse_tracer(a->tracer));
     std::fprintf(stderr, "%s built in %.0f ms\n", tracer->name(), tracer->build_seconds() * 1e3);
     Renderer renderer;
     renderer.set_scene(s);
     LabelResult r = label_scene(renderer, s, *tracer, job, [](const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
-    LabelFile lf{r.labels, r.totals.traced, r.totals.imperceptible, {}};
-    for (const auto& f : job.facades) lf.views.emplace_back(f, job.distance);
-    std::string base = a->out + "/" + job.stem;
-    std::string labels_path = base + "_labels_" + distance_tag(job.distance) + ".txt";
-    write_labels(labels_path, lf);
-    r.report["labels_file"] = labels_path;
-    r.report["marking_renders"] = write_marking_renders(renderer, s, r.labels, job);
+    write_label_outputs(renderer, s, r, job);
     r.report["tracer_build_seconds"] = tracer->build_seconds();
-    write_text_atomic(base + "_label_" + distance_tag(job.distance) + ".json", r.report.dump(2) + "\n");
+    write_text_atomic(distance_file(job.out_dir, job.stem, "label", job.distance, ".json"), r.report.dump(2) + "\n");
     const auto& l = r.report["labels"];
     std::fprintf(stderr, "labels: %d perceptible, %d imperceptible, %d undisplayable -> %s\n",
                  l["perceptible"].get<int>(), l["imperceptible"].get<int>(), l["undisplayable"].get<int>(),
-                 labels_path.c_str());
+                 r.report["labels_file"].get<std::string>().c_str());
     if (a->json) print_json(r.report);
   });
 }

@@ -6,11 +6,16 @@
 
 namespace perclod {
 
+std::string distance_file(const std::string& out_dir, const std::string& stem, const std::string& what,
+                          double distance, const std::string& ext) {
+  std::ostringstream ss;
+  ss << out_dir << "/" << stem << "_" << what << "_" << distance << "m" << ext;
+  return ss.str();
+}
+
 std::string view_file_base(const std::string& out_dir, const std::string& stem, const std::string& facade,
                            double distance) {
-  std::ostringstream ss;
-  ss << out_dir << "/" << stem << "_" << facade << "_" << distance << "m";
-  return ss.str();
+  return distance_file(out_dir, stem, facade, distance, "");
 }
 
 std::vector<ViewFiles> render_views(Renderer& renderer, const Scene& scene, const RenderViewsJob& job,

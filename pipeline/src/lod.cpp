@@ -55,19 +55,17 @@ std::string tagged(const LabelJob& job, const std::string& facade, const std::st
   return view_file_base(job.out_dir, job.stem, facade, job.distance) + suffix;
 }
 
-std::string distance_name(const std::string& out, const std::string& stem, const std::string& what, double d,
-                          const std::string& ext) {
-  std::ostringstream ss;
-  ss << out << "/" << stem << "_" << what << "_" << d << "m" << ext;
-  return ss.str();
-}
-
 }  // namespace
 
 TracerKind parse_tracer(const std::string& s) {
   if (s == "octree") return TracerKind::Octree;
   if (s == "embree") return TracerKind::Embree;
   throw std::invalid_argument("tracer must be 'octree' or 'embree', not '" + s + "'");
+}
+
+std::unique_ptr<Tracer> make_tracer(const Scene& scene, TracerKind kind) {
+  if (kind == TracerKind::Octree) return std::make_unique<OctreeTracer>(scene);
+  return std::make_unique<EmbreeTracer>(scene, EmbreeMode::Fast);
 }
 
 LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& job,
@@ -167,6 +165,15 @@ std::vector<std::string> write_marking_renders(Renderer& renderer, const Scene& 
   return files;
 }
 
+void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job) {
+  LabelFile lf{result.labels, result.totals.traced, result.totals.imperceptible, {}};
+  for (const auto& f : job.facades) lf.views.emplace_back(f, job.distance);
+  std::string path = distance_file(job.out_dir, job.stem, "labels", job.distance, ".txt");
+  write_labels(path, lf);
+  result.report["labels_file"] = path;
+  result.report["marking_renders"] = write_marking_renders(renderer, scene, result.labels, job);
+}
+
 nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress) {
   if (job.distances.empty()) throw std::invalid_argument("no viewing distance given");
   if (job.lod_format != "obj" && job.lod_format != "glb")
@@ -176,9 +183,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
   auto t_all = Clock::now();
 
   auto t0 = Clock::now();
-  std::unique_ptr<Tracer> tracer;
-  if (job.tracer == TracerKind::Octree) tracer = std::make_unique<OctreeTracer>(scene);
-  else tracer = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Fast);
+  std::unique_ptr<Tracer> tracer = make_tracer(scene, job.tracer);
   double t_build = since(t0);
   Renderer renderer;
   renderer.set_scene(scene);
@@ -206,18 +211,14 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     auto t_d = Clock::now();
     LabelResult lr = label_scene(renderer, scene, *tracer, lj, progress);
 
-    LabelFile lf{lr.labels, lr.totals.traced, lr.totals.imperceptible, {}};
-    for (const auto& f : lj.facades) lf.views.emplace_back(f, d);
-    std::string labels_path = distance_name(out, lj.stem, "labels", d, ".txt");
-    write_labels(labels_path, lf);
-    auto marking = write_marking_renders(renderer, scene, lr.labels, lj);
+    write_label_outputs(renderer, scene, lr, lj);
 
     SimplifyOptions so = job.simplify;
     // p(d): the footprint of one pixel at the eye depth of the facade plane.
     so.pixel_footprint = facade_camera(scene_bounds(scene), lj.up, lj.facades[0], d, lj.display).pixel_footprint(d);
     SimplifyStats st;
     Scene lod = simplify(scene, lr.labels, so, &st);
-    std::string lod_path = distance_name(out, lj.stem, "lod", d, "." + job.lod_format);
+    std::string lod_path = distance_file(out, lj.stem, "lod", d, "." + job.lod_format);
     export_scene(lod, lod_path);
     if (progress) {
       std::ostringstream ss;
@@ -228,9 +229,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     }
     nlohmann::json entry = lr.report;
     entry["pixel_footprint"] = so.pixel_footprint;
-    entry["labels_file"] = labels_path;
     entry["lod_file"] = lod_path;
-    entry["marking_renders"] = marking;
     entry["simplify"] = to_json(st);
     entry["seconds"] = since(t_d);
     report["lods"].push_back(entry);

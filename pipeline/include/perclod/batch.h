@@ -36,7 +36,11 @@ struct RenderViewsJob {
 std::vector<ViewFiles> render_views(Renderer& renderer, const Scene& scene, const RenderViewsJob& job,
                                     const std::function<void(const ViewFiles&, size_t done, size_t total)>& progress);
 
+// <out>/<stem>_<facade>_<d>m (the caller adds a suffix and extension).
 std::string view_file_base(const std::string& out_dir, const std::string& stem, const std::string& facade,
                            double distance);
+// <out>/<stem>_<what>_<d>m<ext>, e.g. out/bldg_labels_56m.txt.
+std::string distance_file(const std::string& out_dir, const std::string& stem, const std::string& what,
+                          double distance, const std::string& ext);
 
 }  // namespace perclod

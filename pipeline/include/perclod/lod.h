@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -19,6 +20,8 @@ namespace perclod {
 
 enum class TracerKind { Octree, Embree };
 TracerKind parse_tracer(const std::string& s);  // "octree" | "embree"
+// The production tracer of that kind (Embree in its fast packet mode).
+std::unique_ptr<Tracer> make_tracer(const Scene& scene, TracerKind kind);
 
 struct LabelJob {
   UpAxis up = UpAxis::Y;
@@ -52,6 +55,10 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
 // distance * closer_factor: <out>/<stem>_<facade>_<d>m_marking.png and _marking_near.png.
 std::vector<std::string> write_marking_renders(Renderer& renderer, const Scene& scene,
                                                const std::vector<Label>& labels, const LabelJob& job);
+
+// Writes <out>/<stem>_labels_<d>m.txt and the marking renders, and records
+// their paths in result.report ("labels_file", "marking_renders").
+void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job);
 
 struct LodJob {
   LabelJob label;                      // facades, display, perception, ratio, out_dir, stem
