@@ -52,6 +52,7 @@
 
 #include "perclod/display.h"
 #include "perclod/facade.h"
+#include "../simplify/fixtures.h"
 #include "perclod/load.h"
 #include "perclod/simplify.h"
 
@@ -131,23 +132,6 @@ Row measure(const std::string& name, int runs, const std::function<size_t()>& wo
 double pixel_footprint(double distance) {
   DisplayProfile d;
   return 2.0 * distance * std::tan(0.5 * d.fov_y()) / d.height;
-}
-
-std::vector<Label> synthetic_labels(const Scene& s, double min_area) {
-  std::vector<Label> l(s.triangle_count());
-  for (size_t t = 0; t < l.size(); ++t) {
-    const float* p[3];
-    for (int k = 0; k < 3; ++k) p[k] = &s.positions[3 * size_t(s.indices[3 * t + k])];
-    double e1[3], e2[3];
-    for (int a = 0; a < 3; ++a) {
-      e1[a] = p[1][a] - p[0][a];
-      e2[a] = p[2][a] - p[0][a];
-    }
-    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    double area = 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    l[t] = n[1] >= 0 ? Label::Undisplayable : area >= min_area ? Label::Perceptible : Label::Imperceptible;
-  }
-  return l;
 }
 
 // ---- peers -----------------------------------------------------------------
@@ -260,7 +244,7 @@ size_t decimater_locked(const Scene& s, const std::vector<Label>& labels) {
 
 void bench_model(const std::string& title, const Scene& scene, int runs, bool with_decimater) {
   const double p = pixel_footprint(56.0);
-  auto labels = synthetic_labels(scene, 4 * p * p);
+  auto labels = test::synthetic_labels(scene, {0, 1, 0}, 4 * p * p);  // the tests' rule, viewer along +y
   size_t count[3] = {0, 0, 0};
   for (Label l : labels) count[size_t(l)]++;
   std::printf("\n== %s: %zu triangles (perceptible %zu, imperceptible %zu, undisplayable %zu), p(56 m) = %.4f m, %d runs\n",
