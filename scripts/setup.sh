@@ -16,6 +16,7 @@ PACKAGES=(
   libgtest-dev            # tests
   libtbb-dev              # threads
   libassimp-dev           # model formats (OBJ, PLY, glTF, STL, IFC)
+  libtinygltf-dev         # GLB export (header-only)
   libyaml-cpp-dev         # configs
   nlohmann-json3-dev      # JSON reports
   libcli11-dev            # command line
