@@ -36,6 +36,7 @@ void register_run(CLI::App& app) {
     job.tracer = parse_tracer(c.tracer);
     job.simplify.mode = parse_simplify_mode(c.simplify.c_str());
     job.simplify.k = c.k;
+    job.simplify.delete_undisplayable = !c.keep_undisplayable;
     job.lod_format = c.format;
     nlohmann::json report = make_lods(s, job, [](const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
     report["model"] = c.model;

@@ -9,6 +9,7 @@
 #include "common.h"
 #include "perclod/export.h"
 #include "perclod/labels_io.h"
+#include "perclod/lod.h"
 #include "perclod/simplify.h"
 
 namespace perclod::cli {
@@ -23,17 +24,13 @@ struct SimplifyArgs {
   size_t target = 0;
   std::string out;
   bool json = false;
+  bool keep_undisplayable = false;
   SimplifyOptions opt;
 };
 
 // Footprint of one pixel at distance d: p(d) = 2 d tan(fov_y / 2) / H.
 double pixel_footprint(const DisplayProfile& d, double distance) {
   return 2.0 * distance * std::tan(0.5 * d.fov_y()) / d.height;
-}
-
-nlohmann::json per_label(const std::array<size_t, 3>& n) {
-  return {{"perceptible", n[0]}, {"imperceptible", n[1]}, {"undisplayable", n[2]},
-          {"total", n[0] + n[1] + n[2]}};
 }
 
 void run_simplify(SimplifyArgs a) {
@@ -59,6 +56,7 @@ void run_simplify(SimplifyArgs a) {
   const DisplayProfile display = a.display.profile();
   a.opt.pixel_footprint = pixel_footprint(display, a.distance);
   a.opt.target_triangles = a.target;
+  a.opt.delete_undisplayable = !a.keep_undisplayable;
   if (a.out.empty()) a.out = file_stem(a.model.path) + "_" + a.mode + "_" + distance_tag(a.distance) + ".obj";
 
   SimplifyStats st;
@@ -68,33 +66,17 @@ void run_simplify(SimplifyArgs a) {
   double t_write = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   if (a.json) {
-    print_json({{"model", a.model.path},
-                {"labels", a.labels.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.labels)},
-                {"output", a.out},
-                {"mode", a.mode},
-                {"distance", a.distance},
-                {"pixel_footprint", a.opt.pixel_footprint},
-                {"k", a.opt.k},
-                {"tolerance", st.tolerance},
-                {"target_triangles", a.target},
-                {"triangles_before", per_label(st.triangles_before)},
-                {"triangles_after", per_label(st.triangles_after)},
-                {"vertices_before", st.vertices_before},
-                {"vertices_after", st.vertices_after},
-                {"components_removed", st.components_removed},
-                {"pieces_removed", st.pieces_removed},
-                {"pieces_triangles_removed", st.pieces_triangles_removed},
-                {"nonmanifold_faces_duplicated", st.nonmanifold_faces_duplicated},
-                {"degenerate_faces", st.degenerate_faces},
-                {"collapses", st.collapses},
-                {"max_error", st.max_error},
-                {"cluster_dangling_edges", st.cluster_dangling_edges},
-                {"cluster_isolated_points", st.cluster_isolated_points},
-                {"max_displacement_rel", st.max_displacement_rel},
-                {"mean_displacement_rel", st.mean_displacement_rel},
-                {"bbox_diagonal", st.bbox_diagonal},
-                {"seconds", st.seconds},
-                {"seconds_write", t_write}});
+    nlohmann::json j = {{"model", a.model.path},
+                        {"labels", a.labels.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.labels)},
+                        {"output", a.out},
+                        {"mode", a.mode},
+                        {"distance", a.distance},
+                        {"pixel_footprint", a.opt.pixel_footprint},
+                        {"k", a.opt.k},
+                        {"target_triangles", a.target},
+                        {"seconds_write", t_write}};
+    j.update(simplify_stats_json(st));
+    print_json(j);
     return;
   }
   std::printf("output       %s\n", a.out.c_str());
@@ -107,8 +89,10 @@ void run_simplify(SimplifyArgs a) {
               st.triangles_before[2], st.total_before());
   std::printf("after        %12zu %12zu %12zu %12zu\n", st.triangles_after[0], st.triangles_after[1],
               st.triangles_after[2], st.total_after());
-  std::printf("removed      %zu components, %zu leftover pieces (%zu triangles), %zu collapses\n",
-              st.components_removed, st.pieces_removed, st.pieces_triangles_removed, st.collapses);
+  std::printf("removed      %zu components, %zu leftover pieces (%zu triangles), %zu collapses, %zu undisplayable "
+              "triangles deleted\n",
+              st.components_removed, st.pieces_removed, st.pieces_triangles_removed, st.collapses,
+              st.undisplayable_faces_deleted);
   if (st.nonmanifold_faces_duplicated || st.degenerate_faces)
     std::printf("input        %zu non-manifold faces and %zu degenerate faces kept on their own vertices\n",
                 st.nonmanifold_faces_duplicated, st.degenerate_faces);
@@ -124,8 +108,9 @@ void register_simplify(CLI::App& app) {
       "simplify",
       "Simplify a model for one viewing distance. paper: quadric half-edge collapses that\n"
       "only remove imperceptible and undisplayable triangles, until none can go; perceptible\n"
-      "triangles stay bit-identical. bounded: the same, refusing collapses whose error\n"
-      "exceeds k x p(d) (p(d): one pixel's footprint at the distance). qem: plain quadric\n"
+      "triangles stay bit-identical; undisplayable triangles the collapses leave are deleted.\n"
+      "bounded: the collapses only, refusing those whose error exceeds k x p(d) (p(d): one\n"
+      "pixel's footprint at the distance). qem: plain quadric\n"
       "simplification to --target triangles. cluster: Rossignac-Borrel vertex clustering\n"
       "with cells of k x p(d). Components no view displays are removed outright.");
   auto a = std::make_shared<SimplifyArgs>();
@@ -146,6 +131,9 @@ void register_simplify(CLI::App& app) {
   cmd->add_option("--feature-angle", a->opt.feature_angle_deg, "Dihedral angle of a feature edge (degrees)")
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
+  cmd->add_flag("--keep-undisplayable", a->keep_undisplayable,
+                "paper: keep the undisplayable triangles collapses cannot remove (default: deleted,\n"
+                "no pixel of any labelling view reaches them; keeping them keeps closed surfaces closed)");
   cmd->add_flag("--preserve-bbox", a->opt.preserve_bbox,
                 "cluster: cluster each component alone and keep its bounding box (Belblidia)");
   cmd->add_option("-o,--out", a->out, "Output file, .obj or .glb (default: <model>_<mode>_<D>m.obj)");

@@ -88,6 +88,7 @@ BatchConfig load_batch_config(const std::string& path) {
     throw config_error(path, "'simplify' must be paper, bounded, qem or cluster");
   c.k = get<double>(n, path, "k", c.k);
   require_positive(path, "k", c.k);
+  c.keep_undisplayable = get<bool>(n, path, "keep_undisplayable", c.keep_undisplayable);
   c.format = get<std::string>(n, path, "format", c.format);
   if (c.format != "obj" && c.format != "glb") throw config_error(path, "'format' must be obj or glb");
   if (n["distances"]) {

@@ -31,31 +31,39 @@ nlohmann::json to_json(const Agreement& a) {
           {"identical_rate", a.identical_rate()}};
 }
 
-nlohmann::json to_json(const SimplifyStats& s) {
-  auto per_label = [](const std::array<size_t, 3>& a) {
-    return nlohmann::json{{"perceptible", a[0]}, {"imperceptible", a[1]}, {"undisplayable", a[2]}};
-  };
-  return {{"triangles_before", per_label(s.triangles_before)},
-          {"triangles_after", per_label(s.triangles_after)},
-          {"total_before", s.total_before()},
-          {"total_after", s.total_after()},
-          {"components_removed", s.components_removed},
-          {"pieces_removed", s.pieces_removed},
-          {"nonmanifold_faces_duplicated", s.nonmanifold_faces_duplicated},
-          {"degenerate_faces", s.degenerate_faces},
-          {"collapses", s.collapses},
-          {"tolerance", s.tolerance},
-          {"max_error", s.max_error},
-          {"max_displacement_rel", s.max_displacement_rel},
-          {"mean_displacement_rel", s.mean_displacement_rel},
-          {"seconds", s.seconds}};
-}
-
 std::string tagged(const LabelJob& job, const std::string& facade, const std::string& suffix) {
   return view_file_base(job.out_dir, job.stem, facade, job.distance) + suffix;
 }
 
 }  // namespace
+
+nlohmann::json simplify_stats_json(const SimplifyStats& s) {
+  auto per_label = [](const std::array<size_t, 3>& n) {
+    return nlohmann::json{{"perceptible", n[0]}, {"imperceptible", n[1]}, {"undisplayable", n[2]},
+                          {"total", n[0] + n[1] + n[2]}};
+  };
+  return {{"triangles_before", per_label(s.triangles_before)},
+          {"triangles_after", per_label(s.triangles_after)},
+          {"total_before", s.total_before()},
+          {"total_after", s.total_after()},
+          {"vertices_before", s.vertices_before},
+          {"vertices_after", s.vertices_after},
+          {"components_removed", s.components_removed},
+          {"pieces_removed", s.pieces_removed},
+          {"pieces_triangles_removed", s.pieces_triangles_removed},
+          {"undisplayable_faces_deleted", s.undisplayable_faces_deleted},
+          {"nonmanifold_faces_duplicated", s.nonmanifold_faces_duplicated},
+          {"degenerate_faces", s.degenerate_faces},
+          {"collapses", s.collapses},
+          {"tolerance", s.tolerance},
+          {"max_error", s.max_error},
+          {"cluster_dangling_edges", s.cluster_dangling_edges},
+          {"cluster_isolated_points", s.cluster_isolated_points},
+          {"max_displacement_rel", s.max_displacement_rel},
+          {"mean_displacement_rel", s.mean_displacement_rel},
+          {"bbox_diagonal", s.bbox_diagonal},
+          {"seconds", s.seconds}};
+}
 
 TracerKind parse_tracer(const std::string& s) {
   if (s == "octree") return TracerKind::Octree;
@@ -230,7 +238,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     nlohmann::json entry = lr.report;
     entry["pixel_footprint"] = so.pixel_footprint;
     entry["lod_file"] = lod_path;
-    entry["simplify"] = to_json(st);
+    entry["simplify"] = simplify_stats_json(st);
     entry["seconds"] = since(t_d);
     report["lods"].push_back(entry);
   }

@@ -52,6 +52,7 @@ double quality(const Vec& a, const Vec& b, const Vec& c) {
 struct Model {
   Mesh mesh;
   std::vector<uint32_t> face_source;   // input triangle per face
+  std::vector<uint8_t> flipped;        // face added with the input winding reversed
   std::vector<uint32_t> vert_welded;   // welded vertex per mesh vertex
   std::vector<uint8_t> locked;         // vertex may not be v0
   std::vector<uint8_t> feature_edge;   // constraint line: never collapsed
@@ -88,15 +89,28 @@ void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, Sim
   std::vector<int> vh_of(w.weld.positions.size() / 3, -1);
   m.mesh.reserve(faces.size(), 3 * faces.size() / 2, faces.size());
   m.vert_welded.reserve(faces.size());
-  auto record = [&](FH f, uint32_t src) {
+  m.face_source.reserve(faces.size());
+  m.flipped.reserve(faces.size());
+  auto record = [&](FH f, uint32_t src, uint8_t flipped) {
     if (size_t(f.idx()) != m.face_source.size())
       throw std::logic_error("simplify: OpenMesh face numbering out of step");
     m.face_source.push_back(src);
+    m.flipped.push_back(flipped);
+  };
+  // An edge already used in this direction is a complex edge: refuse it here
+  // rather than let OpenMesh format an error message.
+  auto edge_free = [&](VH a, VH b) {
+    HH h = m.mesh.find_halfedge(a, b);
+    return !h.is_valid() || m.mesh.is_boundary(h);
   };
   // Shared vertices first. A face OpenMesh refuses (non-manifold edge or
   // vertex) may fit once its neighbours are in: those are retried after the
   // first pass, and only faces refused again get their own vertices.
   std::vector<uint32_t> refused;
+  // A face whose edge is already used in the same direction (its neighbour
+  // is wound the other way, common in CityGML-derived models) is tried again
+  // reversed: OpenMesh then sees one consistently oriented surface, and the
+  // output restores the input winding (Model::flipped).
   auto try_shared = [&](uint32_t src) {
     const uint32_t* c = &w.weld.corner[3 * size_t(src)];
     VH v[3];
@@ -104,21 +118,21 @@ void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, Sim
       if (vh_of[c[k]] < 0) vh_of[c[k]] = add_vertex(m, w, c[k]).idx();
       v[k] = VH(vh_of[c[k]]);
     }
-    // An edge already used in this direction is a complex edge: refuse it
-    // here rather than let OpenMesh format an error message.
-    for (int k = 0; k < 3; ++k) {
-      HH h = m.mesh.find_halfedge(v[k], v[(k + 1) % 3]);
-      if (h.is_valid() && !m.mesh.is_boundary(h)) return false;
+    for (int flip = 0; flip < 2; ++flip) {
+      VH a = v[0], b = flip ? v[2] : v[1], d = flip ? v[1] : v[2];
+      if (!edge_free(a, b) || !edge_free(b, d) || !edge_free(d, a)) continue;
+      FH f = m.mesh.add_face(a, b, d);
+      if (!f.is_valid()) continue;
+      record(f, src, uint8_t(flip));
+      return true;
     }
-    FH f = m.mesh.add_face(v[0], v[1], v[2]);
-    if (f.is_valid()) record(f, src);
-    return f.is_valid();
+    return false;
   };
   auto add_alone = [&](uint32_t src) {  // disconnected from its neighbours, but kept
     const uint32_t* c = &w.weld.corner[3 * size_t(src)];
     VH v[3];
     for (int k = 0; k < 3; ++k) v[k] = add_vertex(m, w, c[k]);
-    record(m.mesh.add_face(v[0], v[1], v[2]), src);
+    record(m.mesh.add_face(v[0], v[1], v[2]), src, 0);
   };
   for (uint32_t src : faces) {
     const uint32_t* c = &w.weld.corner[3 * size_t(src)];
@@ -615,6 +629,22 @@ void remove_pieces(Model& m, const Work& w, SimplifyMode mode, double tolerance,
   stats.pieces_triangles_removed += doomed.size();
 }
 
+// After collapsing: deletes the undisplayable faces the collapses could not
+// remove (all three vertices on perceptible triangles, or every collapse
+// refused). No pixel centre of any labelling view reaches them, so the views
+// render the same without them.
+size_t delete_undisplayable(Model& m, const Work& w, SimplifyStats& stats) {
+  size_t n = 0;
+  for (FH f : m.mesh.faces())
+    if ((*w.labels)[m.face_source[f.idx()]] == Label::Undisplayable) {
+      m.mesh.delete_face(f, true);
+      ++n;
+    }
+  m.faces_alive -= n;
+  stats.undisplayable_faces_deleted += n;
+  return n;
+}
+
 // ---- output -----------------------------------------------------------------
 
 void write_result(Model& m, const Work& w, bool keep_perceptible_exact, SimplifyStats& stats,
@@ -654,6 +684,7 @@ void write_result(Model& m, const Work& w, bool keep_perceptible_exact, Simplify
         }
       }
     } else {
+      if (m.flipped[f.idx()]) std::swap(fv[1], fv[2]);  // the input winding
       for (VH v : fv) out.indices.push_back(emit_vertex(v));
     }
     out.source.push_back(src);
@@ -710,6 +741,10 @@ void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats&
   size_t target = opt.mode == SimplifyMode::Qem ? opt.target_triangles : 0;
   Collapser(m, lim, target).run(stats);
 
+  // Undisplayable faces the collapses left are deleted; the collapses their
+  // flip and sliver checks had refused around them are then tried again.
+  if (opt.mode == SimplifyMode::Paper && opt.delete_undisplayable && delete_undisplayable(m, w, stats) > 0)
+    Collapser(m, lim, target).run(stats);
   if (labelled) remove_pieces(m, w, opt.mode, tolerance, stats);
   displacement_stats(m, w, stats);
   write_result(m, w, labelled, stats, out);

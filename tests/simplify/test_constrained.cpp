@@ -204,6 +204,79 @@ TEST(SimplifyPaper, NonManifoldInputKeepsEveryPerceptibleFace) {
   EXPECT_LT(st.triangles_after[1], st.triangles_before[1]);
 }
 
+TEST(SimplifyPaper, DeletesUndisplayableTrianglesWhoseVerticesAreAllPerceptible) {
+  // A grid where every vertex belongs to a perceptible triangle (the first
+  // of each quad, and the second of the quad at the corner (0, n) only that
+  // one reaches): no collapse is possible. Paper deletes the undisplayable
+  // triangles (no pixel reaches them); the imperceptible ones cover pixels
+  // and stay. Bounded keeps both: deleting would break its distance bound.
+  Scene in;
+  const int n = 4;
+  add_grid(in, n, 2.0, 0);
+  std::vector<Label> labels(in.triangle_count(), Label::Perceptible);
+  for (size_t q = 0; q < size_t(n * n); ++q)
+    if (q != size_t(n * (n - 1))) labels[2 * q + 1] = q % 2 ? Label::Imperceptible : Label::Undisplayable;
+  for (SimplifyMode mode : {SimplifyMode::Paper, SimplifyMode::Bounded}) {
+    SimplifyOptions opt;
+    opt.mode = mode;
+    opt.pixel_footprint = 0.01;
+    SimplifyStats st;
+    std::vector<uint32_t> src;
+    Scene out = simplify(in, labels, opt, &st, &src);
+    expect_valid(out);
+    expect_perceptible_preserved(in, labels, out, src);
+    EXPECT_EQ(st.collapses, 0u) << simplify_mode_name(mode);
+    EXPECT_EQ(st.triangles_after[1], st.triangles_before[1]);
+    if (mode == SimplifyMode::Paper) {
+      EXPECT_EQ(st.triangles_after[2], 0u);
+      EXPECT_EQ(st.undisplayable_faces_deleted, st.triangles_before[2]);
+    } else {
+      EXPECT_EQ(out.triangle_count(), in.triangle_count());
+    }
+  }
+  SimplifyOptions keep;  // Paper, told to keep the surface closed
+  keep.delete_undisplayable = false;
+  SimplifyStats st;
+  std::vector<uint32_t> src;
+  Scene out = simplify(in, labels, keep, &st, &src);
+  expect_perceptible_preserved(in, labels, out, src);
+  EXPECT_EQ(out.triangle_count(), in.triangle_count());
+  EXPECT_EQ(st.undisplayable_faces_deleted, 0u);
+}
+
+TEST(SimplifyPaper, JoinsNeighboursWoundTheOtherWayAndKeepsTheirWinding) {
+  // Every other triangle of a flat grid is wound the other way (as in many
+  // CityGML exports). The simplifier still sees one surface (no face is cut
+  // loose), simplifies it, and every output triangle faces where its input
+  // triangle faced.
+  Scene in;
+  add_grid(in, 10, 2.0, 0);
+  for (size_t t = 1; t < in.triangle_count(); t += 2) std::swap(in.indices[3 * t + 1], in.indices[3 * t + 2]);
+  std::vector<Label> labels(in.triangle_count(), Label::Imperceptible);
+  labels[0] = Label::Perceptible;
+  auto normal_z = [](const Scene& s, size_t t) {
+    auto a = test::vertex(s, s.indices[3 * t]), b = test::vertex(s, s.indices[3 * t + 1]),
+         c = test::vertex(s, s.indices[3 * t + 2]);
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  };
+  for (SimplifyMode mode : {SimplifyMode::Paper, SimplifyMode::Qem}) {
+    SimplifyOptions opt;
+    opt.mode = mode;
+    opt.target_triangles = 20;
+    SimplifyStats st;
+    std::vector<uint32_t> src;
+    Scene out = simplify(in, labels, opt, &st, &src);
+    expect_valid(out);
+    EXPECT_EQ(st.nonmanifold_faces_duplicated, 0u) << simplify_mode_name(mode);
+    EXPECT_LE(out.triangle_count(), 20u);
+    for (size_t t = 0; t < out.triangle_count(); ++t) {
+      double z = normal_z(out, t);
+      if (z == 0) continue;  // degenerate output would be caught by the count above
+      EXPECT_EQ(z > 0, normal_z(in, src[t]) > 0) << simplify_mode_name(mode) << " output triangle " << t;
+    }
+  }
+}
+
 TEST(SimplifyPaper, DegenerateAndSoupInputIsWeldedAndKept) {
   // The same grid as a triangle soup (no shared vertices) simplifies like
   // the indexed one: welding joins the corners.

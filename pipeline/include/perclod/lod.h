@@ -60,6 +60,9 @@ std::vector<std::string> write_marking_renders(Renderer& renderer, const Scene& 
 // their paths in result.report ("labels_file", "marking_renders").
 void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job);
 
+// SimplifyStats as the reports print them (`run` and `simplify --json`).
+nlohmann::json simplify_stats_json(const SimplifyStats& stats);
+
 struct LodJob {
   LabelJob label;                      // facades, display, perception, ratio, out_dir, stem
   std::vector<double> distances;
