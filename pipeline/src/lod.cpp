@@ -5,6 +5,7 @@
 #include "perclod/lod.h"
 
 #include <chrono>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -117,6 +118,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       res.totals.imperceptible[t] += counts.imperceptible[t];
     }
     res.per_view.push_back(label_triangles(counts, job.ratio));
+    res.views.push_back({facade, cam, pr.simulated, background});
 
     nlohmann::json v = {{"facade", facade},
                         {"covered_pixels", pr.counted_pixels},
@@ -153,6 +155,37 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   res.labels = combine_views(res.per_view);
   res.report["labels"] = to_json(count_labels(res.labels));
   return res;
+}
+
+nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
+                                 const LabelJob& job) {
+  PerceptionSettings ps = job.perception;
+  ps.ppd = job.display.pixels_per_degree();
+  renderer.set_scene(lod);
+  nlohmann::json views = nlohmann::json::array();
+  PerceptionResult pr;
+  std::vector<uint8_t> background;
+  for (const ViewRecord& v : original.views) {
+    RenderOutput img = renderer.render(v.camera);
+    background.resize(img.ids.size());
+    for (size_t i = 0; i < img.ids.size(); ++i) background[i] = img.ids[i] == 0;
+    perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
+    if (pr.simulated.size() != v.simulated.size())
+      throw std::logic_error("compare_lod_views: view size changed between labelling and comparison");
+    size_t drawn = 0, changed = 0, coverage_changed = 0;
+    for (size_t i = 0; i < background.size(); ++i) {
+      if (background[i] && v.background[i]) continue;
+      ++drawn;
+      changed += std::abs(pr.simulated[i] - v.simulated[i]) > ps.threshold;
+      coverage_changed += background[i] != v.background[i];
+    }
+    views.push_back({{"facade", v.facade},
+                     {"drawn_pixels", drawn},
+                     {"changed_pixels", changed},
+                     {"changed_fraction", drawn ? double(changed) / double(drawn) : 0.0},
+                     {"coverage_changed_pixels", coverage_changed}});
+  }
+  return views;
 }
 
 std::vector<std::string> write_marking_renders(Renderer& renderer, const Scene& scene,
@@ -228,17 +261,24 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     Scene lod = simplify(scene, lr.labels, so, &st);
     std::string lod_path = distance_file(out, lj.stem, "lod", d, "." + job.lod_format);
     export_scene(lod, lod_path);
-    if (progress) {
-      std::ostringstream ss;
-      ss << "  LOD " << d << " m: " << st.total_before() << " -> " << st.total_after() << " triangles ("
-         << (st.total_before() ? 100.0 * double(st.total_after()) / double(st.total_before()) : 0.0) << "%), "
-         << lod_path;
-      progress(ss.str());
-    }
     nlohmann::json entry = lr.report;
     entry["pixel_footprint"] = so.pixel_footprint;
     entry["lod_file"] = lod_path;
     entry["simplify"] = simplify_stats_json(st);
+    auto t_cmp = Clock::now();
+    entry["lod_vs_original"] = compare_lod_views(renderer, lod, lr, lj);
+    renderer.set_scene(scene);  // the next distance labels the original again
+    entry["seconds_compare"] = since(t_cmp);
+    if (progress) {
+      double worst = 0;
+      for (const auto& v : entry["lod_vs_original"]) worst = std::max(worst, v["changed_fraction"].get<double>());
+      std::ostringstream ss;
+      ss << "  LOD " << d << " m: " << st.total_before() << " -> " << st.total_after() << " triangles ("
+         << (st.total_before() ? 100.0 * double(st.total_after()) / double(st.total_before()) : 0.0)
+         << "%); per view at most " << 100 * worst
+         << "% of drawn pixels differ after vision simulation; " << lod_path;
+      progress(ss.str());
+    }
     entry["seconds"] = since(t_d);
     report["lods"].push_back(entry);
   }

@@ -71,6 +71,12 @@ TEST(CliPipeline, RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput) {
     EXPECT_EQ(lod["simplify"]["triangles_after"]["perceptible"], lod["labels"]["perceptible"]);
     EXPECT_LE(s.triangle_count(), previous);  // farther never needs more
     previous = s.triangle_count();
+    // The LOD was judged from each of its four views.
+    ASSERT_EQ(lod["lod_vs_original"].size(), 4u);
+    for (const auto& v : lod["lod_vs_original"]) {
+      EXPECT_GT(v["drawn_pixels"].get<size_t>(), 1000u);
+      EXPECT_LE(v["changed_pixels"].get<size_t>(), v["drawn_pixels"].get<size_t>());
+    }
   }
   EXPECT_TRUE(fs::exists(out / "result" / "bldg_4018215_report.json"));
   // A bad config value names the file and the key, and writes nothing.

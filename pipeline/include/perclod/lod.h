@@ -37,10 +37,19 @@ struct LabelJob {
   bool write_perception_images = true;
 };
 
+// What one labelling view saw, kept to judge a LOD from the same view.
+struct ViewRecord {
+  std::string facade;
+  Camera camera;
+  std::vector<float> simulated;            // vision-simulated luminance of the render
+  std::vector<uint8_t> background;         // 1 where no triangle was drawn
+};
+
 struct LabelResult {
   std::vector<Label> labels;               // combined over views
   TriangleCounts totals;                   // summed over views
   std::vector<std::vector<Label>> per_view;
+  std::vector<ViewRecord> views;           // in job.facades order
   nlohmann::json report;                   // per view: pixels, fractions, agreement, timings
 };
 
@@ -59,6 +68,15 @@ std::vector<std::string> write_marking_renders(Renderer& renderer, const Scene& 
 // Writes <out>/<stem>_labels_<d>m.txt and the marking renders, and records
 // their paths in result.report ("labels_file", "marking_renders").
 void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job);
+
+// How a LOD looks from the views it was labelled from: each view is rendered
+// from `lod` and run through the same vision simulation as the original; a
+// pixel (drawn in either render) has changed when the two simulated images
+// differ there by more than the perception threshold. Per view: drawn pixels,
+// changed pixels and their fraction, pixels drawn in only one of the two.
+// Leaves `lod` in the renderer.
+nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
+                                 const LabelJob& job);
 
 // SimplifyStats as the reports print them (`run` and `simplify --json`).
 nlohmann::json simplify_stats_json(const SimplifyStats& stats);
