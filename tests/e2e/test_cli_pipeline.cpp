@@ -39,8 +39,12 @@ TEST(CliPipeline, LabelWritesLabelsMarkingRendersAndAgreement) {
     counts[uint8_t(lf.labels[t])]++;
     // The file's counts and labels obey the rule (perceptible in any view wins, so
     // a summed count can only be checked where it is unambiguous).
-    if (lf.traced[t] == 0) EXPECT_EQ(lf.labels[t], perclod::Label::Undisplayable);
-    if (lf.imperceptible[t] == 0 && lf.traced[t] > 0) EXPECT_EQ(lf.labels[t], perclod::Label::Perceptible);
+    if (lf.traced[t] == 0) {
+      EXPECT_EQ(lf.labels[t], perclod::Label::Undisplayable);
+    }
+    if (lf.imperceptible[t] == 0 && lf.traced[t] > 0) {
+      EXPECT_EQ(lf.labels[t], perclod::Label::Perceptible);
+    }
   }
   EXPECT_EQ(counts[0], j["labels"]["perceptible"].get<size_t>());
   EXPECT_EQ(counts[2], j["labels"]["undisplayable"].get<size_t>());
