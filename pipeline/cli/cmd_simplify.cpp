@@ -89,10 +89,10 @@ void run_simplify(SimplifyArgs a) {
               st.triangles_before[2], st.total_before());
   std::printf("after        %12zu %12zu %12zu %12zu\n", st.triangles_after[0], st.triangles_after[1],
               st.triangles_after[2], st.total_after());
-  std::printf("removed      %zu components, %zu leftover pieces (%zu triangles), %zu collapses, %zu undisplayable "
-              "triangles deleted\n",
-              st.components_removed, st.pieces_removed, st.pieces_triangles_removed, st.collapses,
-              st.undisplayable_faces_deleted);
+  std::printf("removed      %zu components, %zu undisplayable triangles, %zu leftover pieces (%zu triangles), "
+              "%zu collapses\n",
+              st.components_removed, st.undisplayable_faces_deleted, st.pieces_removed, st.pieces_triangles_removed,
+              st.collapses);
   if (st.nonmanifold_faces_duplicated || st.degenerate_faces)
     std::printf("input        %zu non-manifold faces and %zu degenerate faces kept on their own vertices\n",
                 st.nonmanifold_faces_duplicated, st.degenerate_faces);
@@ -106,10 +106,10 @@ void run_simplify(SimplifyArgs a) {
 void register_simplify(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "simplify",
-      "Simplify a model for one viewing distance. paper: quadric half-edge collapses that\n"
-      "only remove imperceptible and undisplayable triangles, until none can go; perceptible\n"
-      "triangles stay bit-identical; undisplayable triangles the collapses leave are deleted.\n"
-      "bounded: the collapses only, refusing those whose error exceeds k x p(d) (p(d): one\n"
+      "Simplify a model for one viewing distance. paper: undisplayable triangles are deleted,\n"
+      "then quadric half-edge collapses remove imperceptible triangles until none can go;\n"
+      "perceptible triangles stay bit-identical. bounded: collapses of imperceptible and\n"
+      "undisplayable triangles, refusing those whose error exceeds k x p(d) (p(d): one\n"
       "pixel's footprint at the distance). qem: plain quadric\n"
       "simplification to --target triangles. cluster: Rossignac-Borrel vertex clustering\n"
       "with cells of k x p(d). Components no view displays are removed outright.");
@@ -132,8 +132,9 @@ void register_simplify(CLI::App& app) {
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
   cmd->add_flag("--keep-undisplayable", a->keep_undisplayable,
-                "paper: keep the undisplayable triangles collapses cannot remove (default: deleted,\n"
-                "no pixel of any labelling view reaches them; keeping them keeps closed surfaces closed)");
+                "paper: collapse undisplayable triangles as the paper does and keep those collapses\n"
+                "cannot reach, so closed surfaces stay closed (default: delete them; no pixel of any\n"
+                "labelling view reaches them)");
   cmd->add_flag("--preserve-bbox", a->opt.preserve_bbox,
                 "cluster: cluster each component alone and keep its bounding box (Belblidia)");
   cmd->add_option("-o,--out", a->out, "Output file, .obj or .glb (default: <model>_<mode>_<D>m.obj)");

@@ -563,13 +563,13 @@ struct Piece {
 
 // Before the mesh is built: drops the faces of removable pieces of the welded
 // triangle list, so no time goes into building and collapsing them.
-std::vector<uint32_t> drop_pieces_early(const Work& w, SimplifyMode mode, double tolerance,
-                                        SimplifyStats& stats) {
+std::vector<uint32_t> drop_pieces_early(const Work& w, const std::vector<uint32_t>& faces,
+                                        SimplifyMode mode, double tolerance, SimplifyStats& stats) {
   const size_t nv = w.weld.positions.size() / 3;
   std::vector<uint32_t> parent(nv);
   std::iota(parent.begin(), parent.end(), 0u);
   auto corner = [&](uint32_t t, int k) { return w.weld.corner[3 * size_t(t) + k]; };
-  for (uint32_t t : w.faces) {
+  for (uint32_t t : faces) {
     uint32_t a = find(parent, corner(t, 0));
     for (int k = 1; k < 3; ++k) {
       uint32_t b = find(parent, corner(t, k));
@@ -577,7 +577,7 @@ std::vector<uint32_t> drop_pieces_early(const Work& w, SimplifyMode mode, double
     }
   }
   std::vector<Piece> piece(nv);
-  for (uint32_t t : w.faces)
+  for (uint32_t t : faces)
     for (int k = 0; k < 3; ++k)
       piece[find(parent, corner(t, 0))].add((*w.labels)[t], &w.weld.positions[3 * size_t(corner(t, k))]);
   std::vector<uint8_t> drop(nv, 0);
@@ -587,10 +587,10 @@ std::vector<uint32_t> drop_pieces_early(const Work& w, SimplifyMode mode, double
       stats.pieces_removed++;
     }
   std::vector<uint32_t> kept;
-  kept.reserve(w.faces.size());
-  for (uint32_t t : w.faces)
+  kept.reserve(faces.size());
+  for (uint32_t t : faces)
     if (!drop[find(parent, corner(t, 0))]) kept.push_back(t);
-  stats.pieces_triangles_removed += w.faces.size() - kept.size();
+  stats.pieces_triangles_removed += faces.size() - kept.size();
   return kept;
 }
 
@@ -627,22 +627,6 @@ void remove_pieces(Model& m, const Work& w, SimplifyMode mode, double tolerance,
   for (FH f : doomed) mesh.delete_face(f, true);
   m.faces_alive -= doomed.size();
   stats.pieces_triangles_removed += doomed.size();
-}
-
-// After collapsing: deletes the undisplayable faces the collapses could not
-// remove (all three vertices on perceptible triangles, or every collapse
-// refused). No pixel centre of any labelling view reaches them, so the views
-// render the same without them.
-size_t delete_undisplayable(Model& m, const Work& w, SimplifyStats& stats) {
-  size_t n = 0;
-  for (FH f : m.mesh.faces())
-    if ((*w.labels)[m.face_source[f.idx()]] == Label::Undisplayable) {
-      m.mesh.delete_face(f, true);
-      ++n;
-    }
-  m.faces_alive -= n;
-  stats.undisplayable_faces_deleted += n;
-  return n;
 }
 
 // ---- output -----------------------------------------------------------------
@@ -722,8 +706,18 @@ void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats&
   const bool labelled = opt.mode != SimplifyMode::Qem;
   double tolerance = -1;
   if (opt.mode == SimplifyMode::Bounded) tolerance = stats.tolerance = opt.k * opt.pixel_footprint;
+  std::vector<uint32_t> faces = w.faces;
+  // Paper: undisplayable triangles go outright (no pixel centre of any
+  // labelling view reaches them, so those views render the same without
+  // them). Collapsing them instead would move the vertices they share with
+  // imperceptible triangles, which the views do show, and would still leave
+  // every one whose corners all sit on perceptible triangles.
+  if (opt.mode == SimplifyMode::Paper && opt.delete_undisplayable) {
+    std::erase_if(faces, [&](uint32_t t) { return (*w.labels)[t] == Label::Undisplayable; });
+    stats.undisplayable_faces_deleted = w.faces.size() - faces.size();
+  }
   // Pieces that will be removed anyway are neither built nor collapsed.
-  std::vector<uint32_t> faces = labelled ? drop_pieces_early(w, opt.mode, tolerance, stats) : w.faces;
+  if (labelled) faces = drop_pieces_early(w, faces, opt.mode, tolerance, stats);
   Model m;
   build_mesh(m, w, faces, stats);
   stats.vertices_before = m.mesh.n_vertices();
@@ -741,10 +735,6 @@ void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats&
   size_t target = opt.mode == SimplifyMode::Qem ? opt.target_triangles : 0;
   Collapser(m, lim, target).run(stats);
 
-  // Undisplayable faces the collapses left are deleted; the collapses their
-  // flip and sliver checks had refused around them are then tried again.
-  if (opt.mode == SimplifyMode::Paper && opt.delete_undisplayable && delete_undisplayable(m, w, stats) > 0)
-    Collapser(m, lim, target).run(stats);
   if (labelled) remove_pieces(m, w, opt.mode, tolerance, stats);
   displacement_stats(m, w, stats);
   write_result(m, w, labelled, stats, out);

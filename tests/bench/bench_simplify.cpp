@@ -5,12 +5,10 @@
 // child so its peak RSS (getrusage of the child) is its own. Prints medians
 // and ratios.
 //
-// Labels: a documented synthetic rule (no renderer involved). The viewer
-// looks along +y (the generated facade faces -y; the Ingolstadt models are Z
-// up); p(d) is the pixel footprint of the paper's display profile at 56 m.
-//   normal . (0,1,0) >= 0                 -> undisplayable (faces away)
-//   front-facing, area >= (2 p(d))^2      -> perceptible
-//   front-facing, smaller                 -> imperceptible
+// Labels: from the real pipeline (perclod::label_scene): the four facade
+// views at 56 m on the paper's display profile, octree tracer, default
+// perception settings; both models are Z up. p(d) is the pixel footprint of
+// that profile at 56 m.
 //
 // Rows:
 //   perclod paper       label-constrained collapses until nothing is removable (the count N)
@@ -52,8 +50,8 @@
 
 #include "perclod/display.h"
 #include "perclod/facade.h"
-#include "../simplify/fixtures.h"
 #include "perclod/load.h"
+#include "perclod/lod.h"
 #include "perclod/simplify.h"
 
 using namespace perclod;
@@ -132,6 +130,22 @@ Row measure(const std::string& name, int runs, const std::function<size_t()>& wo
 double pixel_footprint(double distance) {
   DisplayProfile d;
   return 2.0 * distance * std::tan(0.5 * d.fov_y()) / d.height;
+}
+
+// The pipeline's labels of `scene`: four facades at `distance`, Z up.
+std::vector<Label> pipeline_labels(const Scene& scene, double distance) {
+  auto t0 = std::chrono::steady_clock::now();
+  Renderer renderer;
+  renderer.set_scene(scene);
+  OctreeTracer tracer(scene);
+  LabelJob job;
+  job.up = UpAxis::Z;
+  job.facades = parse_facades("all", UpAxis::Z);
+  job.distance = distance;
+  std::vector<Label> labels = label_scene(renderer, scene, tracer, job).labels;
+  std::fprintf(stderr, "  labelled in %.2f s (render, perceive, trace four views)\n",
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  return labels;
 }
 
 // ---- peers -----------------------------------------------------------------
@@ -244,7 +258,7 @@ size_t decimater_locked(const Scene& s, const std::vector<Label>& labels) {
 
 void bench_model(const std::string& title, const Scene& scene, int runs, bool with_decimater) {
   const double p = pixel_footprint(56.0);
-  auto labels = test::synthetic_labels(scene, {0, 1, 0}, 4 * p * p);  // the tests' rule, viewer along +y
+  std::vector<Label> labels = pipeline_labels(scene, 56.0);
   size_t count[3] = {0, 0, 0};
   for (Label l : labels) count[size_t(l)]++;
   std::printf("\n== %s: %zu triangles (perceptible %zu, imperceptible %zu, undisplayable %zu), p(56 m) = %.4f m, %d runs\n",

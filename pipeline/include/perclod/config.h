@@ -28,7 +28,7 @@ struct BatchConfig {
   double ratio = 0.5;                // label rule: imperceptible / traced >= ratio
   std::string simplify = "paper";    // paper | bounded | qem | cluster
   double k = 1.0;                    // bounded tolerance / cluster cell in pixels
-  bool keep_undisplayable = false;   // paper: keep the undisplayable triangles collapses leave
+  bool keep_undisplayable = false;   // paper: collapse undisplayable triangles instead of deleting them
   std::string format = "obj";        // LOD file format: obj | glb
 };
 BatchConfig load_batch_config(const std::string& path);

@@ -5,24 +5,24 @@
 // component and material of the input triangle it came from.
 //
 // Modes (method.md sections 5 and 6):
-//   Paper    quadric half-edge collapses (v0 removed, v1 kept where it is) that
-//            only remove imperceptible or undisplayable triangles, until none is
-//            removable; then the undisplayable triangles left (those whose
-//            vertices all belong to perceptible triangles, or whose collapses
-//            were all refused) are deleted, the collapses they blocked are tried
-//            again, and every connected piece without a perceptible triangle is
-//            removed outright.
-//   Bounded  the same collapses, but a collapse whose geometric
-//            error exceeds k * pixel_footprint is refused (the loop ends when
-//            none within the tolerance is left). Error = sqrt of the unit-weight
-//            quadric of the kept vertex: the root of the summed squared
-//            distances from v1 to every original face plane (and boundary /
-//            crease constraint plane) merged into it, an upper bound on its
-//            largest distance to any one of those planes. Leftover pieces are
-//            removed outright when all their triangles are undisplayable or
-//            their bounding-box diagonal is within the tolerance. Undisplayable
-//            triangles are not deleted one by one (the holes would break the
-//            bound).
+//   Paper    undisplayable triangles are deleted outright, then quadric
+//            half-edge collapses (v0 removed, v1 kept where it is) remove
+//            imperceptible triangles until none is removable, then every
+//            connected piece without a perceptible triangle is removed
+//            outright. With delete_undisplayable = false, the paper's own
+//            rule: undisplayable triangles are collapsed like imperceptible
+//            ones, and those collapses cannot reach stay.
+//   Bounded  collapses of imperceptible and undisplayable triangles, but a
+//            collapse whose geometric error exceeds k * pixel_footprint is
+//            refused (the loop ends when none within the tolerance is left).
+//            Error = sqrt of the unit-weight quadric of the kept vertex: the
+//            root of the summed squared distances from v1 to every original
+//            face plane (and boundary / crease constraint plane) merged into
+//            it, an upper bound on its largest distance to any one of those
+//            planes. Leftover pieces are removed outright when all their
+//            triangles are undisplayable or their bounding-box diagonal is
+//            within the tolerance. Undisplayable triangles are not deleted
+//            one by one (the holes would break the bound).
 //   Qem      plain Garland-Heckbert half-edge quadric simplification to
 //            target_triangles; labels ignored.
 //   Cluster  Rossignac-Borrel vertex clustering on a grid of cell size
@@ -73,9 +73,11 @@ struct SimplifyOptions {
   int max_valence = 24;                 // refuse collapses that make bigger fans
   double boundary_weight = 1.0;         // weight of boundary/crease quadrics (x edge length^2)
 
-  // Paper: after collapsing, delete the undisplayable triangles that collapses
-  // could not remove (no pixel centre of any labelling view reaches them).
-  // false keeps them, so the LOD stays closed where the input was.
+  // Paper: delete undisplayable triangles instead of collapsing them (no pixel
+  // centre of any labelling view reaches them, and their collapses would move
+  // imperceptible triangles the views do show). false collapses them as the
+  // paper does and keeps those collapses cannot reach, so closed surfaces
+  // stay closed.
   bool delete_undisplayable = true;
 
   // Cluster: representative = weighted centre of mass (false: heaviest vertex).
@@ -95,7 +97,7 @@ struct SimplifyStats {
   size_t components_removed = 0;       // all-undisplayable components dropped up front
   size_t pieces_removed = 0;           // leftover connected pieces dropped after collapsing
   size_t pieces_triangles_removed = 0; // triangles in those pieces
-  size_t undisplayable_faces_deleted = 0;  // undisplayable faces left by the collapses, deleted
+  size_t undisplayable_faces_deleted = 0;  // Paper: undisplayable triangles deleted outright
   size_t nonmanifold_faces_duplicated = 0;  // faces added with their own vertices
   size_t degenerate_faces = 0;         // faces whose welded corners repeat (kept, duplicated)
   size_t collapses = 0;
