@@ -32,6 +32,19 @@ nlohmann::json to_json(const Agreement& a) {
           {"identical_rate", a.identical_rate()}};
 }
 
+// The job's perception settings at its display's pixel density.
+PerceptionSettings perception_for(const LabelJob& job) {
+  PerceptionSettings ps = job.perception;
+  ps.ppd = job.display.pixels_per_degree();
+  return ps;
+}
+
+// 1 where the render drew no triangle (from its ID buffer).
+void background_of(const RenderOutput& img, std::vector<uint8_t>& background) {
+  background.resize(img.ids.size());
+  for (size_t i = 0; i < img.ids.size(); ++i) background[i] = img.ids[i] == 0;
+}
+
 std::string tagged(const LabelJob& job, const std::string& facade, const std::string& suffix) {
   return view_file_base(job.out_dir, job.stem, facade, job.distance) + suffix;
 }
@@ -82,8 +95,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   if (job.facades.empty()) throw std::invalid_argument("no facade views to label from");
   const size_t nt = scene.triangle_count();
   Bounds bounds = scene_bounds(scene);
-  PerceptionSettings ps = job.perception;
-  ps.ppd = job.display.pixels_per_degree();
+  const PerceptionSettings ps = perception_for(job);
   std::unique_ptr<EmbreeTracer> reference;
   if (job.verify) reference = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);
   if (!job.out_dir.empty()) ensure_directory(job.out_dir);
@@ -101,8 +113,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
     RenderOutput img = renderer.render(cam);
     double t_render = since(t0);
 
-    background.resize(img.ids.size());
-    for (size_t i = 0; i < img.ids.size(); ++i) background[i] = img.ids[i] == 0;
+    background_of(img, background);
     t0 = Clock::now();
     perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
     double t_perceive = since(t0);
@@ -159,16 +170,14 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
 
 nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
                                  const LabelJob& job) {
-  PerceptionSettings ps = job.perception;
-  ps.ppd = job.display.pixels_per_degree();
+  const PerceptionSettings ps = perception_for(job);
   renderer.set_scene(lod);
   nlohmann::json views = nlohmann::json::array();
   PerceptionResult pr;
   std::vector<uint8_t> background;
   for (const ViewRecord& v : original.views) {
     RenderOutput img = renderer.render(v.camera);
-    background.resize(img.ids.size());
-    for (size_t i = 0; i < img.ids.size(); ++i) background[i] = img.ids[i] == 0;
+    background_of(img, background);
     perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
     if (pr.simulated.size() != v.simulated.size())
       throw std::logic_error("compare_lod_views: view size changed between labelling and comparison");
