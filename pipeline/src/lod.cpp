@@ -236,7 +236,6 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
   std::unique_ptr<Tracer> tracer = make_tracer(scene, job.tracer);
   double t_build = since(t0);
   Renderer renderer;
-  renderer.set_scene(scene);
   if (progress)
     progress(std::string(tracer->name()) + " built in " + std::to_string(int(t_build * 1e3)) + " ms, " +
              std::to_string(tracer->memory_bytes() / 1024) + " KiB");
@@ -259,6 +258,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     LabelJob lj = job.label;
     lj.distance = d;
     auto t_d = Clock::now();
+    renderer.set_scene(scene);  // the previous distance's comparison left its LOD there
     LabelResult lr = label_scene(renderer, scene, *tracer, lj, progress);
 
     write_label_outputs(renderer, scene, lr, lj);
@@ -276,7 +276,6 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     entry["simplify"] = simplify_stats_json(st);
     auto t_cmp = Clock::now();
     entry["lod_vs_original"] = compare_lod_views(renderer, lod, lr, lj);
-    renderer.set_scene(scene);  // the next distance labels the original again
     entry["seconds_compare"] = since(t_cmp);
     if (progress) {
       double worst = 0;
