@@ -81,8 +81,12 @@ struct Renderer::Impl {
   GLuint fbo = 0, rb_color = 0, rb_id = 0, rb_depth = 0;
   int fb_w = 0, fb_h = 0;
   size_t index_count = 0;
-  std::vector<float> material_colors;  // per triangle, from the scene
-  const Scene* scene = nullptr;
+  // Copies of what colouring needs, so nothing points into the caller's scene.
+  bool has_scene = false;
+  size_t triangle_count = 0;
+  std::vector<float> material_colors;    // RGB per triangle
+  std::vector<float> component_colors;   // RGB per triangle, made on first use
+  std::vector<uint32_t> component;       // per triangle (Scene::component_of)
 
   void make_current() {
     if (!OSMesaMakeCurrent(ctx, dummy.data(), GL_UNSIGNED_BYTE, 1, 1))
@@ -166,14 +170,9 @@ Renderer::~Renderer() {
   if (impl_->ctx) OSMesaDestroyContext(impl_->ctx);
 }
 
-std::string Renderer::gl_version() const {
-  impl_->make_current();
-  return reinterpret_cast<const char*>(glGetString(GL_VERSION));
-}
-
 void Renderer::set_scene(const Scene& s) {
+  validate(s);
   impl_->make_current();
-  impl_->scene = &s;
   glBindVertexArray(impl_->vao);
   glBindBuffer(GL_ARRAY_BUFFER, impl_->vbo);
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(s.positions.size() * sizeof(float)), s.positions.data(), GL_STATIC_DRAW);
@@ -183,36 +182,43 @@ void Renderer::set_scene(const Scene& s) {
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(s.indices.size() * sizeof(uint32_t)), s.indices.data(),
                GL_STATIC_DRAW);
   impl_->index_count = s.indices.size();
+  const size_t nt = s.triangle_count();
+  impl_->triangle_count = nt;
+  impl_->component.resize(nt);
   auto& mc = impl_->material_colors;
-  mc.resize(3 * s.triangle_count());
-  for (size_t t = 0; t < s.triangle_count(); ++t) {
-    const Material& m = s.materials[s.material[t]];
-    auto c = m.has_color ? m.color : component_color(s.component[t]);
+  mc.resize(3 * nt);
+  for (size_t t = 0; t < nt; ++t) {
+    impl_->component[t] = s.component_of(t);
+    const Material* m = s.material_of(t);
+    auto c = m && m->has_color ? m->color : component_color(impl_->component[t]);
     for (int k = 0; k < 3; ++k) mc[3 * t + k] = c[k];
   }
+  impl_->component_colors.clear();
+  impl_->has_scene = true;
 }
 
 RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
   Impl& I = *impl_;
-  if (!I.scene) throw RenderError("render() before set_scene()");
+  if (!I.has_scene) throw RenderError("render() before set_scene()");
   if (cam.width <= 0 || cam.height <= 0 || cam.width > 16384 || cam.height > 16384)
     throw RenderError("bad image size " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
   auto t0 = std::chrono::steady_clock::now();
   I.make_current();
   I.resize(cam.width, cam.height);
 
-  const Scene& s = *I.scene;
   if (!opt.triangle_colors.empty()) {
-    if (opt.triangle_colors.size() != 3 * s.triangle_count())
+    if (opt.triangle_colors.size() != 3 * I.triangle_count)
       throw RenderError("triangle_colors must hold 3 floats per triangle");
     I.upload_colors(opt.triangle_colors);
   } else if (opt.color_by == ColorBy::Component) {
-    std::vector<float> cc(3 * s.triangle_count());
-    for (size_t t = 0; t < s.triangle_count(); ++t) {
-      auto c = component_color(s.component[t]);
-      for (int k = 0; k < 3; ++k) cc[3 * t + k] = c[k];
+    if (I.component_colors.empty()) {
+      I.component_colors.resize(3 * I.triangle_count);
+      for (size_t t = 0; t < I.triangle_count; ++t) {
+        auto c = component_color(I.component[t]);
+        for (int k = 0; k < 3; ++k) I.component_colors[3 * t + k] = c[k];
+      }
     }
-    I.upload_colors(cc);
+    I.upload_colors(I.component_colors);
   } else {
     I.upload_colors(I.material_colors);
   }

@@ -12,7 +12,7 @@
 namespace perclod {
 
 BruteForceTracer::BruteForceTracer(const Scene& scene) {
-  detail::check_scene(scene);
+  validate(scene);
   tris_.resize(9 * scene.triangle_count());
   for (size_t t = 0; t < scene.triangle_count(); ++t)
     for (int c = 0; c < 3; ++c)

@@ -91,7 +91,7 @@ void set_ray(RTCRayHit& rh, const float o[3], const float d[3], float tnear, flo
 }  // namespace
 
 EmbreeTracer::EmbreeTracer(const Scene& scene, EmbreeMode mode) : impl_(std::make_unique<Impl>()) {
-  detail::check_scene(scene);
+  validate(scene);
   impl_->mode = mode;
   const auto t0 = std::chrono::steady_clock::now();
   impl_->device = rtcNewDevice(nullptr);

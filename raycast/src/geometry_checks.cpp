@@ -8,29 +8,6 @@
 
 namespace perclod::detail {
 
-void check_scene(const Scene& scene) {
-  if (scene.positions.size() % 3 != 0)
-    throw std::invalid_argument("scene: positions size " + std::to_string(scene.positions.size()) +
-                                " is not a multiple of 3");
-  if (scene.indices.size() % 3 != 0)
-    throw std::invalid_argument("scene: indices size " + std::to_string(scene.indices.size()) +
-                                " is not a multiple of 3");
-  const size_t nv = scene.vertex_count();
-  for (size_t i = 0; i < scene.indices.size(); ++i)
-    if (scene.indices[i] >= nv)
-      throw std::invalid_argument("scene: triangle " + std::to_string(i / 3) + " uses vertex " +
-                                  std::to_string(scene.indices[i]) + " but there are only " +
-                                  std::to_string(nv) + " vertices");
-  for (size_t i = 0; i < scene.positions.size(); ++i)
-    if (!std::isfinite(scene.positions[i]))
-      throw std::invalid_argument("scene: vertex " + std::to_string(i / 3) +
-                                  " has a non-finite coordinate");
-  if (!scene.component.empty() && scene.component.size() != scene.triangle_count())
-    throw std::invalid_argument("scene: " + std::to_string(scene.component.size()) +
-                                " component ids for " + std::to_string(scene.triangle_count()) +
-                                " triangles");
-}
-
 uint32_t component_slots(const Scene& scene) {
   if (scene.triangle_count() == 0) return 0;
   if (scene.component.empty()) return 1;

@@ -8,11 +8,6 @@
 
 namespace perclod::detail {
 
-// Throws std::invalid_argument naming what is wrong with the scene:
-// indices not a multiple of 3, an index out of range, a non-finite
-// position, a component array of the wrong size.
-void check_scene(const Scene& scene);
-
 // Number of components: max component id + 1 (0 for an empty scene). When
 // Scene::component is empty every triangle counts as component 0.
 uint32_t component_slots(const Scene& scene);

@@ -223,7 +223,7 @@ struct BvhBuilder {
 void OctreeTracer::Impl::build_bvhs(const Scene& scene) {
   const size_t nt = scene.triangle_count();
   const uint32_t nc = detail::component_slots(scene);
-  auto comp_of = [&](size_t t) { return scene.component.empty() ? 0u : scene.component[t]; };
+  auto comp_of = [&](size_t t) { return scene.component_of(t); };
 
   // Triangles grouped by component (counting sort, stable).
   std::vector<uint32_t> start(size_t(nc) + 1, 0);
@@ -812,7 +812,7 @@ OctreeTracer::OctreeTracer(const Scene& scene, const OctreeOptions& options)
     throw std::invalid_argument("octree: max_components_per_leaf must be at least 1");
   if (options.max_triangles_per_bvh_leaf < 1 || options.max_triangles_per_bvh_leaf > (1 << 20))
     throw std::invalid_argument("octree: max_triangles_per_bvh_leaf must lie in [1, 2^20]");
-  detail::check_scene(scene);
+  validate(scene);
   if (scene.triangle_count() >= size_t(std::numeric_limits<uint32_t>::max()) / 2)
     throw std::invalid_argument("octree: too many triangles for 32-bit indices");
   impl_->options = options;

@@ -62,7 +62,7 @@ Instances make_instances(const Work& w, bool per_component) {
   std::unordered_map<uint64_t, uint32_t> id;
   in.corner.reserve(3 * w.faces.size());
   for (uint32_t t : w.faces) {
-    uint32_t g = per_component && !s.component.empty() ? s.component[t] : 0;
+    uint32_t g = per_component ? s.component_of(t) : 0;
     for (int k = 0; k < 3; ++k) {
       uint32_t wv = w.weld.corner[3 * size_t(t) + k];
       auto [it, fresh] = id.try_emplace((uint64_t(g) << 32) | wv, uint32_t(in.welded.size()));

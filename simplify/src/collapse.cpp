@@ -703,7 +703,7 @@ void displacement_stats(Model& m, const Work& w, SimplifyStats& stats) {
 
 void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats& stats,
                        Result& out) {
-  const bool labelled = opt.mode != SimplifyMode::Qem;
+  const bool labelled = simplify_mode_uses_labels(opt.mode);  // collapse modes: paper, bounded, qem
   double tolerance = -1;
   if (opt.mode == SimplifyMode::Bounded) tolerance = stats.tolerance = opt.k * opt.pixel_footprint;
   std::vector<uint32_t> faces = w.faces;

@@ -31,28 +31,17 @@ SimplifyMode parse_simplify_mode(const char* name) {
                               "' (expected paper, bounded, qem or cluster)");
 }
 
+bool simplify_mode_uses_labels(SimplifyMode m) { return m == SimplifyMode::Paper || m == SimplifyMode::Bounded; }
+
 namespace {
 
 void fail(const std::string& what) { throw std::invalid_argument("simplify: " + what); }
 
 void check_input(const Scene& s, const std::vector<Label>& labels, const SimplifyOptions& opt) {
+  validate(s);
   const size_t nt = s.triangle_count();
-  if (s.positions.size() % 3) fail("positions size is not a multiple of 3");
-  if (s.indices.size() % 3) fail("indices size is not a multiple of 3");
   if (labels.size() != nt)
     fail(std::to_string(labels.size()) + " labels for " + std::to_string(nt) + " triangles");
-  if (!s.component.empty() && s.component.size() != nt)
-    fail("component array has " + std::to_string(s.component.size()) + " entries for " +
-         std::to_string(nt) + " triangles");
-  if (!s.material.empty() && s.material.size() != nt)
-    fail("material array has " + std::to_string(s.material.size()) + " entries for " +
-         std::to_string(nt) + " triangles");
-  for (size_t i = 0; i < s.indices.size(); ++i)
-    if (s.indices[i] >= s.vertex_count())
-      fail("triangle " + std::to_string(i / 3) + " uses vertex " + std::to_string(s.indices[i]) +
-           " of " + std::to_string(s.vertex_count()));
-  for (size_t i = 0; i < s.positions.size(); ++i)
-    if (!std::isfinite(s.positions[i])) fail("vertex " + std::to_string(i / 3) + " is not finite");
   for (size_t t = 0; t < nt; ++t)
     if (uint8_t(labels[t]) > 2) fail("triangle " + std::to_string(t) + " has an invalid label");
   const bool needs_footprint = opt.mode == SimplifyMode::Bounded || opt.mode == SimplifyMode::Cluster;
@@ -62,8 +51,6 @@ void check_input(const Scene& s, const std::vector<Label>& labels, const Simplif
     fail("qem mode needs a positive target triangle count");
   if (!(opt.weld_tolerance_rel >= 0)) fail("weld tolerance must be >= 0");
 }
-
-uint32_t component_of(const Scene& s, size_t t) { return s.component.empty() ? 0 : s.component[t]; }
 
 // Triangles in play: in the labelled modes, components whose triangles are
 // all undisplayable are dropped outright.
@@ -77,15 +64,15 @@ std::vector<uint32_t> faces_in_play(const Scene& s, const std::vector<Label>& la
     return faces;
   }
   size_t nc = 1;
-  for (size_t t = 0; t < nt; ++t) nc = std::max<size_t>(nc, component_of(s, t) + 1);
+  for (size_t t = 0; t < nt; ++t) nc = std::max<size_t>(nc, s.component_of(t) + 1);
   std::vector<uint8_t> seen(nc, 0), displayable(nc, 0);
   for (size_t t = 0; t < nt; ++t) {
-    seen[component_of(s, t)] = 1;
-    if (labels[t] != Label::Undisplayable) displayable[component_of(s, t)] = 1;
+    seen[s.component_of(t)] = 1;
+    if (labels[t] != Label::Undisplayable) displayable[s.component_of(t)] = 1;
   }
   for (size_t c = 0; c < nc; ++c) stats.components_removed += seen[c] && !displayable[c];
   for (size_t t = 0; t < nt; ++t)
-    if (displayable[component_of(s, t)]) faces.push_back(uint32_t(t));
+    if (displayable[s.component_of(t)]) faces.push_back(uint32_t(t));
   return faces;
 }
 
@@ -97,7 +84,7 @@ Scene simplify(const Scene& scene, const std::vector<Label>& labels, const Simpl
   check_input(scene, labels, opt);
   SimplifyStats stats;
   for (Label l : labels) stats.triangles_before[size_t(l)]++;
-  const bool labelled = opt.mode == SimplifyMode::Paper || opt.mode == SimplifyMode::Bounded;
+  const bool labelled = simplify_mode_uses_labels(opt.mode);
 
   detail::Work work;
   work.scene = &scene;

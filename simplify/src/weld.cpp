@@ -43,7 +43,7 @@ void weld_corners(Work& w, bool per_component, double tolerance) {
   std::unordered_map<uint64_t, uint32_t> extra;   // items of (v, other groups)
   std::vector<uint32_t> corner_item(3 * s.triangle_count(), UINT32_MAX);
   for (uint32_t t : w.faces) {
-    uint32_t g = per_component && !s.component.empty() ? s.component[t] : 0;
+    uint32_t g = per_component ? s.component_of(t) : 0;
     for (int k = 0; k < 3; ++k) {
       uint32_t v = s.indices[3 * size_t(t) + k];
       uint32_t& p = primary[v];

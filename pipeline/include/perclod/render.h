@@ -50,9 +50,11 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  void set_scene(const Scene& scene);  // uploads geometry and colours
+  // Validates `scene` (perclod::validate) and uploads its geometry and
+  // colours; the renderer keeps its own copies, so `scene` may go away after.
+  // render() draws the scene given last.
+  void set_scene(const Scene& scene);
   RenderOutput render(const Camera& camera, const RenderOptions& options = {});
-  std::string gl_version() const;
 
  private:
   struct Impl;

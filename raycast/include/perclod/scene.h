@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,11 +24,23 @@ struct Material {
   bool has_color = false;                          // false: the file gave none
 };
 
+// The contract (checked by validate() below; every module's entry points call
+// it, so none keeps its own checks):
+//  * positions holds 3 finite floats per vertex, indices 3 per triangle, and
+//    every index is below vertex_count();
+//  * component and material are each either empty or hold one id per
+//    triangle. Empty component: the whole scene is one component, id 0.
+//    Empty material: every triangle has the default material (no colour of
+//    its own, so it is drawn in its component's colour);
+//  * a non-empty component array indexes component_names (every id below its
+//    size); a non-empty material array likewise indexes materials.
+// Read the per-triangle ids through component_of() and material_of(), which
+// apply the rule for empty arrays.
 struct Scene {
   std::vector<float> positions;         // x,y,z per vertex (recentred)
   std::vector<uint32_t> indices;        // 3 per triangle
-  std::vector<uint32_t> component;      // per triangle: index into component_names
-  std::vector<uint32_t> material;       // per triangle: index into materials
+  std::vector<uint32_t> component;      // per triangle: index into component_names (or empty)
+  std::vector<uint32_t> material;       // per triangle: index into materials (or empty)
   std::vector<std::string> component_names;
   std::vector<Material> materials;
   std::array<double, 3> offset{0, 0, 0};  // source = position + offset
@@ -35,7 +48,38 @@ struct Scene {
   size_t vertex_count() const { return positions.size() / 3; }
   size_t triangle_count() const { return indices.size() / 3; }
   size_t component_count() const { return component_names.size(); }
+  uint32_t component_of(size_t triangle) const { return component.empty() ? 0 : component[triangle]; }
+  // The triangle's material, or nullptr for the default one.
+  const Material* material_of(size_t triangle) const {
+    return material.empty() ? nullptr : &materials[material[triangle]];
+  }
 };
+
+// Throws std::invalid_argument("scene: ...") naming the first broken rule of
+// the contract above (and the triangle or vertex that breaks it).
+inline void validate(const Scene& s) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("scene: " + what); };
+  auto str = [](size_t n) { return std::to_string(n); };
+  if (s.positions.size() % 3) fail("positions size " + str(s.positions.size()) + " is not a multiple of 3");
+  if (s.indices.size() % 3) fail("indices size " + str(s.indices.size()) + " is not a multiple of 3");
+  const size_t nv = s.vertex_count(), nt = s.triangle_count();
+  for (size_t i = 0; i < s.indices.size(); ++i)
+    if (s.indices[i] >= nv)
+      fail("triangle " + str(i / 3) + " uses vertex " + str(s.indices[i]) + " but there are only " + str(nv) +
+           " vertices");
+  for (size_t i = 0; i < s.positions.size(); ++i)
+    if (!std::isfinite(s.positions[i])) fail("vertex " + str(i / 3) + " is not finite (a NaN or infinite coordinate)");
+  auto check_ids = [&](const std::vector<uint32_t>& ids, size_t names, const char* what, const char* table) {
+    if (ids.empty()) return;
+    if (ids.size() != nt) fail(str(ids.size()) + " " + what + " ids for " + str(nt) + " triangles");
+    for (size_t t = 0; t < nt; ++t)
+      if (ids[t] >= names)
+        fail("triangle " + str(t) + " has " + what + " " + str(ids[t]) + " but there are only " + str(names) + " " +
+             table);
+  };
+  check_ids(s.component, s.component_names.size(), "component", "component names");
+  check_ids(s.material, s.materials.size(), "material", "materials");
+}
 
 // Per-triangle perceptual label (method.md section 4). Values are stable:
 // they are written to label files.

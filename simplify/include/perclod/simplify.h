@@ -50,6 +50,8 @@ enum class SimplifyMode { Paper, Bounded, Qem, Cluster };
 const char* simplify_mode_name(SimplifyMode m);
 // "paper", "bounded", "qem", "cluster"; throws std::invalid_argument otherwise.
 SimplifyMode parse_simplify_mode(const char* name);
+// Paper and Bounded read the labels; Qem and Cluster ignore them.
+bool simplify_mode_uses_labels(SimplifyMode m);
 
 struct SimplifyOptions {
   SimplifyMode mode = SimplifyMode::Paper;
