@@ -148,7 +148,7 @@ void register_generate_facade(CLI::App* generate) {
                                  "Pick floors, bays, sides, column segments and ornament detail "
                                  "for about this many triangles (1000 .. millions)");
   for (auto* o : {floors, bays, sides, segments, detail}) target->excludes(o);
-  cmd->add_option("-o,--output", a->out, "Output file (.obj with .mtl, or .glb)")->required();
+  cmd->add_option("FILE", a->out, "Output model file (.obj with .mtl, or .glb)")->required();
   cmd->add_flag("--json", a->json, "Print a JSON summary on stdout");
   cmd->callback([a] { run_generate_facade(*a); });
 }

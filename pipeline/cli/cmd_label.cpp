@@ -3,9 +3,7 @@
 
 #include "commands.h"
 #include "common.h"
-#include "perclod/image_io.h"
-#include "perclod/batch.h"
-#include "perclod/lod.h"
+#include "perclod/pipeline.h"
 
 namespace perclod::cli {
 
@@ -50,21 +48,13 @@ void register_label(CLI::App& app) {
     job.ratio = a->ratio;
     job.verify = a->verify;
     job.closer_factor = a->closer;
-    job.out_dir = a->out;
-    job.stem = file_stem(a->model.path);
-    std::unique_ptr<Tracer> tracer = make_tracer(s, parse_tracer(a->tracer));
-    std::fprintf(stderr, "%s built in %.0f ms\n", tracer->name(), tracer->build_seconds() * 1e3);
-    Renderer renderer;
-    renderer.set_scene(s);
-    LabelResult r = label_scene(renderer, s, *tracer, job, [](const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
-    write_label_outputs(renderer, s, r, job);
-    r.report["tracer_build_seconds"] = tracer->build_seconds();
-    write_text_atomic(distance_file(job.out_dir, job.stem, "label", job.distance, ".json"), r.report.dump(2) + "\n");
-    const auto& l = r.report["labels"];
+    job.out = output_names_for(a->out, a->model.path);
+    nlohmann::json report = label_model(s, job, parse_tracer(a->tracer), print_progress);
+    const auto& l = report["labels"];
     std::fprintf(stderr, "labels: %d perceptible, %d imperceptible, %d undisplayable -> %s\n",
                  l["perceptible"].get<int>(), l["imperceptible"].get<int>(), l["undisplayable"].get<int>(),
-                 r.report["labels_file"].get<std::string>().c_str());
-    if (a->json) print_json(r.report);
+                 report["labels_file"].get<std::string>().c_str());
+    if (a->json) print_json(report);
   });
 }
 

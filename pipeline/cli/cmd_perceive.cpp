@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "common.h"
 #include "perclod/image_io.h"
+#include "perclod/outputs.h"
 #include "perclod/perception.h"
 
 namespace perclod::cli {
@@ -105,10 +106,11 @@ void register_perceive(CLI::App& app) {
       "visual difference (original minus simulated). Pixels whose |difference| exceeds the threshold\n"
       "carry detail the viewer cannot see at this display: 'imperceptible'.");
   struct Args {
-    std::string image, out = "out", csf = "fir", luminance = "luma", background;
+    PerceptionSettings settings;  // the library's defaults, overridden by the options below
+    std::string image, out = "out", csf = name_of(settings.csf), background;
+    std::string luminance = settings.luminance == PerceptionSettings::Luminance::Luma ? "luma" : "linear";
     DisplayArgs display;
-    double ppd = 0, k = 0.144, threshold = PerceptionSettings{}.threshold;
-    int levels = 0;
+    double ppd = 0;
     bool raw = false, json = false;
   };
   auto a = std::make_shared<Args>();
@@ -119,9 +121,12 @@ void register_perceive(CLI::App& app) {
   auto* ppd_opt = cmd->add_option("--ppd", a->ppd, "Pixels per degree instead of a display profile (paper: 29.64)")
       ->excludes(cmd->get_option("--display"));
   cmd->add_option("--csf", a->csf, "CSF mode: fir (default; FIR per band), weights (one per band), kakadu (Nadenau's table)");
-  cmd->add_option("--k", a->k, "CSF constant k in A(f) = 2.6 (0.0192 + k f) exp(-(k f)^1.1); Mannos-Sakrison: 0.114");
-  cmd->add_option("--levels", a->levels, "DWT levels; 0 = fewest that put the LL band under the CSF peak");
-  cmd->add_option("--threshold", a->threshold, "Grey levels: |difference| above it is imperceptible");
+  cmd->add_option("--csf-k", a->settings.k, "CSF constant k in A(f) = 2.6 (0.0192 + k f) exp(-(k f)^1.1); Mannos-Sakrison: 0.114")
+      ->capture_default_str();
+  cmd->add_option("--levels", a->settings.levels, "DWT levels; 0 = fewest that put the LL band under the CSF peak")
+      ->capture_default_str();
+  cmd->add_option("--threshold", a->settings.threshold, "Grey levels: |difference| above it is imperceptible")
+      ->capture_default_str();
   cmd->add_option("--luminance", a->luminance, "luma (encoded Rec.601 luma, default) or linear (CIE Y of linear sRGB)");
   cmd->add_option("--background", a->background, "R,G,B of the background: such pixels are left out of the fraction");
   cmd->add_option("--out,-o", a->out, "Output directory (created)");
@@ -134,29 +139,26 @@ void register_perceive(CLI::App& app) {
   cmd->callback([a, ppd_opt] {
     if (ppd_opt->count() && !(a->ppd > 0 && std::isfinite(a->ppd)))
       throw std::invalid_argument("--ppd must be a positive number of pixels per degree");
-    PerceptionSettings s;
+    PerceptionSettings s = a->settings;
     s.ppd = ppd_opt->count() ? a->ppd : a->display.profile().pixels_per_degree();
     s.csf = parse_csf(a->csf);
     s.luminance = parse_luminance(a->luminance);
-    s.k = a->k;
-    s.levels = a->levels;
-    s.threshold = a->threshold;
     Rgb8Image img = read_rgb8(a->image);
     std::vector<uint8_t> bg;
     if (!a->background.empty()) bg = background_of(img, parse_rgb(a->background));
     PerceptionResult r = perceive(img.pixels.data(), img.width, img.height, s, bg.empty() ? nullptr : bg.data());
 
     ensure_directory(a->out);
-    const std::string base = (std::filesystem::path(a->out) / file_stem(a->image)).string();
-    write_png(base + "_simulated.png", r.width, r.height, 1, simulated_view(r).data());
-    write_png(base + "_difference.png", r.width, r.height, 1, difference_view(r).data());
-    write_png(base + "_mask.png", r.width, r.height, 1, mask_view(r).data());
-    if (a->raw) write_tiff_float(base + "_difference.tif", r.width, r.height, 1, r.difference.data());
+    const OutputNames out = output_names_for(a->out, a->image);
+    write_png(out.file("_simulated.png"), r.width, r.height, 1, simulated_view(r).data());
+    write_png(out.file("_difference.png"), r.width, r.height, 1, difference_view(r).data());
+    write_png(out.file("_mask.png"), r.width, r.height, 1, mask_view(r).data());
+    if (a->raw) write_tiff_float(out.file("_difference.tif"), r.width, r.height, 1, r.difference.data());
     nlohmann::json j = summary(r, s, a->image);
-    write_text_atomic(base + "_perception.json", j.dump(2) + "\n");
+    write_text_atomic(out.file("_perception.json"), j.dump(2) + "\n");
     std::fprintf(stderr, "%s: %dx%d, %.2f ppd, %d levels, %.1f%% imperceptible, %.1f ms -> %s_*.png\n",
                  a->image.c_str(), r.width, r.height, r.ppd, r.levels, 100.0 * r.imperceptible_fraction,
-                 r.seconds * 1e3, base.c_str());
+                 r.seconds * 1e3, out.file("").c_str());
     if (a->json) print_json(j);
   });
 }

@@ -3,7 +3,7 @@
 
 #include "commands.h"
 #include "common.h"
-#include "perclod/batch.h"
+#include "perclod/pipeline.h"
 
 namespace perclod::cli {
 
@@ -32,8 +32,7 @@ void register_render(CLI::App& app) {
   cmd->callback([a] {
     Scene s = a->model.load();
     RenderViewsJob job;
-    job.out_dir = a->out;
-    job.stem = file_stem(a->model.path);
+    job.out = output_names_for(a->out, a->model.path);
     job.up = a->model.up_axis();
     job.facades = parse_facades(a->facades, job.up);
     job.distances = check_distances(a->distances);
@@ -41,8 +40,7 @@ void register_render(CLI::App& app) {
     job.write_ids = a->ids;
     job.write_depth = a->depth;
     job.color_by = a->by_component ? ColorBy::Component : ColorBy::Material;
-    Renderer renderer;
-    auto views = render_views(renderer, s, job, [](const ViewFiles& v, size_t done, size_t total) {
+    auto views = render_views(s, job, [](const ViewFiles& v, size_t done, size_t total) {
       std::fprintf(stderr, "[%zu/%zu] %s (%.0f ms, %zu px covered)\n", done, total, v.color.c_str(),
                    v.render_seconds * 1e3, v.covered_pixels);
     });

@@ -3,7 +3,8 @@
 
 #include "commands.h"
 #include "common.h"
-#include "perclod/lod.h"
+#include "perclod/config.h"
+#include "perclod/pipeline.h"
 
 namespace perclod::cli {
 
@@ -19,26 +20,10 @@ void register_run(CLI::App& app) {
       "_simulated/_difference/_mask.png, _marking.png and _marking_near.png, and <model>_report.json.");
   cmd->callback([=] {
     BatchConfig c = load_batch_config(*config);
+    LodJob job = lod_job(c);
     LoadReport rep;
-    Scene s = load_scene(c.model, LoadOptions{c.scale}, &rep);
-    std::fprintf(stderr, "loaded %s: %zu triangles, %zu components in %.2f s\n", c.model.c_str(), s.triangle_count(),
-                 s.component_count(), rep.seconds);
-    LodJob job;
-    job.label.up = c.up;
-    job.label.display = c.display.empty() ? default_display_profile() : load_display_profile(c.display);
-    job.label.perception = perception_settings_for(job.label.display);
-    job.label.facades = parse_facades(c.facades, c.up);
-    job.label.ratio = c.ratio;
-    job.label.verify = c.verify;
-    job.label.out_dir = c.out;
-    job.label.stem = file_stem(c.model);
-    job.distances = c.distances;
-    job.tracer = parse_tracer(c.tracer);
-    job.simplify.mode = parse_simplify_mode(c.simplify.c_str());
-    job.simplify.k = c.k;
-    job.simplify.delete_undisplayable = !c.keep_undisplayable;
-    job.lod_format = c.format;
-    nlohmann::json report = make_lods(s, job, [](const std::string& m) { std::fprintf(stderr, "%s\n", m.c_str()); });
+    Scene s = load_model(c.model, LoadOptions{c.scale}, &rep);
+    nlohmann::json report = make_lods(s, job, print_progress);
     report["model"] = c.model;
     report["load"] = to_json(rep);
     if (*json) print_json(report);

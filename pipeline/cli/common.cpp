@@ -16,9 +16,11 @@ void ModelArgs::add(CLI::App* cmd) {
       ->check(CLI::PositiveNumber);
 }
 
-Scene ModelArgs::load(LoadReport* report, bool quiet) const {
+Scene ModelArgs::load(LoadReport* report, bool quiet) const { return load_model(path, LoadOptions{scale}, report, quiet); }
+
+Scene load_model(const std::string& path, const LoadOptions& options, LoadReport* report, bool quiet) {
   LoadReport rep;
-  Scene s = load_scene(path, LoadOptions{scale}, &rep);
+  Scene s = load_scene(path, options, &rep);
   if (!quiet) {
     std::fprintf(stderr, "loaded %s: %zu triangles, %zu components in %.2f s", path.c_str(), s.triangle_count(),
                  s.component_count(), rep.seconds);
@@ -45,13 +47,8 @@ std::vector<double> check_distances(const std::vector<double>& d) {
   return d;
 }
 
-std::string file_stem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
 
-std::string distance_tag(double d) {
-  std::ostringstream ss;
-  ss << d << "m";
-  return ss.str();
-}
+void print_progress(const std::string& message) { std::fprintf(stderr, "%s\n", message.c_str()); }
 
 nlohmann::json to_json(const LoadReport& r) {
   return {{"polygons", r.polygons},

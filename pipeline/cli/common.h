@@ -23,6 +23,10 @@ struct ModelArgs {
   UpAxis up_axis() const { return parse_up_axis(up); }
 };
 
+// load_scene, then (unless quiet) a one-line summary on stderr.
+Scene load_model(const std::string& path, const LoadOptions& options, LoadReport* report = nullptr,
+                 bool quiet = false);
+
 // --display FILE (a configs/displays/*.yaml profile).
 struct DisplayArgs {
   std::string path;
@@ -33,8 +37,8 @@ struct DisplayArgs {
 // "56,132,427" or repeated --distance.
 std::vector<double> check_distances(const std::vector<double>& d);
 
-std::string file_stem(const std::string& path);
-std::string distance_tag(double d);  // "56m", "12.5m"
+// Progress lines to stderr.
+void print_progress(const std::string& message);
 nlohmann::json to_json(const LoadReport& r);
 void print_json(const nlohmann::json& j);
 

@@ -103,4 +103,22 @@ BatchConfig load_batch_config(const std::string& path) {
   return c;
 }
 
+LodJob lod_job(const BatchConfig& c) {
+  LodJob job;
+  job.label.up = c.up;
+  job.label.display = c.display.empty() ? default_display_profile() : load_display_profile(c.display);
+  job.label.perception = perception_settings_for(job.label.display);
+  job.label.facades = parse_facades(c.facades, c.up);
+  job.label.ratio = c.ratio;
+  job.label.verify = c.verify;
+  job.label.out = output_names_for(c.out, c.model);
+  job.distances = c.distances;
+  job.tracer = parse_tracer(c.tracer);
+  job.simplify.mode = parse_simplify_mode(c.simplify.c_str());
+  job.simplify.k = c.k;
+  job.simplify.delete_undisplayable = !c.keep_undisplayable;
+  job.lod_format = c.format;
+  return job;
+}
+
 }  // namespace perclod

@@ -14,7 +14,7 @@
 #define TINYGLTF_IMPLEMENTATION
 #include <tiny_gltf.h>
 
-#include "perclod/image_io.h"
+#include "perclod/outputs.h"
 
 namespace perclod {
 namespace fs = std::filesystem;
@@ -34,12 +34,25 @@ std::string obj_name(const std::string& s) {
   return r;
 }
 
+// Material slot of a triangle: its material id, or 0 for the default material
+// of a scene without a material array (Scene's contract).
+uint32_t material_slot(const Scene& s, size_t t) { return s.material.empty() ? 0 : s.material[t]; }
+size_t material_slots(const Scene& s) { return s.material.empty() ? 1 : s.materials.size(); }
+Material material_in_slot(const Scene& s, size_t slot) {
+  return s.material.empty() ? Material{"default"} : s.materials[slot];
+}
+
+std::string component_name(const Scene& s, uint32_t c) {
+  return c < s.component_names.size() ? s.component_names[c] : "component_" + std::to_string(c);
+}
+
 // Triangles ordered by component, then material, so each group is written once.
 std::vector<uint32_t> triangle_order(const Scene& s) {
   std::vector<uint32_t> order(s.triangle_count());
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-    return s.component[a] != s.component[b] ? s.component[a] < s.component[b] : s.material[a] < s.material[b];
+    uint32_t ca = s.component_of(a), cb = s.component_of(b);
+    return ca != cb ? ca < cb : material_slot(s, a) < material_slot(s, b);
   });
   return order;
 }
@@ -48,7 +61,8 @@ void export_obj(const Scene& s, const std::string& path) {
   fs::path p(path);
   std::string mtl_name = p.stem().string() + ".mtl";
   std::string mtl;
-  for (const auto& m : s.materials) {
+  for (size_t slot = 0; slot < material_slots(s); ++slot) {
+    const Material m = material_in_slot(s, slot);
     mtl += "newmtl " + obj_name(m.name) + "\nKd ";
     for (int k = 0; k < 3; ++k) append_double(mtl, m.color[k]), mtl += k < 2 ? " " : "\n";
   }
@@ -62,14 +76,14 @@ void export_obj(const Scene& s, const std::string& path) {
   }
   uint32_t comp = UINT32_MAX, mat = UINT32_MAX;
   for (uint32_t t : triangle_order(s)) {
-    if (s.component[t] != comp) {
-      comp = s.component[t];
-      out += "g " + obj_name(s.component_names[comp]) + "\n";
+    if (s.component_of(t) != comp) {
+      comp = s.component_of(t);
+      out += "g " + obj_name(component_name(s, comp)) + "\n";
       mat = UINT32_MAX;
     }
-    if (s.material[t] != mat) {
-      mat = s.material[t];
-      out += "usemtl " + obj_name(s.materials[mat].name) + "\n";
+    if (material_slot(s, t) != mat) {
+      mat = material_slot(s, t);
+      out += "usemtl " + obj_name(material_in_slot(s, mat).name) + "\n";
     }
     out += 'f';
     for (int k = 0; k < 3; ++k) out += ' ', out += std::to_string(s.indices[3 * size_t(t) + k] + 1);
@@ -110,10 +124,10 @@ void export_glb(const Scene& s, const std::string& path) {
     }
   model.accessors.push_back(pa);
   tinygltf::Mesh mesh;
-  for (size_t m = 0; m < s.materials.size(); ++m) {
+  for (size_t m = 0; m < material_slots(s); ++m) {
     std::vector<uint32_t> idx;
     for (size_t t = 0; t < s.triangle_count(); ++t)
-      if (s.material[t] == m) idx.insert(idx.end(), &s.indices[3 * t], &s.indices[3 * t] + 3);
+      if (material_slot(s, t) == m) idx.insert(idx.end(), &s.indices[3 * t], &s.indices[3 * t] + 3);
     if (idx.empty()) continue;
     size_t off = push(idx.data(), idx.size() * 4);
     tinygltf::BufferView iv;
@@ -124,10 +138,10 @@ void export_glb(const Scene& s, const std::string& path) {
     ia.bufferView = int(model.bufferViews.size() - 1), ia.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
     ia.count = idx.size(), ia.type = TINYGLTF_TYPE_SCALAR;
     model.accessors.push_back(ia);
+    const Material sm = material_in_slot(s, m);
     tinygltf::Material mat;
-    mat.name = s.materials[m].name;
-    mat.pbrMetallicRoughness.baseColorFactor = {s.materials[m].color[0], s.materials[m].color[1],
-                                                s.materials[m].color[2], 1.0};
+    mat.name = sm.name;
+    mat.pbrMetallicRoughness.baseColorFactor = {sm.color[0], sm.color[1], sm.color[2], 1.0};
     mat.doubleSided = true;
     model.materials.push_back(mat);
     tinygltf::Primitive prim;
@@ -149,18 +163,11 @@ void export_glb(const Scene& s, const std::string& path) {
   model.buffers.push_back(buffer);
   model.asset.version = "2.0";
   model.asset.generator = "perclod";
-  std::string tmp = (fs::path(path).parent_path() / (".tmp-" + fs::path(path).filename().string())).string();
-  tinygltf::TinyGLTF gltf;
-  if (!gltf.WriteGltfSceneToFile(&model, tmp, true, true, false, true)) {
-    fs::remove(tmp);
-    throw std::runtime_error(path + ": cannot write GLB");
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot move the finished file into place");
-  }
+  write_atomic(path, [&](const std::string& tmp) {
+    tinygltf::TinyGLTF gltf;
+    if (!gltf.WriteGltfSceneToFile(&model, tmp, true, true, false, true))
+      throw std::runtime_error(path + ": cannot write GLB");
+  });
 }
 
 }  // namespace
@@ -168,8 +175,11 @@ void export_glb(const Scene& s, const std::string& path) {
 void export_scene(const Scene& s, const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (s.component.size() != s.triangle_count() || s.material.size() != s.triangle_count())
-    throw std::invalid_argument(path + ": scene has per-triangle arrays of the wrong length");
+  try {
+    validate(s);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": cannot export: " + e.what());
+  }
   if (ext == ".obj") return export_obj(s, path);
   if (ext == ".glb") return export_glb(s, path);
   throw std::invalid_argument(path + ": unknown export format '" + ext + "' (use .obj or .glb)");

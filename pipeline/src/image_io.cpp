@@ -1,52 +1,30 @@
-// Image files through OpenImageIO; atomic writes via temporary file + rename.
+// Image files through OpenImageIO; writes are atomic (perclod/outputs.h).
 #include "perclod/image_io.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <stdexcept>
 
+#include "perclod/outputs.h"
+
 namespace perclod {
-namespace fs = std::filesystem;
 namespace {
 
 std::runtime_error io_error(const std::string& path, const std::string& what) {
   return std::runtime_error(path + ": " + what);
 }
 
-// The temporary keeps the extension so OIIO picks the right format.
-std::string temp_path(const std::string& path) {
-  fs::path p(path);
-  return (p.parent_path() / (".tmp-" + p.filename().string())).string();
-}
-
-void commit_temp(const std::string& tmp, const std::string& path) {
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw io_error(path, "cannot move the finished file into place");
-  }
-}
-
 void write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type,
                  const void* data) {
   if (w <= 0 || h <= 0 || channels < 1 || channels > 4) throw io_error(path, "bad image size");
-  std::string tmp = temp_path(path);
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw io_error(path, "no image writer for this extension");
-  OIIO::ImageSpec spec(w, h, channels, type);
-  if (!out->open(tmp, spec) || !out->write_image(type, data)) {
-    std::string err = out->geterror();
-    out.reset();
-    std::remove(tmp.c_str());
-    throw io_error(path, "cannot write image: " + err);
-  }
-  out->close();
-  commit_temp(tmp, path);
+  write_atomic(path, [&](const std::string& tmp) {
+    OIIO::ImageSpec spec(w, h, channels, type);
+    if (!out->open(tmp, spec) || !out->write_image(type, data) || !out->close())
+      throw io_error(path, "cannot write image: " + out->geterror());
+  });
 }
 
 template <class T>
@@ -94,30 +72,6 @@ std::vector<uint32_t> read_tiff_uint32(const std::string& path, int* w, int* h) 
   auto v = read_image<uint32_t>(path, OIIO::TypeDesc::UINT32, w, h, &c);
   if (c != 1) throw io_error(path, "expected a one-channel ID image");
   return v;
-}
-
-std::vector<float> read_tiff_float(const std::string& path, int* w, int* h, int* c) {
-  return read_image<float>(path, OIIO::TypeDesc::FLOAT, w, h, c);
-}
-
-void write_text_atomic(const std::string& path, const std::string& text) {
-  std::string tmp = temp_path(path);
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) throw io_error(path, "cannot open for writing");
-    f.write(text.data(), std::streamsize(text.size()));
-    if (!f.flush()) {
-      std::remove(tmp.c_str());
-      throw io_error(path, "write failed (disk full?)");
-    }
-  }
-  commit_temp(tmp, path);
-}
-
-void ensure_directory(const std::string& dir) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir)) throw io_error(dir, "cannot create directory");
 }
 
 }  // namespace perclod

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "perclod/image_io.h"
+#include "perclod/outputs.h"
 
 namespace perclod {
 

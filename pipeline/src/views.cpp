@@ -106,9 +106,12 @@ Camera free_camera(const Bounds& b, UpAxis up, double az, double el, double dist
   return cam;
 }
 
-Camera view_camera(const Bounds& b, UpAxis up, const ViewSpec& v, const DisplayProfile& display) {
-  return v.free ? free_camera(b, up, v.azimuth_deg, v.elevation_deg, v.distance, display)
-                : facade_camera(b, up, v.name, v.distance, display);
+double display_pixel_footprint(const DisplayProfile& display, double distance) {
+  Camera c;
+  c.fov_y = display.fov_y();
+  c.width = display.width;
+  c.height = display.height;
+  return c.pixel_footprint(distance);
 }
 
 }  // namespace perclod

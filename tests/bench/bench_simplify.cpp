@@ -51,7 +51,7 @@
 #include "perclod/display.h"
 #include "perclod/facade.h"
 #include "perclod/load.h"
-#include "perclod/lod.h"
+#include "perclod/pipeline.h"
 #include "perclod/simplify.h"
 
 using namespace perclod;
@@ -127,16 +127,12 @@ Row measure(const std::string& name, int runs, const std::function<size_t()>& wo
 
 // ---- labels --------------------------------------------------------------
 
-double pixel_footprint(double distance) {
-  DisplayProfile d;
-  return 2.0 * distance * std::tan(0.5 * d.fov_y()) / d.height;
-}
+double pixel_footprint(double distance) { return display_pixel_footprint(DisplayProfile{}, distance); }
 
 // The pipeline's labels of `scene`: four facades at `distance`, Z up.
 std::vector<Label> pipeline_labels(const Scene& scene, double distance) {
   auto t0 = std::chrono::steady_clock::now();
   Renderer renderer;
-  renderer.set_scene(scene);
   OctreeTracer tracer(scene);
   LabelJob job;
   job.up = UpAxis::Z;

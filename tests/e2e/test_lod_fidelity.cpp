@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "perclod/load.h"
-#include "perclod/lod.h"
+#include "perclod/pipeline.h"
 
 namespace perclod {
 namespace {
@@ -28,7 +28,6 @@ Labelled label_building(Renderer& renderer) {
   l.job.up = UpAxis::Z;
   l.job.facades = parse_facades("all", UpAxis::Z);
   l.job.distance = 56;
-  renderer.set_scene(l.scene);
   OctreeTracer tracer(l.scene);
   l.result = label_scene(renderer, l.scene, tracer, l.job);
   return l;

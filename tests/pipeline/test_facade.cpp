@@ -409,7 +409,7 @@ TEST(Facade, CliWritesTheFacadeAndItLoadsBack) {
   fs::path dir = fs::temp_directory_path() / ("perclod-facade-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const std::string obj = (dir / "f.obj").string();
-  auto r = test::run_cli("generate facade --floors 2 --bays 3 --coplanar-panels --hidden-interior -o " +
+  auto r = test::run_cli("generate facade --floors 2 --bays 3 --coplanar-panels --hidden-interior " +
                          obj + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   FacadeParams p = all_on(2, 3);
@@ -431,13 +431,13 @@ TEST(Facade, CliWritesTheFacadeAndItLoadsBack) {
   EXPECT_EQ(analyse_scene(loaded).degenerate_triangles, 0u);
 
   // A budget picks the building; bad parameters fail with the field's name.
-  r = test::run_cli("generate facade --triangles 20000 -o " + obj + " --json");
+  r = test::run_cli("generate facade --triangles 20000 " + obj + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NEAR(nlohmann::json::parse(r.out)["triangles"].get<double>() / 20000.0, 1.0, 0.1);
-  r = test::run_cli("generate facade --floors 0 -o " + obj);
+  r = test::run_cli("generate facade --floors 0 " + obj);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("floors"), std::string::npos) << r.err;
-  r = test::run_cli("generate facade --triangles 5 -o " + obj);
+  r = test::run_cli("generate facade --triangles 5 " + obj);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("smallest building"), std::string::npos) << r.err;
   fs::remove_all(dir);

@@ -48,7 +48,7 @@ TEST(SimplifyCli, PaperKeepsEveryPerceptibleTriangleOfARealBuilding) {
   write_labels(dir / "labels.txt", 12456);
   int st = 0;
   std::string json = run("simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
-                             (dir / "labels.txt").string() + " --out " + (dir / "lod.obj").string() + " --json",
+                             (dir / "labels.txt").string() + " --out " + dir.string() + " --json",
                          &st);
   ASSERT_EQ(st, 0) << json;
   EXPECT_EQ(field(json, "triangles_before", "perceptible"), 2492);
@@ -56,8 +56,10 @@ TEST(SimplifyCli, PaperKeepsEveryPerceptibleTriangleOfARealBuilding) {
   EXPECT_LT(field(json, "triangles_after", "imperceptible"), field(json, "triangles_before", "imperceptible"));
   EXPECT_LT(field(json, "triangles_after", "undisplayable"), field(json, "triangles_before", "undisplayable"));
   EXPECT_GE(field(json, "", "max_displacement_rel"), 0.0);
-  EXPECT_TRUE(fs::exists(dir / "lod.obj"));
-  EXPECT_FALSE(fs::exists(dir / "lod.obj.tmp"));
+  EXPECT_TRUE(fs::exists(dir / "bldg_4018215_lod_56m.obj"));
+  EXPECT_TRUE(fs::exists(dir / "bldg_4018215_lod_56m.mtl"));
+  for (const auto& e : fs::directory_iterator(dir))  // no temporary left behind
+    EXPECT_NE(e.path().filename().string().rfind(".tmp-", 0), 0u) << e.path();
   fs::remove_all(dir);
 }
 
@@ -67,12 +69,13 @@ TEST(SimplifyCli, RefusesLabelsOfAnotherModel) {
   write_labels(dir / "labels.txt", 100);
   int st = 0;
   run("simplify " + std::string(kModel) + " --up z --distance 56 --labels " + (dir / "labels.txt").string() +
-          " --out " + (dir / "lod.obj").string(),
+          " --out " + dir.string(),
       &st);
   EXPECT_EQ(st, 1);
-  EXPECT_FALSE(fs::exists(dir / "lod.obj"));
-  run("simplify " + std::string(kModel) + " --distance 56 --mode bounded --out " + (dir / "lod.obj").string(), &st);
+  EXPECT_FALSE(fs::exists(dir / "bldg_4018215_lod_56m.obj"));
+  run("simplify " + std::string(kModel) + " -d 56 --mode bounded --out " + dir.string(), &st);
   EXPECT_EQ(st, 1);  // bounded without labels
+  EXPECT_FALSE(fs::exists(dir / "bldg_4018215_lod_56m.obj"));
   fs::remove_all(dir);
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "perclod/display.h"
+#include "perclod/pipeline.h"
 #include "perclod/views.h"
 
 namespace perclod {
@@ -32,5 +33,9 @@ struct BatchConfig {
   std::string format = "obj";        // LOD file format: obj | glb
 };
 BatchConfig load_batch_config(const std::string& path);
+
+// The job `perclod run` does for a config: display profile loaded, names
+// parsed, outputs named after the model file (OutputNames{out, model stem}).
+LodJob lod_job(const BatchConfig& config);
 
 }  // namespace perclod

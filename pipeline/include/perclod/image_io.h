@@ -1,6 +1,6 @@
 // perclod/image_io.h - image files through OpenImageIO. Every image the project
-// writes has row 0 at the top. Writes are atomic (temporary file + rename), so
-// an interrupted run never leaves a half-written image behind.
+// writes has row 0 at the top. Writes go through write_atomic (perclod/outputs.h),
+// so an interrupted run never leaves a half-written image behind.
 #pragma once
 
 #include <cstdint>
@@ -25,11 +25,5 @@ void write_tiff_float(const std::string& path, int width, int height, int channe
 // Lossless 32-bit unsigned TIFF, one channel (triangle-ID buffers).
 void write_tiff_uint32(const std::string& path, int width, int height, const uint32_t* data);
 std::vector<uint32_t> read_tiff_uint32(const std::string& path, int* width, int* height);
-std::vector<float> read_tiff_float(const std::string& path, int* width, int* height, int* channels);
-
-// Writes text to `path` atomically. Throws naming the file on failure.
-void write_text_atomic(const std::string& path, const std::string& text);
-// Creates a directory (and parents); throws naming it on failure.
-void ensure_directory(const std::string& dir);
 
 }  // namespace perclod

@@ -19,13 +19,6 @@ namespace perclod {
 enum class UpAxis { Y, Z };
 UpAxis parse_up_axis(const std::string& s);  // "y" or "z"
 
-struct ViewSpec {
-  std::string name;  // "+x", or "az30_el10" for free views
-  double distance = 56.0;
-  bool free = false;
-  double azimuth_deg = 0, elevation_deg = 0;
-};
-
 // "all" -> the four facades; otherwise a comma list of facade names or free
 // views "az<A>el<E>" (degrees, e.g. az30el15). Throws on a bad name.
 std::vector<std::string> parse_facades(const std::string& spec, UpAxis up);
@@ -37,7 +30,10 @@ Camera facade_camera(const Bounds& bounds, UpAxis up, const std::string& facade,
 // from above), elevation above the horizon; distance from the bounding sphere.
 Camera free_camera(const Bounds& bounds, UpAxis up, double azimuth_deg, double elevation_deg,
                    double distance, const DisplayProfile& display);
-Camera view_camera(const Bounds& bounds, UpAxis up, const ViewSpec& view, const DisplayProfile& display);
+
+// p(d) on this display: the footprint in metres of one pixel at eye depth
+// `distance` (Camera::pixel_footprint of any view rendered for it).
+double display_pixel_footprint(const DisplayProfile& display, double distance);
 
 // Near/far fitted to the box as seen by `cam` (near stays positive).
 void fit_clip_planes(Camera& cam, const Bounds& bounds);

@@ -1,26 +1,13 @@
-#include "perclod/batch.h"
-
-#include <sstream>
-
+// perclod render: every requested view at every distance, written as images.
 #include "perclod/image_io.h"
+#include "perclod/pipeline.h"
 
 namespace perclod {
 
-std::string distance_file(const std::string& out_dir, const std::string& stem, const std::string& what,
-                          double distance, const std::string& ext) {
-  std::ostringstream ss;
-  ss << out_dir << "/" << stem << "_" << what << "_" << distance << "m" << ext;
-  return ss.str();
-}
-
-std::string view_file_base(const std::string& out_dir, const std::string& stem, const std::string& facade,
-                           double distance) {
-  return distance_file(out_dir, stem, facade, distance, "");
-}
-
-std::vector<ViewFiles> render_views(Renderer& renderer, const Scene& scene, const RenderViewsJob& job,
+std::vector<ViewFiles> render_views(const Scene& scene, const RenderViewsJob& job,
                                     const std::function<void(const ViewFiles&, size_t, size_t)>& progress) {
-  ensure_directory(job.out_dir);
+  ensure_directory(job.out.dir);
+  Renderer renderer;
   renderer.set_scene(scene);
   Bounds b = scene_bounds(scene);
   std::vector<ViewFiles> done;
@@ -38,15 +25,14 @@ std::vector<ViewFiles> render_views(Renderer& renderer, const Scene& scene, cons
       v.distance = d;
       v.render_seconds = r.seconds;
       for (uint32_t id : r.ids) v.covered_pixels += id != 0;
-      std::string base = view_file_base(job.out_dir, job.stem, f, d);
-      v.color = base + ".png";
+      v.color = job.out.view(f, d, ".png");
       write_png(v.color, r.width, r.height, 3, r.rgb.data());
       if (job.write_ids) {
-        v.ids = base + "_ids.tif";
+        v.ids = job.out.view(f, d, "_ids.tif");
         write_tiff_uint32(v.ids, r.width, r.height, r.ids.data());
       }
       if (job.write_depth) {
-        v.depth = base + "_depth.tif";
+        v.depth = job.out.view(f, d, "_depth.tif");
         write_tiff_float(v.depth, r.width, r.height, 1, r.depth.data());
       }
       done.push_back(v);

@@ -1,0 +1,51 @@
+// perclod/outputs.h - where every output file goes, and how it gets there.
+//
+// OutputNames is the one place that builds the file names of README.md's
+// output table; every command and the library's orchestration ask it.
+// write_atomic is the one way a file is written: to a temporary name in the
+// destination folder, renamed into place only once the writer has finished,
+// so an interrupted or failed write never leaves a half-written file under
+// its final name.
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace perclod {
+
+// Files of one model (`stem`, usually the model file's stem) in `dir`.
+// Distances print in the shortest form (56 -> "56m", 12.5 -> "12.5m").
+struct OutputNames {
+  std::string dir;
+  std::string stem;
+
+  // <dir>/<stem>_<view>_<d>m<suffix>: renders (".png", "_ids.tif",
+  // "_depth.tif"), perception images ("_simulated.png", "_difference.png",
+  // "_mask.png") and marking renders ("_marking.png", "_marking_near.png").
+  std::string view(const std::string& view, double distance, const std::string& suffix) const;
+  std::string labels(double distance) const;        // <dir>/<stem>_labels_<d>m.txt
+  std::string label_report(double distance) const;  // <dir>/<stem>_label_<d>m.json
+  // <dir>/<stem>_lod_<d>m.<format>, format "obj" or "glb".
+  std::string lod(double distance, const std::string& format) const;
+  std::string report() const;                       // <dir>/<stem>_report.json
+  // <dir>/<stem><suffix>: `perceive` names its images after the input image.
+  std::string file(const std::string& suffix) const;
+};
+
+// Names in `dir` after the stem of `input` (the model or image file): out/bldg_...
+OutputNames output_names_for(const std::string& dir, const std::string& input);
+
+// "56m", "12.5m": the distance tag of every distance-tagged file name.
+std::string distance_tag(double distance);
+
+// Calls write(temp) to fill a temporary file beside `path`, then renames it
+// to `path`. If `write` throws, or the rename fails, the temporary is removed
+// and the error (naming `path`) propagates; an existing `path` is untouched.
+// The temporary keeps `path`'s extension (image writers choose the format by it).
+void write_atomic(const std::string& path, const std::function<void(const std::string& temp)>& write);
+// write_atomic for a text (or any byte string).
+void write_text_atomic(const std::string& path, const std::string& text);
+// Creates a directory (and parents); throws naming it on failure.
+void ensure_directory(const std::string& dir);
+
+}  // namespace perclod

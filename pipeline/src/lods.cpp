@@ -1,0 +1,167 @@
+// LODs (the method's section 5 and the judging of its result): one LOD from
+// a labels file, and the whole job of `perclod run`, which labels, simplifies,
+// exports and compares each LOD with the original, one distance at a time.
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "perclod/export.h"
+#include "perclod/labels_io.h"
+#include "pipeline_internal.h"
+
+namespace perclod {
+using namespace detail;
+
+nlohmann::json simplify_stats_json(const SimplifyStats& s) {
+  auto per_label = [](const std::array<size_t, 3>& n) {
+    return nlohmann::json{{"perceptible", n[0]}, {"imperceptible", n[1]}, {"undisplayable", n[2]},
+                          {"total", n[0] + n[1] + n[2]}};
+  };
+  return {{"triangles_before", per_label(s.triangles_before)},
+          {"triangles_after", per_label(s.triangles_after)},
+          {"total_before", s.total_before()},
+          {"total_after", s.total_after()},
+          {"vertices_before", s.vertices_before},
+          {"vertices_after", s.vertices_after},
+          {"components_removed", s.components_removed},
+          {"pieces_removed", s.pieces_removed},
+          {"pieces_triangles_removed", s.pieces_triangles_removed},
+          {"undisplayable_faces_deleted", s.undisplayable_faces_deleted},
+          {"nonmanifold_faces_duplicated", s.nonmanifold_faces_duplicated},
+          {"degenerate_faces", s.degenerate_faces},
+          {"collapses", s.collapses},
+          {"tolerance", s.tolerance},
+          {"max_error", s.max_error},
+          {"cluster_dangling_edges", s.cluster_dangling_edges},
+          {"cluster_isolated_points", s.cluster_isolated_points},
+          {"max_displacement_rel", s.max_displacement_rel},
+          {"mean_displacement_rel", s.mean_displacement_rel},
+          {"bbox_diagonal", s.bbox_diagonal},
+          {"seconds", s.seconds}};
+}
+
+SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
+  const SimplifyMode mode = job.options.mode;
+  if (simplify_mode_uses_labels(mode) && job.labels_file.empty())
+    throw std::invalid_argument(std::string(simplify_mode_name(mode)) +
+                                " mode needs a labels file (from perclod label)");
+  if (!(job.distance > 0) || !std::isfinite(job.distance))
+    throw std::invalid_argument("the viewing distance must be positive metres");
+  if (job.format != "obj" && job.format != "glb")
+    throw std::invalid_argument("LOD format must be obj or glb, not '" + job.format + "'");
+  std::vector<Label> labels(scene.triangle_count(), Label::Imperceptible);
+  if (!job.labels_file.empty()) {
+    LabelFile lf = read_labels(job.labels_file);
+    if (lf.labels.size() != scene.triangle_count())
+      throw std::invalid_argument(job.labels_file + " has " + std::to_string(lf.labels.size()) +
+                                  " labels but the model has " + std::to_string(scene.triangle_count()) +
+                                  " triangles (labels from another model or loader settings?)");
+    labels = std::move(lf.labels);
+  }
+  SimplifyRun run;
+  SimplifyOptions so = job.options;
+  so.pixel_footprint = run.pixel_footprint = display_pixel_footprint(job.display, job.distance);
+  Scene lod = simplify(scene, labels, so, &run.stats);
+  ensure_directory(job.out.dir);
+  run.lod_file = job.out.lod(job.distance, job.format);
+  auto t0 = Clock::now();
+  export_scene(lod, run.lod_file);
+  run.write_seconds = since(t0);
+  return run;
+}
+
+nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
+                                 const LabelJob& job) {
+  const PerceptionSettings ps = perception_for(job);
+  renderer.set_scene(lod);
+  nlohmann::json views = nlohmann::json::array();
+  PerceptionResult pr;
+  std::vector<uint8_t> background;
+  for (const ViewRecord& v : original.views) {
+    RenderOutput img = renderer.render(v.camera);
+    background_of(img, background);
+    perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
+    if (pr.simulated.size() != v.simulated.size())
+      throw std::logic_error("compare_lod_views: view size changed between labelling and comparison");
+    size_t drawn = 0, changed = 0, coverage_changed = 0;
+    for (size_t i = 0; i < background.size(); ++i) {
+      if (background[i] && v.background[i]) continue;
+      ++drawn;
+      changed += std::abs(pr.simulated[i] - v.simulated[i]) > ps.threshold;
+      coverage_changed += background[i] != v.background[i];
+    }
+    views.push_back({{"facade", v.facade},
+                     {"drawn_pixels", drawn},
+                     {"changed_pixels", changed},
+                     {"changed_fraction", drawn ? double(changed) / double(drawn) : 0.0},
+                     {"coverage_changed_pixels", coverage_changed}});
+  }
+  return views;
+}
+
+nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress) {
+  if (job.distances.empty()) throw std::invalid_argument("no viewing distance given");
+  if (job.lod_format != "obj" && job.lod_format != "glb")
+    throw std::invalid_argument("LOD format must be obj or glb, not '" + job.lod_format + "'");
+  const OutputNames& out = job.label.out;
+  ensure_directory(out.dir);
+  auto t_all = Clock::now();
+
+  std::unique_ptr<Tracer> tracer = make_tracer(scene, job.tracer);
+  Renderer renderer;
+  if (progress) progress(tracer_summary(*tracer));
+
+  nlohmann::json report = {{"triangles", scene.triangle_count()},
+                           {"components", scene.component_count()},
+                           {"display", {{"name", job.label.display.name},
+                                        {"ppd", job.label.display.pixels_per_degree()},
+                                        {"f_max", job.label.display.f_max()}}},
+                           {"tracer", {{"name", tracer->name()}, {"build_seconds", tracer->build_seconds()},
+                                       {"memory_bytes", tracer->memory_bytes()}}},
+                           {"simplify_mode", simplify_mode_name(job.simplify.mode)},
+                           {"lods", nlohmann::json::array()}};
+  for (double d : job.distances) {
+    if (progress) {
+      std::ostringstream ss;
+      ss << "distance " << d << " m";
+      progress(ss.str());
+    }
+    LabelJob lj = job.label;
+    lj.distance = d;
+    auto t_d = Clock::now();
+    LabelResult lr = label_scene(renderer, scene, *tracer, lj, progress);
+
+    write_label_outputs(renderer, scene, lr, lj);
+
+    SimplifyOptions so = job.simplify;
+    so.pixel_footprint = display_pixel_footprint(lj.display, d);
+    SimplifyStats st;
+    Scene lod = simplify(scene, lr.labels, so, &st);
+    std::string lod_path = out.lod(d, job.lod_format);
+    export_scene(lod, lod_path);
+    nlohmann::json entry = lr.report;
+    entry["pixel_footprint"] = so.pixel_footprint;
+    entry["lod_file"] = lod_path;
+    entry["simplify"] = simplify_stats_json(st);
+    auto t_cmp = Clock::now();
+    entry["lod_vs_original"] = compare_lod_views(renderer, lod, lr, lj);
+    entry["seconds_compare"] = since(t_cmp);
+    if (progress) {
+      double worst = 0;
+      for (const auto& v : entry["lod_vs_original"]) worst = std::max(worst, v["changed_fraction"].get<double>());
+      std::ostringstream ss;
+      ss << "  LOD " << d << " m: " << st.total_before() << " -> " << st.total_after() << " triangles ("
+         << (st.total_before() ? 100.0 * double(st.total_after()) / double(st.total_before()) : 0.0)
+         << "%); per view at most " << 100 * worst
+         << "% of drawn pixels differ after vision simulation; " << lod_path;
+      progress(ss.str());
+    }
+    entry["seconds"] = since(t_d);
+    report["lods"].push_back(entry);
+  }
+  report["seconds"] = since(t_all);
+  write_text_atomic(out.report(), report.dump(2) + "\n");
+  return report;
+}
+
+}  // namespace perclod

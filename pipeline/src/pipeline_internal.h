@@ -1,0 +1,32 @@
+// Small helpers shared by the pipeline's orchestration files (private).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "perclod/pipeline.h"
+
+namespace perclod::detail {
+
+using Clock = std::chrono::steady_clock;
+inline double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// The job's perception settings at its display's pixel density.
+inline PerceptionSettings perception_for(const LabelJob& job) {
+  PerceptionSettings ps = job.perception;
+  ps.ppd = job.display.pixels_per_degree();
+  return ps;
+}
+
+// 1 where the render drew no triangle (from its ID buffer).
+inline void background_of(const RenderOutput& img, std::vector<uint8_t>& background) {
+  background.resize(img.ids.size());
+  for (size_t i = 0; i < img.ids.size(); ++i) background[i] = img.ids[i] == 0;
+}
+
+// "octree built in 120 ms, 4096 KiB": the progress line after a tracer build.
+std::string tracer_summary(const Tracer& tracer);
+
+}  // namespace perclod::detail
