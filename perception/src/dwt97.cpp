@@ -266,9 +266,4 @@ void dwt97_forward_1d(double* x, int n) {
   if (n > 1) rows_forward(x, size_t(n), x, size_t(n), n, 1);
 }
 
-void dwt97_inverse_1d(double* x, int n) {
-  if (n < 1) throw std::invalid_argument("dwt97: signal length must be at least 1");
-  if (n > 1) rows_inverse(x, size_t(n), x, size_t(n), n, 1);
-}
-
 }  // namespace perclod

@@ -1,5 +1,5 @@
 // The vision simulation: luminance -> DWT -> CSF per band -> inverse DWT ->
-// difference and mask (method.md section 3).
+// difference and mask (docs/method.md section 3).
 #include <algorithm>
 #include <chrono>
 #include <cmath>

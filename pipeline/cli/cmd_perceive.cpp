@@ -1,5 +1,5 @@
 // perclod perceive IMAGE: the vision simulation of one rendered image
-// (CDF 9/7 DWT + CSF, method.md section 3): simulated image, visual
+// (CDF 9/7 DWT + CSF, docs/method.md section 3): simulated image, visual
 // difference, mask of imperceptible pixels and a JSON summary.
 #include <cmath>
 #include <cstdio>

@@ -15,7 +15,7 @@
 #include <map>
 #include <sstream>
 
-#include "weld.h"
+#include "perclod/simplify.h"
 
 namespace perclod {
 namespace fs = std::filesystem;
@@ -325,8 +325,7 @@ Scene build_scene(RawModel&& m, const std::string& path, const LoadOptions& opt,
   s.materials = std::move(m.materials);
   // Components: the file's groups, or connectivity where it has at most one.
   if (m.component_names.size() <= 1) {
-    auto weld = weld_exact(s);
-    uint32_t n = connected_components(s, weld, s.component);
+    uint32_t n = connected_parts(s, s.component);
     s.component_names.resize(n);
     for (uint32_t c = 0; c < n; ++c) s.component_names[c] = "part" + std::to_string(c);
     rep.components_from_connectivity = true;
@@ -335,6 +334,11 @@ Scene build_scene(RawModel&& m, const std::string& path, const LoadOptions& opt,
     s.component_names = std::move(m.component_names);
   }
   for (size_t t = 0; t < s.triangle_count(); ++t) rep.degenerate_triangles += is_degenerate(s, t);
+  try {
+    validate(s);  // e.g. a coordinate that overflows float after recentring and scaling
+  } catch (const std::invalid_argument& e) {
+    fail(path, e.what());
+  }
   return s;
 }
 
@@ -377,13 +381,13 @@ SceneInfo analyse_scene(const Scene& s) {
   info.materials = s.materials.size();
   info.bounds = scene_bounds(s);
   info.offset = s.offset;
-  auto weld = weld_exact(s);
+  const std::vector<uint32_t> weld = weld_exact(s);  // per corner
   std::vector<uint64_t> edges;
   edges.reserve(s.indices.size());
   for (size_t t = 0; t < s.triangle_count(); ++t) {
     info.degenerate_triangles += is_degenerate(s, t);
     for (int k = 0; k < 3; ++k) {
-      uint64_t a = weld[s.indices[3 * t + k]], b = weld[s.indices[3 * t + (k + 1) % 3]];
+      uint64_t a = weld[3 * t + k], b = weld[3 * t + (k + 1) % 3];
       if (a == b) continue;
       edges.push_back(std::min(a, b) << 32 | std::max(a, b));
     }

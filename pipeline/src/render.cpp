@@ -1,4 +1,4 @@
-// The OSMesa renderer (design notes in perclod/render.h and facts.md).
+// The OSMesa renderer (design notes in perclod/render.h and docs/method.md section 2).
 //
 // Geometry is drawn indexed from one vertex buffer. Flat shading needs no
 // per-vertex normals: the fragment shader takes the face normal from the

@@ -1,4 +1,4 @@
-// Facade and free views (method.md section 1).
+// Facade and free views (docs/method.md section 1).
 #include "perclod/views.h"
 
 #include <algorithm>
@@ -50,7 +50,7 @@ std::vector<std::string> parse_facades(const std::string& spec, UpAxis up) {
               (parse_free_view(f, az, el) && std::fabs(el) < 89.9);
     if (!ok)
       throw std::invalid_argument("facade '" + f + "' is not one of +x -x +" + std::string(1, h2) + " -" +
-                                  std::string(1, h2) + " all, nor a free view azAel<E> such as az30el15 (the up axis is " +
+                                  std::string(1, h2) + " all, nor a free view az<A>el<E> such as az30el15 (the up axis is " +
                                   (up == UpAxis::Z ? "z" : "y") + ")");
     out.push_back(f);
   }

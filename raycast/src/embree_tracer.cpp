@@ -8,7 +8,7 @@
 // Verify mode applies the tie rule with a second query per hit pixel: the
 // ray restricted to [t (1 - 1e-6), t (1 + 1e-6)] with a context filter that
 // records the smallest primID it sees and rejects every hit, so Embree
-// reports them all (facts.md: equal-t hits otherwise go to whichever the
+// reports them all (docs/method.md section 4: equal-t hits otherwise go to whichever the
 // traversal meets last).
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>

@@ -1,5 +1,5 @@
-// Rossignac-Borrel vertex clustering (seed 001), with Belblidia's option of
-// keeping each component's bounding box (seed 000).
+// Rossignac-Borrel vertex clustering (Rossignac & Borrel 1993), with Belblidia's option of
+// keeping each component's bounding box (Belblidia, Perrin, Paul 1995).
 //
 //   1. Grading: weight of a vertex = (longest incident edge) / (largest angle
 //      between two incident edges, radians): vertices likely on a silhouette

@@ -532,11 +532,6 @@ class Collapser {
 
 // ---- leftover pieces ----------------------------------------------------------
 
-uint32_t find(std::vector<uint32_t>& parent, uint32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
-}
-
 // A connected piece (faces sharing a vertex) as the removal rule sees it.
 struct Piece {
   bool perceptible = false, all_undisplayable = true, used = false;
@@ -566,20 +561,14 @@ struct Piece {
 std::vector<uint32_t> drop_pieces_early(const Work& w, const std::vector<uint32_t>& faces,
                                         SimplifyMode mode, double tolerance, SimplifyStats& stats) {
   const size_t nv = w.weld.positions.size() / 3;
-  std::vector<uint32_t> parent(nv);
-  std::iota(parent.begin(), parent.end(), 0u);
+  DisjointSets sets(nv);
   auto corner = [&](uint32_t t, int k) { return w.weld.corner[3 * size_t(t) + k]; };
-  for (uint32_t t : faces) {
-    uint32_t a = find(parent, corner(t, 0));
-    for (int k = 1; k < 3; ++k) {
-      uint32_t b = find(parent, corner(t, k));
-      if (a != b) parent[b] = a;
-    }
-  }
+  for (uint32_t t : faces)
+    for (int k = 1; k < 3; ++k) sets.unite(corner(t, 0), corner(t, k));
   std::vector<Piece> piece(nv);
   for (uint32_t t : faces)
     for (int k = 0; k < 3; ++k)
-      piece[find(parent, corner(t, 0))].add((*w.labels)[t], &w.weld.positions[3 * size_t(corner(t, k))]);
+      piece[sets.find(corner(t, 0))].add((*w.labels)[t], &w.weld.positions[3 * size_t(corner(t, k))]);
   std::vector<uint8_t> drop(nv, 0);
   for (size_t i = 0; i < nv; ++i)
     if (piece[i].removable(mode, tolerance)) {
@@ -589,7 +578,7 @@ std::vector<uint32_t> drop_pieces_early(const Work& w, const std::vector<uint32_
   std::vector<uint32_t> kept;
   kept.reserve(faces.size());
   for (uint32_t t : faces)
-    if (!drop[find(parent, corner(t, 0))]) kept.push_back(t);
+    if (!drop[sets.find(corner(t, 0))]) kept.push_back(t);
   stats.pieces_triangles_removed += faces.size() - kept.size();
   return kept;
 }
@@ -599,20 +588,16 @@ std::vector<uint32_t> drop_pieces_early(const Work& w, const std::vector<uint32_
 void remove_pieces(Model& m, const Work& w, SimplifyMode mode, double tolerance,
                    SimplifyStats& stats) {
   Mesh& mesh = m.mesh;
-  std::vector<uint32_t> parent(mesh.n_vertices());
-  std::iota(parent.begin(), parent.end(), 0u);
+  DisjointSets sets(mesh.n_vertices());
   for (FH f : mesh.faces()) {
     auto it = mesh.cfv_iter(f);
-    uint32_t a = find(parent, uint32_t(it->idx()));
-    for (++it; it.is_valid(); ++it) {
-      uint32_t b = find(parent, uint32_t(it->idx()));
-      if (a != b) parent[b] = a;
-    }
+    const uint32_t first = uint32_t(it->idx());
+    for (++it; it.is_valid(); ++it) sets.unite(first, uint32_t(it->idx()));
   }
   std::vector<Piece> piece(mesh.n_vertices());
   for (FH f : mesh.faces()) {
     Label l = (*w.labels)[m.face_source[f.idx()]];
-    Piece& p = piece[find(parent, uint32_t(mesh.cfv_iter(f)->idx()))];
+    Piece& p = piece[sets.find(uint32_t(mesh.cfv_iter(f)->idx()))];
     for (VH v : mesh.fv_range(f)) p.add(l, mesh.point(v).data());
   }
   std::vector<uint8_t> drop(mesh.n_vertices(), 0);
@@ -623,7 +608,7 @@ void remove_pieces(Model& m, const Work& w, SimplifyMode mode, double tolerance,
     }
   std::vector<FH> doomed;
   for (FH f : mesh.faces())
-    if (drop[find(parent, uint32_t(mesh.cfv_iter(f)->idx()))]) doomed.push_back(f);
+    if (drop[sets.find(uint32_t(mesh.cfv_iter(f)->idx()))]) doomed.push_back(f);
   for (FH f : doomed) mesh.delete_face(f, true);
   m.faces_alive -= doomed.size();
   stats.pieces_triangles_removed += doomed.size();

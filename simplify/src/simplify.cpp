@@ -33,6 +33,34 @@ SimplifyMode parse_simplify_mode(const char* name) {
 
 bool simplify_mode_uses_labels(SimplifyMode m) { return m == SimplifyMode::Paper || m == SimplifyMode::Bounded; }
 
+std::vector<uint32_t> weld_exact(const Scene& scene) {
+  detail::Work work;
+  work.scene = &scene;
+  work.faces.resize(scene.triangle_count());
+  for (size_t t = 0; t < work.faces.size(); ++t) work.faces[t] = uint32_t(t);
+  detail::weld_corners(work, false, 0.0);
+  return std::move(work.weld.corner);
+}
+
+uint32_t connected_parts(const Scene& scene, std::vector<uint32_t>& part) {
+  const std::vector<uint32_t> corner = weld_exact(scene);
+  const size_t nt = scene.triangle_count();
+  uint32_t welded = 0;
+  for (uint32_t c : corner) welded = std::max(welded, c + 1);
+  detail::DisjointSets sets(welded);
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 1; k < 3; ++k) sets.unite(corner[3 * t], corner[3 * t + k]);
+  std::vector<uint32_t> id(welded, UINT32_MAX);
+  uint32_t count = 0;
+  part.resize(nt);
+  for (size_t t = 0; t < nt; ++t) {
+    uint32_t& r = id[sets.find(corner[3 * t])];
+    if (r == UINT32_MAX) r = count++;
+    part[t] = r;
+  }
+  return count;
+}
+
 namespace {
 
 void fail(const std::string& what) { throw std::invalid_argument("simplify: " + what); }

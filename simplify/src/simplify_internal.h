@@ -34,6 +34,25 @@ struct Work {
 // of the same component weld.
 void weld_corners(Work& work, bool per_component, double tolerance);
 
+// Union-find over n elements (path halving; unite keeps the first root).
+class DisjointSets {
+ public:
+  explicit DisjointSets(size_t n) : parent_(n) {
+    for (size_t i = 0; i < n; ++i) parent_[i] = uint32_t(i);
+  }
+  uint32_t find(uint32_t x) {
+    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) {
+    a = find(a), b = find(b);
+    if (a != b) parent_[b] = a;
+  }
+
+ private:
+  std::vector<uint32_t> parent_;
+};
+
 // A simplified triangle list; source[t] = input triangle of output triangle t.
 struct Result {
   std::vector<float> positions;

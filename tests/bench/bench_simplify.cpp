@@ -21,7 +21,7 @@
 //   decimater stock     ModQuadric + ModAspectRatio(10) to N faces
 //
 // Also: a flat 80,000-triangle wall (the stock Decimater's zero-cost trap,
-// facts.md), ours in paper and bounded mode, meshoptimizer and the stock
+// docs/method.md section 5), ours in paper and bounded mode, meshoptimizer and the stock
 // Decimater (ModQuadric + ModAspectRatio) at bounded's count.
 //
 // Usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater]
@@ -292,7 +292,7 @@ void bench_model(const std::string& title, const Scene& scene, int runs, bool wi
               target);
 }
 
-// facts.md's Decimater trap: a flat 200x200-quad wall (80,000 triangles, all
+// The Decimater trap of docs/method.md section 5: a flat 200x200-quad wall (80,000 triangles, all
 // zero-cost collapses), imperceptible but for one perceptible corner triangle.
 void bench_flat_wall(int runs, bool with_decimater) {
   Scene s;

@@ -61,7 +61,7 @@ TEST(Display, PaperProfileGivesThePapersNumbers) {
   EXPECT_EQ(d.height, 1024);
   EXPECT_NEAR(d.pixels_per_degree(), 29.64, 0.01);
   EXPECT_NEAR(d.f_max(), 14.82, 0.01);
-  EXPECT_NEAR(d.natural_fov_y() * 180 / M_PI, 33.56, 0.01);  // method.md rounds it to 33.5
+  EXPECT_NEAR(d.natural_fov_y() * 180 / M_PI, 33.56, 0.01);  // Zhu et al. print 33.5
   Camera c = look_at({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, d.fov_y(), d.width, d.height, 1, 10);
   // One pixel is the same visual angle on screen and in the scene: 1/ppd degrees at the centre.
   double px_angle = std::atan(c.pixel_footprint(1.0)) * 180 / M_PI;

@@ -1,4 +1,4 @@
-// perclod/display.h - how an image is looked at (method.md section 1).
+// perclod/display.h - how an image is looked at (docs/method.md section 1).
 #pragma once
 
 #include <cmath>

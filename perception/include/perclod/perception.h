@@ -1,4 +1,4 @@
-// perclod/perception.h - vision simulation of a rendered image (method.md section 3).
+// perclod/perception.h - vision simulation of a rendered image (docs/method.md section 3).
 //
 // Images only: an 8-bit sRGB render goes in (raw RGB bytes, row 0 at the top),
 // the vision-simulated luminance, the float visual difference and the mask of
@@ -63,7 +63,6 @@ void dwt97_inverse(double* img, int w, int h, int levels);
 // One-dimensional transform of a contiguous signal (used by the tests to derive
 // the analysis filters): out = [low (ceil(n/2)) | high (floor(n/2))].
 void dwt97_forward_1d(double* x, int n);
-void dwt97_inverse_1d(double* x, int n);
 
 // ---- contrast sensitivity ---------------------------------------------------
 

@@ -1,7 +1,8 @@
 // perclod/render.h - the offscreen OSMesa renderer.
 //
 // One draw gives a shaded colour image, a triangle-ID buffer (triangle index
-// + 1, 0 for background) and depth. OpenGL 4.5 core through llvmpipe, FBO with
+// + 1, 0 for background) and depth. A 3.3 core context is requested (Mesa
+// 22 gives 4.5 core, which glClipControl needs) and drawn by llvmpipe, FBO with
 // RGBA8 + R32UI + DEPTH_COMPONENT32F, reversed-Z (glClipControl ZERO_TO_ONE,
 // GL_GREATER, clear 0), no MSAA, no dithering. The camera is perclod::Camera,
 // the same one the ray caster uses; rows are flipped so row 0 is the top.

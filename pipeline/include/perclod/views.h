@@ -2,7 +2,7 @@
 //
 // The eye sits on a facade's outward axis through the bounding-box centre,
 // `distance` metres in front of the bounding-box face, looking at the centre
-// (method.md section 1). Facades are named by the source file's axes: with Z
+// (docs/method.md section 1). Facades are named by the source file's axes: with Z
 // up they are +x -x +y -y, with Y up +x -x +z -z. Near and far planes are
 // fitted to the bounding box.
 #pragma once

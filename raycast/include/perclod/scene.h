@@ -81,22 +81,13 @@ inline void validate(const Scene& s) {
   check_ids(s.material, s.materials.size(), "material", "materials");
 }
 
-// Per-triangle perceptual label (method.md section 4). Values are stable:
+// Per-triangle perceptual label (docs/method.md section 4). Values are stable:
 // they are written to label files.
 enum class Label : uint8_t {
   Perceptible = 0,
   Imperceptible = 1,
   Undisplayable = 2,
 };
-
-inline const char* label_name(Label l) {
-  switch (l) {
-    case Label::Perceptible: return "perceptible";
-    case Label::Imperceptible: return "imperceptible";
-    case Label::Undisplayable: return "undisplayable";
-  }
-  return "?";
-}
 
 // Axis-aligned box over the scene's positions (recentred coordinates).
 struct Bounds {

@@ -4,7 +4,7 @@
 // same offset, component names and materials; every output triangle carries the
 // component and material of the input triangle it came from.
 //
-// Modes (method.md sections 5 and 6):
+// Modes (docs/method.md sections 5 and 6):
 //   Paper    undisplayable triangles are deleted outright, then quadric
 //            half-edge collapses (v0 removed, v1 kept where it is) remove
 //            imperceptible triangles until none is removable, then every
@@ -53,13 +53,22 @@ SimplifyMode parse_simplify_mode(const char* name);
 // Paper and Bounded read the labels; Qem and Cluster ignore them.
 bool simplify_mode_uses_labels(SimplifyMode m);
 
+// Mesh topology the loader and scene statistics share with the simplifier.
+// Corners at exactly equal positions (+0 and -0 equal) weld: the result holds
+// per corner (3 per triangle) a welded vertex id, ids in order of first use.
+std::vector<uint32_t> weld_exact(const Scene& scene);
+// Connected parts: triangles sharing a welded vertex (weld_exact) belong to
+// one part. part[t] numbers the parts in order of their first triangle;
+// returns the number of parts.
+uint32_t connected_parts(const Scene& scene, std::vector<uint32_t>& part);
+
 struct SimplifyOptions {
   SimplifyMode mode = SimplifyMode::Paper;
   double pixel_footprint = 0.0;   // p(d) in scene units at the LOD's distance (Bounded, Cluster)
   double k = 1.0;                 // tolerance / cell size = k * pixel_footprint
   size_t target_triangles = 0;    // Qem: stop at this many triangles
 
-  // Constraint lines (seed 002): edges whose dihedral angle exceeds
+  // Constraint lines (Shi, Yang, Li): edges whose dihedral angle exceeds
   // feature_angle_deg never collapse, nor move (their vertices are kept).
   bool constraint_lines = false;
   // Edges sharper than this also get crease quadrics (so they do not erode).
