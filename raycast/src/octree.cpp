@@ -24,7 +24,7 @@
 // its 1024 rays (a tile is the "packet"; tiles are spread over oneTBB threads):
 //   * a box in front of the eye is projected to the image by interval
 //     arithmetic and skipped unless its rectangle (plus a float-rounding
-//     margin) contains one of the tile's pixel centres, so geometry that falls
+//     margin, see float_bounds.h) contains one of the tile's pixel centres, so geometry that falls
 //     between the rays is dropped as a packet tracer's per-ray box tests would
 //     drop it; a box reaching the eye plane is tested against the tile's
 //     frustum (four planes through the eye and the tile's outer pixel edges);
@@ -64,6 +64,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "float_bounds.h"
 #include "geometry_checks.h"
 #include "perclod/raycast.h"
 #include "pixel_rays.h"
@@ -373,7 +374,7 @@ struct Tile {
   int unhit;  // pixels without a hit yet (normal pass)
   double plane[4][3];  // inward normals of the frustum planes through the eye
   double centre_dir[3];
-  double tmax;  // max over pixels of bound (a little enlarged)
+  double tmax;  // widen_far(max over pixels of bound)
   bool collect;
 };
 
@@ -387,7 +388,7 @@ void update_tile_tmax(Tile& tile) {
   const int n = tile.w * tile.h;
   for (int i = 0; i < n; ++i)
     if (!tile.collect || tile.tie[i]) m = std::max(m, tile.bound[i]);
-  tile.tmax = double(m) * (1.0 + 1e-5) + 1e-7;
+  tile.tmax = detail::widen_far(double(m));
 }
 
 void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
@@ -420,7 +421,7 @@ void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
     for (int a = 0; a < 3; ++a) tile.plane[k][a] = n[a];
   }
   for (int a = 0; a < 3; ++a) tile.centre_dir[a] = c[a];
-  tile.tmax = double(f.zfar) * (1.0 + 1e-5) + 1e-7;
+  tile.tmax = detail::widen_far(double(f.zfar));
 }
 
 // floor(v) clamped to [lo, hi] (and ceil), without libm calls: the clamp
@@ -460,7 +461,7 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, P
   // signs of its coefficients (precomputed per frame in Frame::pos_*).
   double dmin = 0, dmax = 0, nxmin = 0, nxmax = 0, nymin = 0, nymax = 0;
   for (int k = 0; k < 3; ++k) dmin += f.fwd[k] * (f.pos_fwd[k] ? lo[k] : hi[k]);
-  near = dmin - 4e-6 * mag;  // below any t the float test can return inside the box
+  near = dmin - detail::hit_depth_slack(mag);  // below any t the float test can return inside the box
   if (near > tile.tmax) return false;  // occluded for every pixel of the tile
   for (int k = 0; k < 3; ++k) {
     dmax += f.fwd[k] * (f.pos_fwd[k] ? hi[k] : lo[k]);
@@ -469,12 +470,12 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, P
     nymin += f.up[k] * (f.pos_up[k] ? lo[k] : hi[k]);
     nymax += f.up[k] * (f.pos_up[k] ? hi[k] : lo[k]);
   }
-  if (dmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
-  if (dmin > 1e-4 * mag) {
+  if (detail::before_near_plane(dmax, double(f.znear))) return false;
+  if (detail::projectable(dmin, mag)) {
     const double i0 = 1.0 / dmin, i1 = 1.0 / dmax;
     const double xlo = nxmin * (nxmin >= 0 ? i1 : i0), xhi = nxmax * (nxmax >= 0 ? i0 : i1);
     const double ylo = nymin * (nymin >= 0 ? i1 : i0), yhi = nymax * (nymax >= 0 ? i0 : i1);
-    const double margin = 1e-3 + 4e-6 * mag * i0 * f.fmax;
+    const double margin = detail::pixel_margin(mag, i0, f.fmax);
     const double pxlo = f.cx + f.fx * xlo, pxhi = f.cx + f.fx * xhi;
     const double pylo = f.cy - f.fy * yhi, pyhi = f.cy - f.fy * ylo;
     const int xa = ceil_within(pxlo - margin - 0.5, tile.x0, tile.x0 + tile.w);
@@ -550,11 +551,9 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
     for (int k = 0; k < 3; ++k) mag = std::max(mag, double(std::fabs(V[c][k])));
   }
   const double zmin = std::min({z[0], z[1], z[2]}), zmax = std::max({z[0], z[1], z[2]});
-  // A hit's t is a convex combination of the vertices' depths; the float
-  // test can undershoot it by a few ulps of the vertex magnitudes.
-  const double zlow = zmin - 4e-6 * mag;
+  const double zlow = zmin - detail::hit_depth_slack(mag);  // below any t the float test can return
   if (zlow > tile.tmax) return false;
-  if (zmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
+  if (detail::before_near_plane(zmax, double(f.znear))) return false;
 
   int xa = tile.x0, xb = tile.x0 + tile.w - 1, ya = tile.y0, yb = tile.y0 + tile.h - 1;
   // Edge functions of the projected triangle, in pixels (interior >= 0),
@@ -562,7 +561,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   double ea[3] = {0, 0, 0}, eb[3] = {0, 0, 0}, ec[3] = {0, 0, 0};
   bool edges = false;
   double margin = 0;
-  if (zmin > 1e-4 * mag) {  // fully in front of the eye: restrict to the projected rectangle
+  if (detail::projectable(zmin, mag)) {  // well in front of the eye: restrict to the projected rectangle
     double pxmin = INFINITY, pxmax = -INFINITY, pymin = INFINITY, pymax = -INFINITY;
     double P[3][2], izmax = 0;  // izmax = 1 / zmin
     for (int c = 0; c < 3; ++c) {
@@ -578,9 +577,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
       pymin = std::min(pymin, py);
       pymax = std::max(pymax, py);
     }
-    // Float rounding of the watertight test, in pixels: a few ulps of the
-    // vertex magnitude seen at the nearest depth.
-    margin = 1e-3 + 4e-6 * mag * izmax * f.fmax;
+    margin = detail::pixel_margin(mag, izmax, f.fmax);
     xa = std::max(xa, ceil_within(pxmin - margin - 0.5, tile.x0, tile.x0 + tile.w));
     xb = std::min(xb, floor_within(pxmax + margin - 0.5, tile.x0 - 1, tile.x0 + tile.w));
     ya = std::max(ya, ceil_within(pymin - margin - 0.5, tile.y0, tile.y0 + tile.h));
@@ -595,7 +592,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
         const int j = i == 2 ? 0 : i + 1;
         l1max = std::max(l1max, std::fabs(P[j][0] - P[i][0]) + std::fabs(P[j][1] - P[i][1]));
       }
-      edges = std::fabs(area2) > 1e-6 * l1max * l1max;
+      edges = std::fabs(area2) > detail::kSliverAreaRel * l1max * l1max;
       if (edges) {
         const double sgn = area2 > 0 ? 1.0 : -1.0;
         for (int i = 0; i < 3; ++i) {
@@ -610,7 +607,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   }
   bool changed = false;
   const uint32_t id = tri.index + 1;
-  const float zlow_f = float(zlow) > zlow ? std::nextafter(float(zlow), -INFINITY) : float(zlow);
+  const float zlow_f = detail::float_at_or_below(zlow);
   // Scanline spans: on row y the edge functions bound the pixel centres to
   // [xl, xr] (each edge with ea != 0 gives one side; ea == 0 accepts or
   // rejects the whole row). Only centres in the span get the exact test.
@@ -630,8 +627,8 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
         else empty |= r < 0;
       }
       if (empty) continue;
-      // X = x + 0.5 in [xl, xr], widened by a rounding hair.
-      const double hair = 1e-9 * (std::fabs(xl) + std::fabs(xr) + 1.0);
+      // X = x + 0.5 in [xl, xr], widened by the rounding of xl and xr.
+      const double hair = detail::span_hair(xl, xr);
       x_from = std::max(x_from, ceil_within(xl - hair - 0.5, tile.x0, tile.x0 + tile.w));
       x_to = std::min(x_to, floor_within(xr + hair - 0.5, tile.x0 - 1, tile.x0 + tile.w));
     }
