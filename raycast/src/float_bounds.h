@@ -132,7 +132,9 @@ inline double span_hair(double xl, double xr) { return kSpanHairRel * (std::fabs
 // carry a fixed guard instead, independent of mag: kCullGuardRel = 1e-5 (ten
 // tie windows, about 168 u) and kCullGuardAbs = 1e-7 (about one float ulp at
 // t = 1; for a window or near plane close to t = 0, where a relative guard
-// vanishes).
+// vanishes). kCullGuardRel has the value of perclod::kAgreementTieTolerance
+// but is not a tie tolerance: it widens the tile's t window, which already
+// contains every pixel's tie window, and changes no pixel's answer.
 //   Note: the near-plane test uses only this guard, not the depth slack, so
 // by the budget above it is conservative only where kHitDepthSlack * mag is
 // below the guard. A triangle whose vertices all lie within

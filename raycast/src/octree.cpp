@@ -48,10 +48,11 @@
 // triangle (BruteForceTracer; the tests check it): the culling is
 // conservative and the exact test is the same function.
 // Tie rule: each pixel keeps the nearest t and accepts hits up to
-// t * (1 + 1e-6). When a second hit lands inside that window, the pixel is
-// flagged, and after the tile is done the flagged pixels are traced again with
-// the window fixed, keeping the lowest triangle index among all hits in it:
-// exactly "lowest index among hits within t_min (1 + 1e-6)".
+// tie_window_end(t) = t * (1 + kTieEpsilon) (tie_window.h). When a second hit
+// lands inside that window, the pixel is flagged, and after the tile is done
+// the flagged pixels are traced again with the window fixed, keeping the
+// lowest triangle index among all hits in it: exactly "lowest index among
+// hits within t_min (1 + kTieEpsilon)".
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -68,6 +69,7 @@
 #include "geometry_checks.h"
 #include "perclod/raycast.h"
 #include "pixel_rays.h"
+#include "tie_window.h"
 #include "watertight.h"
 
 namespace perclod {
@@ -378,10 +380,6 @@ struct Tile {
   bool collect;
 };
 
-inline float tie_bound(float t, float zfar) {
-  return std::min(zfar, float(double(t) * (1.0 + kTieEpsilon)));
-}
-
 void update_tile_tmax(Tile& tile) {
   if (!tile.collect && tile.unhit > 0) return;  // some pixel still accepts up to zfar
   float m = 0.0f;
@@ -515,12 +513,12 @@ inline bool test_pixel(const Frame& f, Tile& tile, int p, uint32_t id, const flo
     tile.tie[p] = 1;
     if (id < tile.hit[p]) tile.hit[p] = id;
     return false;
-  } else if (tile.best[p] <= tie_bound(t, f.zfar)) {
+  } else if (tile.best[p] <= detail::tie_window_end(t, f.zfar)) {
     tile.tie[p] = 1;  // the old nearest lies inside the new window
   }
   tile.best[p] = t;
   tile.hit[p] = id;
-  tile.bound[p] = tie_bound(t, f.zfar);
+  tile.bound[p] = detail::tie_window_end(t, f.zfar);
   return true;
 }
 
