@@ -496,6 +496,8 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, P
 }
 
 
+// ---- the exact test and the tie rule
+
 // The exact test of one pixel's ray and the tie-rule bookkeeping. Returns
 // true when the pixel's nearest hit changed.
 inline bool test_pixel(const Frame& f, Tile& tile, int p, uint32_t id, const float A[3], const float B[3],
@@ -522,26 +524,116 @@ inline bool test_pixel(const Frame& f, Tile& tile, int p, uint32_t id, const flo
   return true;
 }
 
+// The triangle's vertices relative to the float eye, as the exact test takes them.
+inline void relative_vertices(const Frame& f, const PackedTri& tri, float A[3], float B[3], float C[3]) {
+  for (int k = 0; k < 3; ++k) {
+    A[k] = tri.v[k] - f.eyef[k];
+    B[k] = tri.v[3 + k] - f.eyef[k];
+    C[k] = tri.v[6 + k] - f.eyef[k];
+  }
+}
+
 // A triangle against a single pixel (its leaf box covers one pixel centre of
 // the tile): no projection needed, the exact test decides.
 inline bool test_triangle_at(const Frame& f, Tile& tile, const PackedTri& tri, int x, int y) {
   float A[3], B[3], C[3];
-  for (int k = 0; k < 3; ++k) {
-    A[k] = tri.v[k] - f.eyef[k];
-    B[k] = tri.v[3 + k] - f.eyef[k];
-    C[k] = tri.v[6 + k] - f.eyef[k];
-  }
+  relative_vertices(f, tri, A, B, C);
   return test_pixel(f, tile, (y - tile.y0) * tile.w + (x - tile.x0), tri.index + 1, A, B, C);
 }
 
-// The exact per-pixel work for one triangle. Returns true if any pixel changed.
+// ---- a triangle's pixels
+
+// The pixels of a tile a triangle can cover: a rectangle and, when the
+// triangle projects to more than a sliver, its three edge functions in
+// pixels (interior >= 0, widened by the pixel margin).
+struct TriangleFootprint {
+  int xa, xb, ya, yb;  // inclusive pixel range inside the tile
+  bool edges;
+  double ea[3], eb[3], ec[3];  // edge i at image point (X, Y): ea X + eb Y + ec
+  double inv_ea[3];            // 1 / ea, 0 where ea == 0
+};
+
+// The edge functions of the projected triangle P (pixels). The margin is
+// scaled by |ex| + |ey|, which is at least the edge length, so the filter
+// stays conservative. Leaves fp.edges false for a sliver.
+inline void set_edge_functions(const double P[3][2], double margin, TriangleFootprint& fp) {
+  const double area2 = (P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[1][1] - P[0][1]) * (P[2][0] - P[0][0]);
+  double l1max = 0;
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    l1max = std::max(l1max, std::fabs(P[j][0] - P[i][0]) + std::fabs(P[j][1] - P[i][1]));
+  }
+  fp.edges = std::fabs(area2) > detail::kSliverAreaRel * l1max * l1max;
+  if (!fp.edges) return;
+  const double sgn = area2 > 0 ? 1.0 : -1.0;
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    const double ex = P[j][0] - P[i][0], ey = P[j][1] - P[i][1];
+    fp.ea[i] = -sgn * ey;
+    fp.eb[i] = sgn * ex;
+    fp.ec[i] = -(fp.ea[i] * P[i][0] + fp.eb[i] * P[i][1]) + margin * (std::fabs(ex) + std::fabs(ey));
+  }
+  for (int i = 0; i < 3; ++i) fp.inv_ea[i] = fp.ea[i] != 0 ? 1.0 / fp.ea[i] : 0.0;
+}
+
+// Restricts fp to the projection of a triangle wholly in front of the eye:
+// V are its vertices relative to the eye, z their depths, mag their largest
+// |coordinate|. Returns false when no pixel centre of the tile is left.
+inline bool project_triangle(const Frame& f, const Tile& tile, const float* const V[3], const double z[3],
+                             double mag, TriangleFootprint& fp) {
+  double pxmin = INFINITY, pxmax = -INFINITY, pymin = INFINITY, pymax = -INFINITY;
+  double P[3][2], izmax = 0;  // izmax = 1 / zmin
+  for (int c = 0; c < 3; ++c) {
+    const double rx = f.right[0] * V[c][0] + f.right[1] * V[c][1] + f.right[2] * V[c][2];
+    const double ry = f.up[0] * V[c][0] + f.up[1] * V[c][1] + f.up[2] * V[c][2];
+    const double iz = 1.0 / z[c];
+    izmax = std::max(izmax, iz);
+    const double px = f.cx + f.fx * rx * iz, py = f.cy - f.fy * ry * iz;
+    P[c][0] = px;
+    P[c][1] = py;
+    pxmin = std::min(pxmin, px);
+    pxmax = std::max(pxmax, px);
+    pymin = std::min(pymin, py);
+    pymax = std::max(pymax, py);
+  }
+  const double margin = detail::pixel_margin(mag, izmax, f.fmax);
+  fp.xa = std::max(fp.xa, ceil_within(pxmin - margin - 0.5, tile.x0, tile.x0 + tile.w));
+  fp.xb = std::min(fp.xb, floor_within(pxmax + margin - 0.5, tile.x0 - 1, tile.x0 + tile.w));
+  fp.ya = std::max(fp.ya, ceil_within(pymin - margin - 0.5, tile.y0, tile.y0 + tile.h));
+  fp.yb = std::min(fp.yb, floor_within(pymax + margin - 0.5, tile.y0 - 1, tile.y0 + tile.h));
+  if (fp.xa > fp.xb || fp.ya > fp.yb) return false;
+  if (fp.xa < fp.xb || fp.ya < fp.yb) set_edge_functions(P, margin, fp);  // more than one pixel
+  return true;
+}
+
+// Scanline span: on row y the edge functions bound the pixel centres to
+// [xl, xr] (each edge with ea != 0 gives one side; ea == 0 accepts or rejects
+// the whole row). Narrows [x_from, x_to]; returns false for an empty row.
+inline bool row_span(const TriangleFootprint& fp, const Tile& tile, int y, int& x_from, int& x_to) {
+  const double Y = y + 0.5;
+  double xl = -INFINITY, xr = INFINITY;
+  bool empty = false;
+  for (int i = 0; i < 3; ++i) {
+    const double r = fp.eb[i] * Y + fp.ec[i];  // edge value at X = 0
+    if (fp.ea[i] > 0) xl = std::max(xl, -r * fp.inv_ea[i]);
+    else if (fp.ea[i] < 0) xr = std::min(xr, -r * fp.inv_ea[i]);
+    else empty |= r < 0;
+  }
+  if (empty) return false;
+  // X = x + 0.5 in [xl, xr], widened by the rounding of xl and xr.
+  const double hair = detail::span_hair(xl, xr);
+  x_from = std::max(x_from, ceil_within(xl - hair - 0.5, tile.x0, tile.x0 + tile.w));
+  x_to = std::min(x_to, floor_within(xr + hair - 0.5, tile.x0 - 1, tile.x0 + tile.w));
+  return true;
+}
+
+// The exact per-pixel work for one triangle: only the pixel centres of its
+// footprint whose t window reaches its nearest depth get the exact test. A
+// triangle touching the eye plane is tested against the whole tile. Returns
+// true if any pixel's nearest hit changed.
 bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   float A[3], B[3], C[3];
-  for (int k = 0; k < 3; ++k) {
-    A[k] = tri.v[k] - f.eyef[k];
-    B[k] = tri.v[3 + k] - f.eyef[k];
-    C[k] = tri.v[6 + k] - f.eyef[k];
-  }
+  relative_vertices(f, tri, A, B, C);
   const float* V[3] = {A, B, C};
   double z[3], mag = 0;
   for (int c = 0; c < 3; ++c) {
@@ -553,83 +645,20 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   if (zlow > tile.tmax) return false;
   if (detail::before_near_plane(zmax, double(f.znear))) return false;
 
-  int xa = tile.x0, xb = tile.x0 + tile.w - 1, ya = tile.y0, yb = tile.y0 + tile.h - 1;
-  // Edge functions of the projected triangle, in pixels (interior >= 0),
-  // used as a pre-filter when the triangle spans more than one pixel.
-  double ea[3] = {0, 0, 0}, eb[3] = {0, 0, 0}, ec[3] = {0, 0, 0};
-  bool edges = false;
-  double margin = 0;
-  if (detail::projectable(zmin, mag)) {  // well in front of the eye: restrict to the projected rectangle
-    double pxmin = INFINITY, pxmax = -INFINITY, pymin = INFINITY, pymax = -INFINITY;
-    double P[3][2], izmax = 0;  // izmax = 1 / zmin
-    for (int c = 0; c < 3; ++c) {
-      const double rx = f.right[0] * V[c][0] + f.right[1] * V[c][1] + f.right[2] * V[c][2];
-      const double ry = f.up[0] * V[c][0] + f.up[1] * V[c][1] + f.up[2] * V[c][2];
-      const double iz = 1.0 / z[c];
-      izmax = std::max(izmax, iz);
-      const double px = f.cx + f.fx * rx * iz, py = f.cy - f.fy * ry * iz;
-      P[c][0] = px;
-      P[c][1] = py;
-      pxmin = std::min(pxmin, px);
-      pxmax = std::max(pxmax, px);
-      pymin = std::min(pymin, py);
-      pymax = std::max(pymax, py);
-    }
-    margin = detail::pixel_margin(mag, izmax, f.fmax);
-    xa = std::max(xa, ceil_within(pxmin - margin - 0.5, tile.x0, tile.x0 + tile.w));
-    xb = std::min(xb, floor_within(pxmax + margin - 0.5, tile.x0 - 1, tile.x0 + tile.w));
-    ya = std::max(ya, ceil_within(pymin - margin - 0.5, tile.y0, tile.y0 + tile.h));
-    yb = std::min(yb, floor_within(pymax + margin - 0.5, tile.y0 - 1, tile.y0 + tile.h));
-    if (xa > xb || ya > yb) return false;
-    if (xa < xb || ya < yb) {
-      // Unnormalised edge functions; the margin is scaled by |ex| + |ey|,
-      // which is at least the edge length, so the filter stays conservative.
-      const double area2 = (P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[1][1] - P[0][1]) * (P[2][0] - P[0][0]);
-      double l1max = 0;
-      for (int i = 0; i < 3; ++i) {
-        const int j = i == 2 ? 0 : i + 1;
-        l1max = std::max(l1max, std::fabs(P[j][0] - P[i][0]) + std::fabs(P[j][1] - P[i][1]));
-      }
-      edges = std::fabs(area2) > detail::kSliverAreaRel * l1max * l1max;
-      if (edges) {
-        const double sgn = area2 > 0 ? 1.0 : -1.0;
-        for (int i = 0; i < 3; ++i) {
-          const int j = i == 2 ? 0 : i + 1;
-          const double ex = P[j][0] - P[i][0], ey = P[j][1] - P[i][1];
-          ea[i] = -sgn * ey;
-          eb[i] = sgn * ex;
-          ec[i] = -(ea[i] * P[i][0] + eb[i] * P[i][1]) + margin * (std::fabs(ex) + std::fabs(ey));
-        }
-      }
-    }
-  }
+  TriangleFootprint fp;
+  fp.xa = tile.x0;
+  fp.xb = tile.x0 + tile.w - 1;
+  fp.ya = tile.y0;
+  fp.yb = tile.y0 + tile.h - 1;
+  fp.edges = false;
+  if (detail::projectable(zmin, mag) && !project_triangle(f, tile, V, z, mag, fp)) return false;
+
   bool changed = false;
   const uint32_t id = tri.index + 1;
   const float zlow_f = detail::float_at_or_below(zlow);
-  // Scanline spans: on row y the edge functions bound the pixel centres to
-  // [xl, xr] (each edge with ea != 0 gives one side; ea == 0 accepts or
-  // rejects the whole row). Only centres in the span get the exact test.
-  double inv_ea[3] = {0, 0, 0};
-  if (edges)
-    for (int i = 0; i < 3; ++i) inv_ea[i] = ea[i] != 0 ? 1.0 / ea[i] : 0.0;
-  for (int y = ya; y <= yb; ++y) {
-    int x_from = xa, x_to = xb;
-    if (edges) {
-      const double Y = y + 0.5;
-      double xl = -INFINITY, xr = INFINITY;
-      bool empty = false;
-      for (int i = 0; i < 3; ++i) {
-        const double r = eb[i] * Y + ec[i];  // edge value at X = 0
-        if (ea[i] > 0) xl = std::max(xl, -r * inv_ea[i]);
-        else if (ea[i] < 0) xr = std::min(xr, -r * inv_ea[i]);
-        else empty |= r < 0;
-      }
-      if (empty) continue;
-      // X = x + 0.5 in [xl, xr], widened by the rounding of xl and xr.
-      const double hair = detail::span_hair(xl, xr);
-      x_from = std::max(x_from, ceil_within(xl - hair - 0.5, tile.x0, tile.x0 + tile.w));
-      x_to = std::min(x_to, floor_within(xr + hair - 0.5, tile.x0 - 1, tile.x0 + tile.w));
-    }
+  for (int y = fp.ya; y <= fp.yb; ++y) {
+    int x_from = fp.xa, x_to = fp.xb;
+    if (fp.edges && !row_span(fp, tile, y, x_from, x_to)) continue;
     for (int x = x_from; x <= x_to; ++x) {
       const int p = (y - tile.y0) * tile.w + (x - tile.x0);
       if (zlow_f > tile.bound[p]) continue;  // all of the triangle lies beyond this pixel's window
