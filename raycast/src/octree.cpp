@@ -353,6 +353,7 @@ void OctreeTracer::Impl::build(const Scene& scene) {
 
 namespace {
 
+using Scratch = OctreeTracer::Impl::Scratch;
 
 // What a tile needs to know about the camera.
 struct Frame {
@@ -365,6 +366,34 @@ struct Frame {
   double fmax;  // max(fx, fy)
   double fx, fy, cx, cy;  // image point = (cx + fx * x/z, cy - fy * y/z) in camera axes
 };
+
+Frame make_frame(const Camera& cam, const detail::PixelDirections& dirs) {
+  Frame f;
+  f.cam = &cam;
+  f.dirs = &dirs;
+  for (int k = 0; k < 3; ++k) {
+    f.fwd[k] = cam.forward[k];
+    f.right[k] = cam.right[k];
+    f.up[k] = cam.up[k];
+  }
+  detail::eye_float(cam, f.eyef);
+  // Rays start at the float eye: every conservative test measures from it.
+  for (int k = 0; k < 3; ++k) f.eye[k] = double(f.eyef[k]);
+  f.znear = float(cam.znear);
+  f.zfar = float(cam.zfar);
+  const double th = cam.tan_half_y();
+  f.fx = 0.5 * cam.width / (th * cam.aspect());
+  f.fy = 0.5 * cam.height / th;
+  f.cx = 0.5 * cam.width;
+  f.cy = 0.5 * cam.height;
+  f.fmax = std::max(f.fx, f.fy);
+  for (int k = 0; k < 3; ++k) {
+    f.pos_fwd[k] = f.fwd[k] >= 0;
+    f.pos_right[k] = f.right[k] >= 0;
+    f.pos_up[k] = f.up[k] >= 0;
+  }
+  return f;
+}
 
 struct Tile {
   int x0, y0, w, h;
@@ -437,17 +466,19 @@ inline int ceil_within(double v, int lo, int hi) {
   return double(i) < v ? i + 1 : i;
 }
 
-// Conservative: false only when no ray of the tile can hit inside the box
-// within its current t range. A box in front of the eye is projected by
-// interval arithmetic (x = N / D with N and D ranging over the box), and
-// survives only if its projected rectangle (plus the float-rounding margin)
-// contains a pixel centre of the tile: sub-pixel geometry that falls between
-// the rays is dropped here, as a packet tracer's per-ray box tests would.
-// A box reaching the eye plane gets the four frustum planes instead.
 struct PixelRect {
   int xa, xb, ya, yb;  // inclusive pixel range inside the tile
 };
 
+// Conservative: false only when no ray of the tile can hit inside the box
+// within its current t range. A box in front of the eye is projected by
+// interval arithmetic (x = N / D with N and D ranging over the box), and
+// survives only if its projected rectangle (plus pixel_margin()) contains a
+// pixel centre of the tile: sub-pixel geometry that falls between the rays
+// is dropped here, as a packet tracer's per-ray box tests would. A box
+// reaching the eye plane gets the four frustum planes instead. Sets near (a
+// lower bound on any float hit t inside the box) and rect (the tile's pixels
+// it can cover).
 bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, PixelRect& rect) {
   double lo[3], hi[3], mag = 0;
   for (int k = 0; k < 3; ++k) {
@@ -668,133 +699,152 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   return changed;
 }
 
+// ---- the walk through the structure
+
+using Structure = OctreeTracer::Impl;
+
+// The triangles of one BVH leaf; a leaf whose box covers a single pixel
+// centre of the tile skips the projection.
+inline bool test_bvh_leaf(const Structure& s, const Frame& f, Tile& tile, const BvhNode& leaf,
+                          const PixelRect& rect) {
+  bool changed = false;
+  if (rect.xa == rect.xb && rect.ya == rect.yb) {
+    for (uint32_t i = 0; i < leaf.count(); ++i)
+      changed |= test_triangle_at(f, tile, s.tris[leaf.first + i], rect.xa, rect.ya);
+  } else {
+    for (uint32_t i = 0; i < leaf.count(); ++i) changed |= test_triangle(f, tile, s.tris[leaf.first + i]);
+  }
+  return changed;
+}
+
+// One component's BVH, children nearest box first. Its root box is visible,
+// with nearest depth root_near and pixel rectangle root_rect.
+void walk_component(const Structure& s, const Frame& f, Tile& tile, uint32_t c, double root_near,
+                    const PixelRect& root_rect) {
+  struct Entry {
+    double near;
+    uint32_t node;
+    PixelRect rect;
+  };
+  Entry stack[128];
+  int top = 0;
+  stack[top++] = {root_near, s.components[c].bvh_root, root_rect};
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.near > tile.tmax) continue;
+    const BvhNode& b = s.bvh[e.node];
+    if (b.count() != 0) {
+      if (test_bvh_leaf(s, f, tile, b, e.rect)) update_tile_tmax(tile);
+      continue;
+    }
+    double n0, n1;
+    PixelRect r0, r1;
+    const bool v0 = box_visible(f, tile, s.bvh[b.first].box, n0, r0);
+    const bool v1 = box_visible(f, tile, s.bvh[b.first + 1].box, n1, r1);
+    if (v0 && v1) {
+      const bool left_near = n0 <= n1;
+      stack[top++] = left_near ? Entry{n1, b.first + 1, r1} : Entry{n0, b.first, r0};
+      stack[top++] = left_near ? Entry{n0, b.first, r0} : Entry{n1, b.first + 1, r1};
+    } else if (v0) {
+      stack[top++] = {n0, b.first, r0};
+    } else if (v1) {
+      stack[top++] = {n1, b.first + 1, r1};
+    }
+  }
+}
+
+// An octree leaf: its components not yet tested in this pass (each is tested
+// once per tile, whichever leaf reaches it first) and visible, nearest box
+// first.
+void walk_leaf(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch, const OctNode& node) {
+  struct Pick {
+    double near;
+    uint32_t c;
+    PixelRect rect;
+  };
+  Pick picks[256];
+  uint32_t np = 0;
+  double near;
+  PixelRect rect;
+  for (uint32_t r = 0; r < node.count(); ++r) {
+    const uint32_t c = s.leaf_refs[node.first + r];
+    if (scratch.stamp[c] == scratch.clock) continue;
+    scratch.stamp[c] = scratch.clock;
+    if (!box_visible(f, tile, s.components[c].box, near, rect)) continue;
+    if (np == 256) {  // a huge leaf (max_components_per_leaf > 256): no sorting
+      walk_component(s, f, tile, c, near, rect);
+      continue;
+    }
+    uint32_t k = np++;
+    while (k > 0 && picks[k - 1].near > near) {
+      picks[k] = picks[k - 1];
+      --k;
+    }
+    picks[k] = {near, c, rect};
+  }
+  for (uint32_t k = 0; k < np; ++k)
+    if (picks[k].near <= tile.tmax) walk_component(s, f, tile, picks[k].c, picks[k].near, picks[k].rect);
+}
+
+// Front-to-back child order for an eye in octant 0 of a node (see the top of
+// the file); for another octant, xor the child index with the eye's side.
+constexpr int kChildOrder[8] = {0, 1, 2, 4, 3, 5, 6, 7};
+
+// One pass of a tile through the whole structure: octree nodes front to back.
+void walk_tile(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch) {
+  if (++scratch.clock == 0) {  // wrapped: restart the stamps
+    std::fill(scratch.stamp.begin(), scratch.stamp.end(), 0u);
+    scratch.clock = 1;
+  }
+  update_tile_tmax(tile);
+  double near;
+  PixelRect rect;
+  uint32_t stack[128];
+  int top = 0;
+  if (!s.octree.empty() && !s.tris.empty()) stack[top++] = 0;
+  while (top > 0) {
+    const OctNode& node = s.octree[stack[--top]];
+    if (!box_visible(f, tile, node.box, near, rect)) continue;
+    if (node.leaf()) {
+      walk_leaf(s, f, tile, scratch, node);
+      continue;
+    }
+    int side = 0;
+    for (int k = 0; k < 3; ++k)
+      if (f.eye[k] > 0.5 * (double(node.box.lo[k]) + double(node.box.hi[k]))) side |= 1 << k;
+    for (int j = 7; j >= 0; --j) stack[top++] = node.first + uint32_t(kChildOrder[j] ^ side);
+  }
+}
+
+// A tile from start to finish: the nearest hits, then, only if some pixel
+// saw a second hit inside its tie window, a pass over the fixed windows that
+// keeps the lowest index; then the tile's pixels are written out.
+void trace_tile(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch, uint32_t* out, float* tout) {
+  walk_tile(s, f, tile, scratch);
+  bool any_tie = false;
+  const int n = tile.w * tile.h;
+  for (int p = 0; p < n; ++p) any_tie |= tile.tie[p] != 0;
+  if (any_tie) {
+    tile.collect = true;
+    walk_tile(s, f, tile, scratch);
+  }
+  const int width = f.cam->width;
+  for (int j = 0; j < tile.h; ++j)
+    for (int i = 0; i < tile.w; ++i) {
+      const int p = j * tile.w + i;
+      const size_t o = size_t(tile.y0 + j) * size_t(width) + size_t(tile.x0 + i);
+      out[o] = tile.hit[p];
+      if (tout) tout[o] = tile.hit[p] ? tile.best[p] : 0.0f;
+    }
+}
+
 }  // namespace
 
 void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) const {
-  Frame f;
-  f.cam = &cam;
   const detail::PixelDirections dirs(cam);
-  f.dirs = &dirs;
-  for (int k = 0; k < 3; ++k) {
-    f.eye[k] = cam.eye[k];
-    f.fwd[k] = cam.forward[k];
-    f.right[k] = cam.right[k];
-    f.up[k] = cam.up[k];
-  }
-  detail::eye_float(cam, f.eyef);
-  // Rays start at the float eye: every conservative test measures from it.
-  for (int k = 0; k < 3; ++k) f.eye[k] = double(f.eyef[k]);
-  f.znear = float(cam.znear);
-  f.zfar = float(cam.zfar);
-  const double th = cam.tan_half_y();
-  f.fx = 0.5 * cam.width / (th * cam.aspect());
-  f.fy = 0.5 * cam.height / th;
-  f.cx = 0.5 * cam.width;
-  f.cy = 0.5 * cam.height;
-  f.fmax = std::max(f.fx, f.fy);
-  for (int k = 0; k < 3; ++k) {
-    f.pos_fwd[k] = f.fwd[k] >= 0;
-    f.pos_right[k] = f.right[k] >= 0;
-    f.pos_up[k] = f.up[k] >= 0;
-  }
-
+  const Frame f = make_frame(cam, dirs);
   const int tiles_x = (cam.width + kTile - 1) / kTile, tiles_y = (cam.height + kTile - 1) / kTile;
   const uint32_t nc = uint32_t(components.size());
-
-  // Front-to-back child order for an eye in octant 0 of a node (see top).
-  static constexpr int kOrder[8] = {0, 1, 2, 4, 3, 5, 6, 7};
-
-  // One component's BVH, children nearest-box first. Its root box is visible.
-  auto walk_component = [&](Tile& tile, uint32_t c, double root_near, const PixelRect& root_rect) {
-    struct Entry {
-      double near;
-      uint32_t node;
-      PixelRect rect;
-    };
-    Entry stack[128];
-    int top = 0;
-    stack[top++] = {root_near, components[c].bvh_root, root_rect};
-    while (top > 0) {
-      const Entry e = stack[--top];
-      if (e.near > tile.tmax) continue;
-      const BvhNode& b = bvh[e.node];
-      if (b.count() == 0) {
-        double n0, n1;
-        PixelRect r0, r1;
-        const bool v0 = box_visible(f, tile, bvh[b.first].box, n0, r0);
-        const bool v1 = box_visible(f, tile, bvh[b.first + 1].box, n1, r1);
-        if (v0 && v1) {
-          const bool left_near = n0 <= n1;
-          stack[top++] = left_near ? Entry{n1, b.first + 1, r1} : Entry{n0, b.first, r0};
-          stack[top++] = left_near ? Entry{n0, b.first, r0} : Entry{n1, b.first + 1, r1};
-        } else if (v0) {
-          stack[top++] = {n0, b.first, r0};
-        } else if (v1) {
-          stack[top++] = {n1, b.first + 1, r1};
-        }
-        continue;
-      }
-      bool changed = false;
-      if (e.rect.xa == e.rect.xb && e.rect.ya == e.rect.yb) {  // the leaf covers one pixel centre
-        for (uint32_t i = 0; i < b.count(); ++i)
-          changed |= test_triangle_at(f, tile, tris[b.first + i], e.rect.xa, e.rect.ya);
-      } else {
-        for (uint32_t i = 0; i < b.count(); ++i) changed |= test_triangle(f, tile, tris[b.first + i]);
-      }
-      if (changed) update_tile_tmax(tile);
-    }
-  };
-
-  auto walk = [&](Tile& tile, Scratch& s) {
-    if (++s.clock == 0) {  // wrapped: restart the stamps
-      std::fill(s.stamp.begin(), s.stamp.end(), 0u);
-      s.clock = 1;
-    }
-    update_tile_tmax(tile);
-    double near;
-    PixelRect rect;
-    uint32_t stack[128];
-    int top = 0;
-    if (!octree.empty() && !tris.empty()) stack[top++] = 0;
-    while (top > 0) {
-      const OctNode& node = octree[stack[--top]];
-      if (!box_visible(f, tile, node.box, near, rect)) continue;
-      if (!node.leaf()) {
-        int side = 0;
-        for (int k = 0; k < 3; ++k)
-          if (f.eye[k] > 0.5 * (double(node.box.lo[k]) + double(node.box.hi[k]))) side |= 1 << k;
-        for (int j = 7; j >= 0; --j) stack[top++] = node.first + uint32_t(kOrder[j] ^ side);
-        continue;
-      }
-      // The leaf's untested, visible components, nearest box first.
-      struct Pick {
-        double near;
-        uint32_t c;
-        PixelRect rect;
-      };
-      Pick picks[256];
-      uint32_t np = 0;
-      for (uint32_t r = 0; r < node.count(); ++r) {
-        const uint32_t c = leaf_refs[node.first + r];
-        if (s.stamp[c] == s.clock) continue;
-        s.stamp[c] = s.clock;
-        if (!box_visible(f, tile, components[c].box, near, rect)) continue;
-        if (np == 256) {  // a huge leaf (max_components_per_leaf > 256): no sorting
-          walk_component(tile, c, near, rect);
-          continue;
-        }
-        uint32_t k = np++;
-        while (k > 0 && picks[k - 1].near > near) {
-          picks[k] = picks[k - 1];
-          --k;
-        }
-        picks[k] = {near, c, rect};
-      }
-      for (uint32_t k = 0; k < np; ++k)
-        if (picks[k].near <= tile.tmax) walk_component(tile, picks[k].c, picks[k].near, picks[k].rect);
-    }
-  };
-
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 2), [&](const tbb::blocked_range<int>& r) {
     detail::DenormalsOff ftz;
     Scratch& s = scratch.local();
@@ -805,21 +855,7 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
     Tile tile;
     for (int ti = r.begin(); ti < r.end(); ++ti) {
       setup_tile(f, tile, (ti % tiles_x) * kTile, (ti / tiles_x) * kTile);
-      walk(tile, s);
-      bool any_tie = false;
-      const int n = tile.w * tile.h;
-      for (int p = 0; p < n; ++p) any_tie |= tile.tie[p] != 0;
-      if (any_tie) {  // second pass over the fixed tie windows
-        tile.collect = true;
-        walk(tile, s);
-      }
-      for (int j = 0; j < tile.h; ++j)
-        for (int i = 0; i < tile.w; ++i) {
-          const int p = j * tile.w + i;
-          const size_t o = size_t(tile.y0 + j) * size_t(cam.width) + size_t(tile.x0 + i);
-          out[o] = tile.hit[p];
-          if (tout) tout[o] = tile.hit[p] ? tile.best[p] : 0.0f;
-        }
+      trace_tile(*this, f, tile, s, out, tout);
     }
   });
 }
