@@ -16,7 +16,7 @@
 //  * OctreeTracer - the paper's structure: an octree over component bounding
 //    boxes (components are not split), and inside each component a small BVH
 //    over its triangles; watertight ray/triangle test (Woop, Benthin, Wald).
-//    Traversal is by 8x8 pixel tiles (see octree.cpp for the structure).
+//    Traversal is by 32x32 pixel tiles (see octree.cpp for the structure).
 //  * EmbreeTracer - Embree 3 with RTC_SCENE_FLAG_ROBUST (watertight), as the
 //    reference (Verify: rtcIntersect1 plus a second, restricted query that
 //    applies the tie rule) or as a fast production tracer (Fast:
