@@ -11,6 +11,25 @@
 
 namespace perclod {
 
+namespace {
+
+// The double re-test widens a triangle's edges by the float test's sideways
+// rounding, expressed in barycentric units: kGrazeLateralRel times the
+// vertices' largest |coordinate| from the eye (reach), over the triangle's
+// size. The float test's edge signs are exact for its float vertices
+// (watertight.h); what moves them is the shear rounding, about 6 u = 3.4e-7
+// of reach (float_bounds.h), so 1e-6 leaves 3x. Deliberately tighter than
+// the octree's kHitDepthSlack (67 u): the culling slack must never drop a
+// hit, while this one must not excuse a real disagreement as a graze.
+constexpr double kGrazeLateralRel = 1e-6;
+// A triangle tiny against its distance would get a huge barycentric
+// widening; it is capped at 1% of the triangle, so a mismatch on it is not
+// excused wholesale. kMinSize only keeps a zero-area triangle finite.
+constexpr double kGrazeBarycentricCap = 1e-2;
+constexpr double kMinSize = 1e-30;
+
+}  // namespace
+
 DoubleHit intersect_pixel_double(const Scene& scene, const Camera& cam, int x, int y, uint32_t tri,
                                  double& t) {
   if (size_t(tri) >= scene.triangle_count())
@@ -23,9 +42,9 @@ DoubleHit intersect_pixel_double(const Scene& scene, const Camera& cam, int x, i
     v[c] = Eigen::Vector3d(scene.positions[3 * i], scene.positions[3 * i + 1], scene.positions[3 * i + 2]);
   }
   // Moller-Trumbore in double, no culling. The edges are widened by the
-  // rounding of a float test (about 1e-6 of the vertex distance from the
-  // eye, relative to the triangle's size): a pixel centre that float tracers
-  // may put on either side of an edge counts as inside.
+  // rounding of a float test (kGrazeLateralRel of the vertex distance from
+  // the eye, relative to the triangle's size): a pixel centre that float
+  // tracers may put on either side of an edge counts as inside.
   const Eigen::Vector3d e1 = v[1] - v[0], e2 = v[2] - v[0];
   const Eigen::Vector3d p = d.cross(e2);
   const double det = e1.dot(p);
@@ -34,7 +53,7 @@ DoubleHit intersect_pixel_double(const Scene& scene, const Camera& cam, int x, i
   const double size = std::sqrt(e1.cross(e2).norm());
   const double reach = std::max({(v[0] - cam.eye).cwiseAbs().maxCoeff(), (v[1] - cam.eye).cwiseAbs().maxCoeff(),
                                  (v[2] - cam.eye).cwiseAbs().maxCoeff()});
-  const double slack = std::min(1e-2, 1e-6 * reach / std::max(size, 1e-30));
+  const double slack = std::min(kGrazeBarycentricCap, kGrazeLateralRel * reach / std::max(size, kMinSize));
   const double u = s.dot(p) / det;
   if (u < -slack || u > 1.0 + slack) return DoubleHit::Miss;
   const Eigen::Vector3d q = s.cross(e1);

@@ -7,6 +7,7 @@
 #include "geometry_checks.h"
 #include "perclod/raycast.h"
 #include "pixel_rays.h"
+#include "tie_window.h"
 #include "watertight.h"
 
 namespace perclod {
@@ -58,7 +59,7 @@ void BruteForceTracer::trace(const Camera& cam, uint32_t* out, float* tout) cons
         out[o] = 0;
         if (tout) tout[o] = 0.0f;
         if (!any) continue;
-        const float bound = std::min(zfar, float(double(best) * (1.0 + kTieEpsilon)));
+        const float bound = detail::tie_window_end(best, zfar);
         for (size_t t = 0; t < nt; ++t) {
           float th;
           if (test(t, bound, th)) {

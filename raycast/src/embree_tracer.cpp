@@ -6,10 +6,10 @@
 // direction the float pixel direction, [tnear, tfar] = [znear, zfar].
 //
 // Verify mode applies the tie rule with a second query per hit pixel: the
-// ray restricted to [t (1 - 1e-6), t (1 + 1e-6)] with a context filter that
-// records the smallest primID it sees and rejects every hit, so Embree
-// reports them all (docs/method.md section 4: equal-t hits otherwise go to whichever the
-// traversal meets last).
+// ray restricted to the tie window around its nearest t (tie_window.h) with
+// a context filter that records the smallest primID it sees and rejects
+// every hit, so Embree reports them all (left to itself, Embree gives a hit
+// at equal t to whichever triangle its traversal meets last).
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -24,6 +24,7 @@
 #include "geometry_checks.h"
 #include "perclod/raycast.h"
 #include "pixel_rays.h"
+#include "tie_window.h"
 
 namespace perclod {
 
@@ -231,8 +232,7 @@ void EmbreeTracer::trace(const Camera& cam, uint32_t* out, float* tout) const {
           tc.context.filter = keep_lowest;
           tc.lowest = std::numeric_limits<unsigned int>::max();
           RTCRayHit q;
-          set_ray(q, eye, d, std::max(znear, float(double(t) * (1.0 - kTieEpsilon))),
-                  std::min(zfar, float(double(t) * (1.0 + kTieEpsilon))));
+          set_ray(q, eye, d, detail::tie_window_start(t, znear), detail::tie_window_end(t, zfar));
           rtcIntersect1(sc, &tc.context, &q);
           if (tc.lowest < prim) prim = tc.lowest;
         }

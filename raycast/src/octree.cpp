@@ -24,7 +24,7 @@
 // its 1024 rays (a tile is the "packet"; tiles are spread over oneTBB threads):
 //   * a box in front of the eye is projected to the image by interval
 //     arithmetic and skipped unless its rectangle (plus a float-rounding
-//     margin) contains one of the tile's pixel centres, so geometry that falls
+//     margin, see float_bounds.h) contains one of the tile's pixel centres, so geometry that falls
 //     between the rays is dropped as a packet tracer's per-ray box tests would
 //     drop it; a box reaching the eye plane is tested against the tile's
 //     frustum (four planes through the eye and the tile's outer pixel edges);
@@ -48,10 +48,11 @@
 // triangle (BruteForceTracer; the tests check it): the culling is
 // conservative and the exact test is the same function.
 // Tie rule: each pixel keeps the nearest t and accepts hits up to
-// t * (1 + 1e-6). When a second hit lands inside that window, the pixel is
-// flagged, and after the tile is done the flagged pixels are traced again with
-// the window fixed, keeping the lowest triangle index among all hits in it:
-// exactly "lowest index among hits within t_min (1 + 1e-6)".
+// tie_window_end(t) = t * (1 + kTieEpsilon) (tie_window.h). When a second hit
+// lands inside that window, the pixel is flagged, and after the tile is done
+// the flagged pixels are traced again with the window fixed, keeping the
+// lowest triangle index among all hits in it: exactly "lowest index among
+// hits within t_min (1 + kTieEpsilon)".
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -64,9 +65,11 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "float_bounds.h"
 #include "geometry_checks.h"
 #include "perclod/raycast.h"
 #include "pixel_rays.h"
+#include "tie_window.h"
 #include "watertight.h"
 
 namespace perclod {
@@ -350,6 +353,7 @@ void OctreeTracer::Impl::build(const Scene& scene) {
 
 namespace {
 
+using Scratch = OctreeTracer::Impl::Scratch;
 
 // What a tile needs to know about the camera.
 struct Frame {
@@ -363,6 +367,34 @@ struct Frame {
   double fx, fy, cx, cy;  // image point = (cx + fx * x/z, cy - fy * y/z) in camera axes
 };
 
+Frame make_frame(const Camera& cam, const detail::PixelDirections& dirs) {
+  Frame f;
+  f.cam = &cam;
+  f.dirs = &dirs;
+  for (int k = 0; k < 3; ++k) {
+    f.fwd[k] = cam.forward[k];
+    f.right[k] = cam.right[k];
+    f.up[k] = cam.up[k];
+  }
+  detail::eye_float(cam, f.eyef);
+  // Rays start at the float eye: every conservative test measures from it.
+  for (int k = 0; k < 3; ++k) f.eye[k] = double(f.eyef[k]);
+  f.znear = float(cam.znear);
+  f.zfar = float(cam.zfar);
+  const double th = cam.tan_half_y();
+  f.fx = 0.5 * cam.width / (th * cam.aspect());
+  f.fy = 0.5 * cam.height / th;
+  f.cx = 0.5 * cam.width;
+  f.cy = 0.5 * cam.height;
+  f.fmax = std::max(f.fx, f.fy);
+  for (int k = 0; k < 3; ++k) {
+    f.pos_fwd[k] = f.fwd[k] >= 0;
+    f.pos_right[k] = f.right[k] >= 0;
+    f.pos_up[k] = f.up[k] >= 0;
+  }
+  return f;
+}
+
 struct Tile {
   int x0, y0, w, h;
   ShearedRay ray[kTilePixels];
@@ -373,13 +405,9 @@ struct Tile {
   int unhit;  // pixels without a hit yet (normal pass)
   double plane[4][3];  // inward normals of the frustum planes through the eye
   double centre_dir[3];
-  double tmax;  // max over pixels of bound (a little enlarged)
+  double tmax;  // widen_far(max over pixels of bound)
   bool collect;
 };
-
-inline float tie_bound(float t, float zfar) {
-  return std::min(zfar, float(double(t) * (1.0 + kTieEpsilon)));
-}
 
 void update_tile_tmax(Tile& tile) {
   if (!tile.collect && tile.unhit > 0) return;  // some pixel still accepts up to zfar
@@ -387,7 +415,7 @@ void update_tile_tmax(Tile& tile) {
   const int n = tile.w * tile.h;
   for (int i = 0; i < n; ++i)
     if (!tile.collect || tile.tie[i]) m = std::max(m, tile.bound[i]);
-  tile.tmax = double(m) * (1.0 + 1e-5) + 1e-7;
+  tile.tmax = detail::widen_far(double(m));
 }
 
 void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
@@ -420,7 +448,7 @@ void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
     for (int a = 0; a < 3; ++a) tile.plane[k][a] = n[a];
   }
   for (int a = 0; a < 3; ++a) tile.centre_dir[a] = c[a];
-  tile.tmax = double(f.zfar) * (1.0 + 1e-5) + 1e-7;
+  tile.tmax = detail::widen_far(double(f.zfar));
 }
 
 // floor(v) clamped to [lo, hi] (and ceil), without libm calls: the clamp
@@ -438,17 +466,19 @@ inline int ceil_within(double v, int lo, int hi) {
   return double(i) < v ? i + 1 : i;
 }
 
-// Conservative: false only when no ray of the tile can hit inside the box
-// within its current t range. A box in front of the eye is projected by
-// interval arithmetic (x = N / D with N and D ranging over the box), and
-// survives only if its projected rectangle (plus the float-rounding margin)
-// contains a pixel centre of the tile: sub-pixel geometry that falls between
-// the rays is dropped here, as a packet tracer's per-ray box tests would.
-// A box reaching the eye plane gets the four frustum planes instead.
 struct PixelRect {
   int xa, xb, ya, yb;  // inclusive pixel range inside the tile
 };
 
+// Conservative: false only when no ray of the tile can hit inside the box
+// within its current t range. A box in front of the eye is projected by
+// interval arithmetic (x = N / D with N and D ranging over the box), and
+// survives only if its projected rectangle (plus pixel_margin()) contains a
+// pixel centre of the tile: sub-pixel geometry that falls between the rays
+// is dropped here, as a packet tracer's per-ray box tests would. A box
+// reaching the eye plane gets the four frustum planes instead. Sets near (a
+// lower bound on any float hit t inside the box) and rect (the tile's pixels
+// it can cover).
 bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, PixelRect& rect) {
   double lo[3], hi[3], mag = 0;
   for (int k = 0; k < 3; ++k) {
@@ -460,7 +490,7 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, P
   // signs of its coefficients (precomputed per frame in Frame::pos_*).
   double dmin = 0, dmax = 0, nxmin = 0, nxmax = 0, nymin = 0, nymax = 0;
   for (int k = 0; k < 3; ++k) dmin += f.fwd[k] * (f.pos_fwd[k] ? lo[k] : hi[k]);
-  near = dmin - 4e-6 * mag;  // below any t the float test can return inside the box
+  near = dmin - detail::hit_depth_slack(mag);  // below any t the float test can return inside the box
   if (near > tile.tmax) return false;  // occluded for every pixel of the tile
   for (int k = 0; k < 3; ++k) {
     dmax += f.fwd[k] * (f.pos_fwd[k] ? hi[k] : lo[k]);
@@ -469,12 +499,12 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, P
     nymin += f.up[k] * (f.pos_up[k] ? lo[k] : hi[k]);
     nymax += f.up[k] * (f.pos_up[k] ? hi[k] : lo[k]);
   }
-  if (dmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
-  if (dmin > 1e-4 * mag) {
+  if (detail::before_near_plane(dmax, double(f.znear))) return false;
+  if (detail::projectable(dmin, mag)) {
     const double i0 = 1.0 / dmin, i1 = 1.0 / dmax;
     const double xlo = nxmin * (nxmin >= 0 ? i1 : i0), xhi = nxmax * (nxmax >= 0 ? i0 : i1);
     const double ylo = nymin * (nymin >= 0 ? i1 : i0), yhi = nymax * (nymax >= 0 ? i0 : i1);
-    const double margin = 1e-3 + 4e-6 * mag * i0 * f.fmax;
+    const double margin = detail::pixel_margin(mag, i0, f.fmax);
     const double pxlo = f.cx + f.fx * xlo, pxhi = f.cx + f.fx * xhi;
     const double pylo = f.cy - f.fy * yhi, pyhi = f.cy - f.fy * ylo;
     const int xa = ceil_within(pxlo - margin - 0.5, tile.x0, tile.x0 + tile.w);
@@ -497,6 +527,8 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, P
 }
 
 
+// ---- the exact test and the tie rule
+
 // The exact test of one pixel's ray and the tie-rule bookkeeping. Returns
 // true when the pixel's nearest hit changed.
 inline bool test_pixel(const Frame& f, Tile& tile, int p, uint32_t id, const float A[3], const float B[3],
@@ -514,35 +546,125 @@ inline bool test_pixel(const Frame& f, Tile& tile, int p, uint32_t id, const flo
     tile.tie[p] = 1;
     if (id < tile.hit[p]) tile.hit[p] = id;
     return false;
-  } else if (tile.best[p] <= tie_bound(t, f.zfar)) {
+  } else if (tile.best[p] <= detail::tie_window_end(t, f.zfar)) {
     tile.tie[p] = 1;  // the old nearest lies inside the new window
   }
   tile.best[p] = t;
   tile.hit[p] = id;
-  tile.bound[p] = tie_bound(t, f.zfar);
+  tile.bound[p] = detail::tie_window_end(t, f.zfar);
   return true;
+}
+
+// The triangle's vertices relative to the float eye, as the exact test takes them.
+inline void relative_vertices(const Frame& f, const PackedTri& tri, float A[3], float B[3], float C[3]) {
+  for (int k = 0; k < 3; ++k) {
+    A[k] = tri.v[k] - f.eyef[k];
+    B[k] = tri.v[3 + k] - f.eyef[k];
+    C[k] = tri.v[6 + k] - f.eyef[k];
+  }
 }
 
 // A triangle against a single pixel (its leaf box covers one pixel centre of
 // the tile): no projection needed, the exact test decides.
 inline bool test_triangle_at(const Frame& f, Tile& tile, const PackedTri& tri, int x, int y) {
   float A[3], B[3], C[3];
-  for (int k = 0; k < 3; ++k) {
-    A[k] = tri.v[k] - f.eyef[k];
-    B[k] = tri.v[3 + k] - f.eyef[k];
-    C[k] = tri.v[6 + k] - f.eyef[k];
-  }
+  relative_vertices(f, tri, A, B, C);
   return test_pixel(f, tile, (y - tile.y0) * tile.w + (x - tile.x0), tri.index + 1, A, B, C);
 }
 
-// The exact per-pixel work for one triangle. Returns true if any pixel changed.
+// ---- a triangle's pixels
+
+// The pixels of a tile a triangle can cover: a rectangle and, when the
+// triangle projects to more than a sliver, its three edge functions in
+// pixels (interior >= 0, widened by the pixel margin).
+struct TriangleFootprint {
+  int xa, xb, ya, yb;  // inclusive pixel range inside the tile
+  bool edges;
+  double ea[3], eb[3], ec[3];  // edge i at image point (X, Y): ea X + eb Y + ec
+  double inv_ea[3];            // 1 / ea, 0 where ea == 0
+};
+
+// The edge functions of the projected triangle P (pixels). The margin is
+// scaled by |ex| + |ey|, which is at least the edge length, so the filter
+// stays conservative. Leaves fp.edges false for a sliver.
+inline void set_edge_functions(const double P[3][2], double margin, TriangleFootprint& fp) {
+  const double area2 = (P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[1][1] - P[0][1]) * (P[2][0] - P[0][0]);
+  double l1max = 0;
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    l1max = std::max(l1max, std::fabs(P[j][0] - P[i][0]) + std::fabs(P[j][1] - P[i][1]));
+  }
+  fp.edges = std::fabs(area2) > detail::kSliverAreaRel * l1max * l1max;
+  if (!fp.edges) return;
+  const double sgn = area2 > 0 ? 1.0 : -1.0;
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    const double ex = P[j][0] - P[i][0], ey = P[j][1] - P[i][1];
+    fp.ea[i] = -sgn * ey;
+    fp.eb[i] = sgn * ex;
+    fp.ec[i] = -(fp.ea[i] * P[i][0] + fp.eb[i] * P[i][1]) + margin * (std::fabs(ex) + std::fabs(ey));
+  }
+  for (int i = 0; i < 3; ++i) fp.inv_ea[i] = fp.ea[i] != 0 ? 1.0 / fp.ea[i] : 0.0;
+}
+
+// Restricts fp to the projection of a triangle wholly in front of the eye:
+// V are its vertices relative to the eye, z their depths, mag their largest
+// |coordinate|. Returns false when no pixel centre of the tile is left.
+inline bool project_triangle(const Frame& f, const Tile& tile, const float* const V[3], const double z[3],
+                             double mag, TriangleFootprint& fp) {
+  double pxmin = INFINITY, pxmax = -INFINITY, pymin = INFINITY, pymax = -INFINITY;
+  double P[3][2], izmax = 0;  // izmax = 1 / zmin
+  for (int c = 0; c < 3; ++c) {
+    const double rx = f.right[0] * V[c][0] + f.right[1] * V[c][1] + f.right[2] * V[c][2];
+    const double ry = f.up[0] * V[c][0] + f.up[1] * V[c][1] + f.up[2] * V[c][2];
+    const double iz = 1.0 / z[c];
+    izmax = std::max(izmax, iz);
+    const double px = f.cx + f.fx * rx * iz, py = f.cy - f.fy * ry * iz;
+    P[c][0] = px;
+    P[c][1] = py;
+    pxmin = std::min(pxmin, px);
+    pxmax = std::max(pxmax, px);
+    pymin = std::min(pymin, py);
+    pymax = std::max(pymax, py);
+  }
+  const double margin = detail::pixel_margin(mag, izmax, f.fmax);
+  fp.xa = std::max(fp.xa, ceil_within(pxmin - margin - 0.5, tile.x0, tile.x0 + tile.w));
+  fp.xb = std::min(fp.xb, floor_within(pxmax + margin - 0.5, tile.x0 - 1, tile.x0 + tile.w));
+  fp.ya = std::max(fp.ya, ceil_within(pymin - margin - 0.5, tile.y0, tile.y0 + tile.h));
+  fp.yb = std::min(fp.yb, floor_within(pymax + margin - 0.5, tile.y0 - 1, tile.y0 + tile.h));
+  if (fp.xa > fp.xb || fp.ya > fp.yb) return false;
+  if (fp.xa < fp.xb || fp.ya < fp.yb) set_edge_functions(P, margin, fp);  // more than one pixel
+  return true;
+}
+
+// Scanline span: on row y the edge functions bound the pixel centres to
+// [xl, xr] (each edge with ea != 0 gives one side; ea == 0 accepts or rejects
+// the whole row). Narrows [x_from, x_to]; returns false for an empty row.
+inline bool row_span(const TriangleFootprint& fp, const Tile& tile, int y, int& x_from, int& x_to) {
+  const double Y = y + 0.5;
+  double xl = -INFINITY, xr = INFINITY;
+  bool empty = false;
+  for (int i = 0; i < 3; ++i) {
+    const double r = fp.eb[i] * Y + fp.ec[i];  // edge value at X = 0
+    if (fp.ea[i] > 0) xl = std::max(xl, -r * fp.inv_ea[i]);
+    else if (fp.ea[i] < 0) xr = std::min(xr, -r * fp.inv_ea[i]);
+    else empty |= r < 0;
+  }
+  if (empty) return false;
+  // X = x + 0.5 in [xl, xr], widened by the rounding of xl and xr.
+  const double hair = detail::span_hair(xl, xr);
+  x_from = std::max(x_from, ceil_within(xl - hair - 0.5, tile.x0, tile.x0 + tile.w));
+  x_to = std::min(x_to, floor_within(xr + hair - 0.5, tile.x0 - 1, tile.x0 + tile.w));
+  return true;
+}
+
+// The exact per-pixel work for one triangle: only the pixel centres of its
+// footprint whose t window reaches its nearest depth get the exact test. A
+// triangle touching the eye plane is tested against the whole tile. Returns
+// true if any pixel's nearest hit changed.
 bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   float A[3], B[3], C[3];
-  for (int k = 0; k < 3; ++k) {
-    A[k] = tri.v[k] - f.eyef[k];
-    B[k] = tri.v[3 + k] - f.eyef[k];
-    C[k] = tri.v[6 + k] - f.eyef[k];
-  }
+  relative_vertices(f, tri, A, B, C);
   const float* V[3] = {A, B, C};
   double z[3], mag = 0;
   for (int c = 0; c < 3; ++c) {
@@ -550,91 +672,24 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
     for (int k = 0; k < 3; ++k) mag = std::max(mag, double(std::fabs(V[c][k])));
   }
   const double zmin = std::min({z[0], z[1], z[2]}), zmax = std::max({z[0], z[1], z[2]});
-  // A hit's t is a convex combination of the vertices' depths; the float
-  // test can undershoot it by a few ulps of the vertex magnitudes.
-  const double zlow = zmin - 4e-6 * mag;
+  const double zlow = zmin - detail::hit_depth_slack(mag);  // below any t the float test can return
   if (zlow > tile.tmax) return false;
-  if (zmax < double(f.znear) * (1.0 - 1e-5) - 1e-7) return false;
+  if (detail::before_near_plane(zmax, double(f.znear))) return false;
 
-  int xa = tile.x0, xb = tile.x0 + tile.w - 1, ya = tile.y0, yb = tile.y0 + tile.h - 1;
-  // Edge functions of the projected triangle, in pixels (interior >= 0),
-  // used as a pre-filter when the triangle spans more than one pixel.
-  double ea[3] = {0, 0, 0}, eb[3] = {0, 0, 0}, ec[3] = {0, 0, 0};
-  bool edges = false;
-  double margin = 0;
-  if (zmin > 1e-4 * mag) {  // fully in front of the eye: restrict to the projected rectangle
-    double pxmin = INFINITY, pxmax = -INFINITY, pymin = INFINITY, pymax = -INFINITY;
-    double P[3][2], izmax = 0;  // izmax = 1 / zmin
-    for (int c = 0; c < 3; ++c) {
-      const double rx = f.right[0] * V[c][0] + f.right[1] * V[c][1] + f.right[2] * V[c][2];
-      const double ry = f.up[0] * V[c][0] + f.up[1] * V[c][1] + f.up[2] * V[c][2];
-      const double iz = 1.0 / z[c];
-      izmax = std::max(izmax, iz);
-      const double px = f.cx + f.fx * rx * iz, py = f.cy - f.fy * ry * iz;
-      P[c][0] = px;
-      P[c][1] = py;
-      pxmin = std::min(pxmin, px);
-      pxmax = std::max(pxmax, px);
-      pymin = std::min(pymin, py);
-      pymax = std::max(pymax, py);
-    }
-    // Float rounding of the watertight test, in pixels: a few ulps of the
-    // vertex magnitude seen at the nearest depth.
-    margin = 1e-3 + 4e-6 * mag * izmax * f.fmax;
-    xa = std::max(xa, ceil_within(pxmin - margin - 0.5, tile.x0, tile.x0 + tile.w));
-    xb = std::min(xb, floor_within(pxmax + margin - 0.5, tile.x0 - 1, tile.x0 + tile.w));
-    ya = std::max(ya, ceil_within(pymin - margin - 0.5, tile.y0, tile.y0 + tile.h));
-    yb = std::min(yb, floor_within(pymax + margin - 0.5, tile.y0 - 1, tile.y0 + tile.h));
-    if (xa > xb || ya > yb) return false;
-    if (xa < xb || ya < yb) {
-      // Unnormalised edge functions; the margin is scaled by |ex| + |ey|,
-      // which is at least the edge length, so the filter stays conservative.
-      const double area2 = (P[1][0] - P[0][0]) * (P[2][1] - P[0][1]) - (P[1][1] - P[0][1]) * (P[2][0] - P[0][0]);
-      double l1max = 0;
-      for (int i = 0; i < 3; ++i) {
-        const int j = i == 2 ? 0 : i + 1;
-        l1max = std::max(l1max, std::fabs(P[j][0] - P[i][0]) + std::fabs(P[j][1] - P[i][1]));
-      }
-      edges = std::fabs(area2) > 1e-6 * l1max * l1max;
-      if (edges) {
-        const double sgn = area2 > 0 ? 1.0 : -1.0;
-        for (int i = 0; i < 3; ++i) {
-          const int j = i == 2 ? 0 : i + 1;
-          const double ex = P[j][0] - P[i][0], ey = P[j][1] - P[i][1];
-          ea[i] = -sgn * ey;
-          eb[i] = sgn * ex;
-          ec[i] = -(ea[i] * P[i][0] + eb[i] * P[i][1]) + margin * (std::fabs(ex) + std::fabs(ey));
-        }
-      }
-    }
-  }
+  TriangleFootprint fp;
+  fp.xa = tile.x0;
+  fp.xb = tile.x0 + tile.w - 1;
+  fp.ya = tile.y0;
+  fp.yb = tile.y0 + tile.h - 1;
+  fp.edges = false;
+  if (detail::projectable(zmin, mag) && !project_triangle(f, tile, V, z, mag, fp)) return false;
+
   bool changed = false;
   const uint32_t id = tri.index + 1;
-  const float zlow_f = float(zlow) > zlow ? std::nextafter(float(zlow), -INFINITY) : float(zlow);
-  // Scanline spans: on row y the edge functions bound the pixel centres to
-  // [xl, xr] (each edge with ea != 0 gives one side; ea == 0 accepts or
-  // rejects the whole row). Only centres in the span get the exact test.
-  double inv_ea[3] = {0, 0, 0};
-  if (edges)
-    for (int i = 0; i < 3; ++i) inv_ea[i] = ea[i] != 0 ? 1.0 / ea[i] : 0.0;
-  for (int y = ya; y <= yb; ++y) {
-    int x_from = xa, x_to = xb;
-    if (edges) {
-      const double Y = y + 0.5;
-      double xl = -INFINITY, xr = INFINITY;
-      bool empty = false;
-      for (int i = 0; i < 3; ++i) {
-        const double r = eb[i] * Y + ec[i];  // edge value at X = 0
-        if (ea[i] > 0) xl = std::max(xl, -r * inv_ea[i]);
-        else if (ea[i] < 0) xr = std::min(xr, -r * inv_ea[i]);
-        else empty |= r < 0;
-      }
-      if (empty) continue;
-      // X = x + 0.5 in [xl, xr], widened by a rounding hair.
-      const double hair = 1e-9 * (std::fabs(xl) + std::fabs(xr) + 1.0);
-      x_from = std::max(x_from, ceil_within(xl - hair - 0.5, tile.x0, tile.x0 + tile.w));
-      x_to = std::min(x_to, floor_within(xr + hair - 0.5, tile.x0 - 1, tile.x0 + tile.w));
-    }
+  const float zlow_f = detail::float_at_or_below(zlow);
+  for (int y = fp.ya; y <= fp.yb; ++y) {
+    int x_from = fp.xa, x_to = fp.xb;
+    if (fp.edges && !row_span(fp, tile, y, x_from, x_to)) continue;
     for (int x = x_from; x <= x_to; ++x) {
       const int p = (y - tile.y0) * tile.w + (x - tile.x0);
       if (zlow_f > tile.bound[p]) continue;  // all of the triangle lies beyond this pixel's window
@@ -644,133 +699,152 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   return changed;
 }
 
+// ---- the walk through the structure
+
+using Structure = OctreeTracer::Impl;
+
+// The triangles of one BVH leaf; a leaf whose box covers a single pixel
+// centre of the tile skips the projection.
+inline bool test_bvh_leaf(const Structure& s, const Frame& f, Tile& tile, const BvhNode& leaf,
+                          const PixelRect& rect) {
+  bool changed = false;
+  if (rect.xa == rect.xb && rect.ya == rect.yb) {
+    for (uint32_t i = 0; i < leaf.count(); ++i)
+      changed |= test_triangle_at(f, tile, s.tris[leaf.first + i], rect.xa, rect.ya);
+  } else {
+    for (uint32_t i = 0; i < leaf.count(); ++i) changed |= test_triangle(f, tile, s.tris[leaf.first + i]);
+  }
+  return changed;
+}
+
+// One component's BVH, children nearest box first. Its root box is visible,
+// with nearest depth root_near and pixel rectangle root_rect.
+void walk_component(const Structure& s, const Frame& f, Tile& tile, uint32_t c, double root_near,
+                    const PixelRect& root_rect) {
+  struct Entry {
+    double near;
+    uint32_t node;
+    PixelRect rect;
+  };
+  Entry stack[128];
+  int top = 0;
+  stack[top++] = {root_near, s.components[c].bvh_root, root_rect};
+  while (top > 0) {
+    const Entry e = stack[--top];
+    if (e.near > tile.tmax) continue;
+    const BvhNode& b = s.bvh[e.node];
+    if (b.count() != 0) {
+      if (test_bvh_leaf(s, f, tile, b, e.rect)) update_tile_tmax(tile);
+      continue;
+    }
+    double n0, n1;
+    PixelRect r0, r1;
+    const bool v0 = box_visible(f, tile, s.bvh[b.first].box, n0, r0);
+    const bool v1 = box_visible(f, tile, s.bvh[b.first + 1].box, n1, r1);
+    if (v0 && v1) {
+      const bool left_near = n0 <= n1;
+      stack[top++] = left_near ? Entry{n1, b.first + 1, r1} : Entry{n0, b.first, r0};
+      stack[top++] = left_near ? Entry{n0, b.first, r0} : Entry{n1, b.first + 1, r1};
+    } else if (v0) {
+      stack[top++] = {n0, b.first, r0};
+    } else if (v1) {
+      stack[top++] = {n1, b.first + 1, r1};
+    }
+  }
+}
+
+// An octree leaf: its components not yet tested in this pass (each is tested
+// once per tile, whichever leaf reaches it first) and visible, nearest box
+// first.
+void walk_leaf(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch, const OctNode& node) {
+  struct Pick {
+    double near;
+    uint32_t c;
+    PixelRect rect;
+  };
+  Pick picks[256];
+  uint32_t np = 0;
+  double near;
+  PixelRect rect;
+  for (uint32_t r = 0; r < node.count(); ++r) {
+    const uint32_t c = s.leaf_refs[node.first + r];
+    if (scratch.stamp[c] == scratch.clock) continue;
+    scratch.stamp[c] = scratch.clock;
+    if (!box_visible(f, tile, s.components[c].box, near, rect)) continue;
+    if (np == 256) {  // a huge leaf (max_components_per_leaf > 256): no sorting
+      walk_component(s, f, tile, c, near, rect);
+      continue;
+    }
+    uint32_t k = np++;
+    while (k > 0 && picks[k - 1].near > near) {
+      picks[k] = picks[k - 1];
+      --k;
+    }
+    picks[k] = {near, c, rect};
+  }
+  for (uint32_t k = 0; k < np; ++k)
+    if (picks[k].near <= tile.tmax) walk_component(s, f, tile, picks[k].c, picks[k].near, picks[k].rect);
+}
+
+// Front-to-back child order for an eye in octant 0 of a node (see the top of
+// the file); for another octant, xor the child index with the eye's side.
+constexpr int kChildOrder[8] = {0, 1, 2, 4, 3, 5, 6, 7};
+
+// One pass of a tile through the whole structure: octree nodes front to back.
+void walk_tile(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch) {
+  if (++scratch.clock == 0) {  // wrapped: restart the stamps
+    std::fill(scratch.stamp.begin(), scratch.stamp.end(), 0u);
+    scratch.clock = 1;
+  }
+  update_tile_tmax(tile);
+  double near;
+  PixelRect rect;
+  uint32_t stack[128];
+  int top = 0;
+  if (!s.octree.empty() && !s.tris.empty()) stack[top++] = 0;
+  while (top > 0) {
+    const OctNode& node = s.octree[stack[--top]];
+    if (!box_visible(f, tile, node.box, near, rect)) continue;
+    if (node.leaf()) {
+      walk_leaf(s, f, tile, scratch, node);
+      continue;
+    }
+    int side = 0;
+    for (int k = 0; k < 3; ++k)
+      if (f.eye[k] > 0.5 * (double(node.box.lo[k]) + double(node.box.hi[k]))) side |= 1 << k;
+    for (int j = 7; j >= 0; --j) stack[top++] = node.first + uint32_t(kChildOrder[j] ^ side);
+  }
+}
+
+// A tile from start to finish: the nearest hits, then, only if some pixel
+// saw a second hit inside its tie window, a pass over the fixed windows that
+// keeps the lowest index; then the tile's pixels are written out.
+void trace_tile(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch, uint32_t* out, float* tout) {
+  walk_tile(s, f, tile, scratch);
+  bool any_tie = false;
+  const int n = tile.w * tile.h;
+  for (int p = 0; p < n; ++p) any_tie |= tile.tie[p] != 0;
+  if (any_tie) {
+    tile.collect = true;
+    walk_tile(s, f, tile, scratch);
+  }
+  const int width = f.cam->width;
+  for (int j = 0; j < tile.h; ++j)
+    for (int i = 0; i < tile.w; ++i) {
+      const int p = j * tile.w + i;
+      const size_t o = size_t(tile.y0 + j) * size_t(width) + size_t(tile.x0 + i);
+      out[o] = tile.hit[p];
+      if (tout) tout[o] = tile.hit[p] ? tile.best[p] : 0.0f;
+    }
+}
+
 }  // namespace
 
 void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) const {
-  Frame f;
-  f.cam = &cam;
   const detail::PixelDirections dirs(cam);
-  f.dirs = &dirs;
-  for (int k = 0; k < 3; ++k) {
-    f.eye[k] = cam.eye[k];
-    f.fwd[k] = cam.forward[k];
-    f.right[k] = cam.right[k];
-    f.up[k] = cam.up[k];
-  }
-  detail::eye_float(cam, f.eyef);
-  // Rays start at the float eye: every conservative test measures from it.
-  for (int k = 0; k < 3; ++k) f.eye[k] = double(f.eyef[k]);
-  f.znear = float(cam.znear);
-  f.zfar = float(cam.zfar);
-  const double th = cam.tan_half_y();
-  f.fx = 0.5 * cam.width / (th * cam.aspect());
-  f.fy = 0.5 * cam.height / th;
-  f.cx = 0.5 * cam.width;
-  f.cy = 0.5 * cam.height;
-  f.fmax = std::max(f.fx, f.fy);
-  for (int k = 0; k < 3; ++k) {
-    f.pos_fwd[k] = f.fwd[k] >= 0;
-    f.pos_right[k] = f.right[k] >= 0;
-    f.pos_up[k] = f.up[k] >= 0;
-  }
-
+  const Frame f = make_frame(cam, dirs);
   const int tiles_x = (cam.width + kTile - 1) / kTile, tiles_y = (cam.height + kTile - 1) / kTile;
   const uint32_t nc = uint32_t(components.size());
-
-  // Front-to-back child order for an eye in octant 0 of a node (see top).
-  static constexpr int kOrder[8] = {0, 1, 2, 4, 3, 5, 6, 7};
-
-  // One component's BVH, children nearest-box first. Its root box is visible.
-  auto walk_component = [&](Tile& tile, uint32_t c, double root_near, const PixelRect& root_rect) {
-    struct Entry {
-      double near;
-      uint32_t node;
-      PixelRect rect;
-    };
-    Entry stack[128];
-    int top = 0;
-    stack[top++] = {root_near, components[c].bvh_root, root_rect};
-    while (top > 0) {
-      const Entry e = stack[--top];
-      if (e.near > tile.tmax) continue;
-      const BvhNode& b = bvh[e.node];
-      if (b.count() == 0) {
-        double n0, n1;
-        PixelRect r0, r1;
-        const bool v0 = box_visible(f, tile, bvh[b.first].box, n0, r0);
-        const bool v1 = box_visible(f, tile, bvh[b.first + 1].box, n1, r1);
-        if (v0 && v1) {
-          const bool left_near = n0 <= n1;
-          stack[top++] = left_near ? Entry{n1, b.first + 1, r1} : Entry{n0, b.first, r0};
-          stack[top++] = left_near ? Entry{n0, b.first, r0} : Entry{n1, b.first + 1, r1};
-        } else if (v0) {
-          stack[top++] = {n0, b.first, r0};
-        } else if (v1) {
-          stack[top++] = {n1, b.first + 1, r1};
-        }
-        continue;
-      }
-      bool changed = false;
-      if (e.rect.xa == e.rect.xb && e.rect.ya == e.rect.yb) {  // the leaf covers one pixel centre
-        for (uint32_t i = 0; i < b.count(); ++i)
-          changed |= test_triangle_at(f, tile, tris[b.first + i], e.rect.xa, e.rect.ya);
-      } else {
-        for (uint32_t i = 0; i < b.count(); ++i) changed |= test_triangle(f, tile, tris[b.first + i]);
-      }
-      if (changed) update_tile_tmax(tile);
-    }
-  };
-
-  auto walk = [&](Tile& tile, Scratch& s) {
-    if (++s.clock == 0) {  // wrapped: restart the stamps
-      std::fill(s.stamp.begin(), s.stamp.end(), 0u);
-      s.clock = 1;
-    }
-    update_tile_tmax(tile);
-    double near;
-    PixelRect rect;
-    uint32_t stack[128];
-    int top = 0;
-    if (!octree.empty() && !tris.empty()) stack[top++] = 0;
-    while (top > 0) {
-      const OctNode& node = octree[stack[--top]];
-      if (!box_visible(f, tile, node.box, near, rect)) continue;
-      if (!node.leaf()) {
-        int side = 0;
-        for (int k = 0; k < 3; ++k)
-          if (f.eye[k] > 0.5 * (double(node.box.lo[k]) + double(node.box.hi[k]))) side |= 1 << k;
-        for (int j = 7; j >= 0; --j) stack[top++] = node.first + uint32_t(kOrder[j] ^ side);
-        continue;
-      }
-      // The leaf's untested, visible components, nearest box first.
-      struct Pick {
-        double near;
-        uint32_t c;
-        PixelRect rect;
-      };
-      Pick picks[256];
-      uint32_t np = 0;
-      for (uint32_t r = 0; r < node.count(); ++r) {
-        const uint32_t c = leaf_refs[node.first + r];
-        if (s.stamp[c] == s.clock) continue;
-        s.stamp[c] = s.clock;
-        if (!box_visible(f, tile, components[c].box, near, rect)) continue;
-        if (np == 256) {  // a huge leaf (max_components_per_leaf > 256): no sorting
-          walk_component(tile, c, near, rect);
-          continue;
-        }
-        uint32_t k = np++;
-        while (k > 0 && picks[k - 1].near > near) {
-          picks[k] = picks[k - 1];
-          --k;
-        }
-        picks[k] = {near, c, rect};
-      }
-      for (uint32_t k = 0; k < np; ++k)
-        if (picks[k].near <= tile.tmax) walk_component(tile, picks[k].c, picks[k].near, picks[k].rect);
-    }
-  };
-
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 2), [&](const tbb::blocked_range<int>& r) {
     detail::DenormalsOff ftz;
     Scratch& s = scratch.local();
@@ -781,21 +855,7 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
     Tile tile;
     for (int ti = r.begin(); ti < r.end(); ++ti) {
       setup_tile(f, tile, (ti % tiles_x) * kTile, (ti / tiles_x) * kTile);
-      walk(tile, s);
-      bool any_tie = false;
-      const int n = tile.w * tile.h;
-      for (int p = 0; p < n; ++p) any_tie |= tile.tie[p] != 0;
-      if (any_tie) {  // second pass over the fixed tie windows
-        tile.collect = true;
-        walk(tile, s);
-      }
-      for (int j = 0; j < tile.h; ++j)
-        for (int i = 0; i < tile.w; ++i) {
-          const int p = j * tile.w + i;
-          const size_t o = size_t(tile.y0 + j) * size_t(cam.width) + size_t(tile.x0 + i);
-          out[o] = tile.hit[p];
-          if (tout) tout[o] = tile.hit[p] ? tile.best[p] : 0.0f;
-        }
+      trace_tile(*this, f, tile, s, out, tout);
     }
   });
 }

@@ -11,6 +11,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
+
+#include "float_bounds.h"
 
 namespace perclod::detail {
 
@@ -37,6 +40,18 @@ inline ShearedRay shear_ray(const float d[3]) {
   return r;
 }
 
+// When an edge value is below kEdgeRecomputeRel times its magnitude sum M
+// (edge_function's `mag`), edge_function() recomputes it in double.
+// Derivation (rounding model of float_bounds.h): each sheared coordinate,
+// px = P[kx] - sx P[kz], is off by gamma(2) of |P[kx]| + |sx P[kz]|, which the
+// products carry into e = qx py - qy px as at most gamma(2) M; the two
+// products and the difference add gamma(2) of |qx py| + |qy px| <= M. So the
+// float value errs by at most 2 gamma(2) M, about 4 u M, and one above
+// 32 u M (16 float epsilons) has the right sign with 8x headroom for the
+// second-order terms and for M itself being summed in float.
+constexpr float kEdgeRecomputeRel = 16 * std::numeric_limits<float>::epsilon();
+static_assert(kEdgeRecomputeRel >= 2 * float_gamma(2));
+
 // One edge function, P x Q in the sheared 2D frame. When the float value is
 // within its rounding error (shear and product), it is re-evaluated from the
 // vertices in double: the sign of a small value is then right (grazing rays
@@ -45,12 +60,12 @@ inline ShearedRay shear_ray(const float d[3]) {
 inline float edge_function(const ShearedRay& r, const float P[3], const float Q[3], float px, float py,
                            float qx, float qy) {
   const float e = qx * py - qy * px;
-  // Error bound: the shear (|P| scale) and the products, with a safety factor.
+  // Magnitude sum M: the shear (|P| scale) times the other point's sheared size, both ways.
   const float mag = (std::fabs(P[r.kx]) + std::fabs(r.sx * P[r.kz]) + std::fabs(P[r.ky]) +
                      std::fabs(r.sy * P[r.kz])) * (std::fabs(qx) + std::fabs(qy)) +
                     (std::fabs(Q[r.kx]) + std::fabs(r.sx * Q[r.kz]) + std::fabs(Q[r.ky]) +
                      std::fabs(r.sy * Q[r.kz])) * (std::fabs(px) + std::fabs(py));
-  if (std::fabs(e) > 16.0f * 1.1920929e-7f * mag) return e;
+  if (std::fabs(e) > kEdgeRecomputeRel * mag) return e;
   const double dpx = double(P[r.kx]) - double(r.sx) * double(P[r.kz]);
   const double dpy = double(P[r.ky]) - double(r.sy) * double(P[r.kz]);
   const double dqx = double(Q[r.kx]) - double(r.sx) * double(Q[r.kz]);

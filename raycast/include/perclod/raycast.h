@@ -7,7 +7,8 @@
 // buffer, so both can be compared pixel by pixel.
 //
 // Tie rule, shared by every exact tracer: among the hits whose t lies within
-// t_min * (1 + 1e-6) of the nearest one, the lowest triangle index wins. No
+// t_min * (1 + kTieEpsilon), kTieEpsilon = 1e-6, of the nearest one, the
+// lowest triangle index wins. No
 // back-face culling. Threads come from oneTBB (the caller may limit them with
 // tbb::global_control).
 //
@@ -15,7 +16,7 @@
 //  * OctreeTracer - the paper's structure: an octree over component bounding
 //    boxes (components are not split), and inside each component a small BVH
 //    over its triangles; watertight ray/triangle test (Woop, Benthin, Wald).
-//    Traversal is by 32x32-pixel tiles (see octree.cpp for the structure).
+//    Traversal is by 32x32 pixel tiles (see octree.cpp for the structure).
 //  * EmbreeTracer - Embree 3 with RTC_SCENE_FLAG_ROBUST (watertight), as the
 //    reference (Verify: rtcIntersect1 plus a second, restricted query that
 //    applies the tie rule) or as a fast production tracer (Fast:
@@ -42,8 +43,19 @@
 
 namespace perclod {
 
-// Relative t window of the tie rule.
+// Relative t window of the tie rule. The one tolerance of the rule: the
+// octree, the brute-force oracle and Embree's verify mode all close the
+// window with the same function (src/tie_window.h).
 constexpr double kTieEpsilon = 1e-6;
+
+// Default relative tolerance with which compare_traced() and
+// compare_with_id_buffer() explain a mismatch as a tie. Deliberately ten
+// times kTieEpsilon rather than equal to it: the comparison re-tests both
+// triangles in double, while each tracer ranked float t values that differ
+// from the double ones by its own rounding, so a tie within kTieEpsilon in
+// float can lie further apart in double. Ten tie windows absorb that and are
+// still far below the depth step between two distinct surfaces.
+constexpr double kAgreementTieTolerance = 1e-5;
 
 class Tracer {
  public:
@@ -115,7 +127,7 @@ class BruteForceTracer final : public Tracer {
 enum class EmbreeMode {
   Fast,    // rtcIntersect16, 4x4 pixel packets; no tie resolution
   Single,  // rtcIntersect1 per ray; no tie resolution (benchmark peer)
-  Verify,  // rtcIntersect1, then a second query over [t(1-1e-6), t(1+1e-6)] keeping the lowest index
+  Verify,  // rtcIntersect1, then a second query over [t(1-kTieEpsilon), t(1+kTieEpsilon)] keeping the lowest index
 };
 
 class EmbreeTracer final : public Tracer {
@@ -158,13 +170,13 @@ struct Agreement {
 // the two is hit only with its edges widened by float rounding (see
 // intersect_pixel_double), an edge graze; otherwise a real disagreement.
 Agreement compare_traced(const Scene& scene, const Camera& camera, const uint32_t* a,
-                         const uint32_t* b, double tie_tolerance = 1e-5);
+                         const uint32_t* b, double tie_tolerance = kAgreementTieTolerance);
 
 // Rays (a) against the renderer's ID buffer (b, same encoding). Mismatches
 // are classified the same way; a rasteriser's edge rounding shows up as real
 // disagreements near edges, so use identical_rate() against the target.
 Agreement compare_with_id_buffer(const Scene& scene, const Camera& camera, const uint32_t* rays,
-                                 const uint32_t* id_buffer, double tie_tolerance = 1e-5);
+                                 const uint32_t* id_buffer, double tie_tolerance = kAgreementTieTolerance);
 
 // Double-precision intersection of the ray through pixel centre (x+0.5, y+0.5)
 // with one triangle (no culling), t in [znear, zfar]. Returns Miss, Inside
