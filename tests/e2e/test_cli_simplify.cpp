@@ -1,6 +1,6 @@
-// `perclod simplify` on a real building, through the CLI (simplify_tests
-// does not link the loader). Labels by a fixed rule on the triangle index:
-// t % 5 == 0 perceptible, 1 or 2 imperceptible, 3 or 4 undisplayable.
+// `perclod simplify` on the real building that ships in data/, through the
+// CLI. Labels by a fixed rule on the triangle index: t % 5 == 0 perceptible,
+// 1 or 2 imperceptible, 3 or 4 undisplayable.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -14,7 +14,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* kModel = PERCLOD_SHARED_DATA "/ingolstadt/bldg_4018215.obj";
+const char* kModel = PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj";
 
 std::string run(const std::string& args, int* status) {
   std::string cmd = std::string(PERCLOD_CLI) + " " + args + " 2>/dev/null";
