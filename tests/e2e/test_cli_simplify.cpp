@@ -3,30 +3,20 @@
 // 1 or 2 imperceptible, 3 or 4 undisplayable.
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
+#include "cli_util.h"
+
 namespace {
+
+using perclod::test::run_cli;
 
 namespace fs = std::filesystem;
 
 const char* kModel = PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj";
-
-std::string run(const std::string& args, int* status) {
-  std::string cmd = std::string(PERCLOD_CLI) + " " + args + " 2>/dev/null";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while (p && (n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  int st = p ? pclose(p) : -1;
-  *status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return out;
-}
 
 void write_labels(const fs::path& path, size_t n) {
   std::ofstream f(path);
@@ -46,11 +36,10 @@ TEST(SimplifyCli, PaperKeepsEveryPerceptibleTriangleOfARealBuilding) {
   fs::path dir = fs::temp_directory_path() / "perclod_simplify_cli";
   fs::create_directories(dir);
   write_labels(dir / "labels.txt", 12456);
-  int st = 0;
-  std::string json = run("simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
-                             (dir / "labels.txt").string() + " --out " + (dir / "lod.obj").string() + " --json",
-                         &st);
-  ASSERT_EQ(st, 0) << json;
+  auto r = run_cli("simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
+                   (dir / "labels.txt").string() + " --out " + (dir / "lod.obj").string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string& json = r.out;
   EXPECT_EQ(field(json, "triangles_before", "perceptible"), 2492);
   EXPECT_EQ(field(json, "triangles_after", "perceptible"), 2492);
   EXPECT_LT(field(json, "triangles_after", "imperceptible"), field(json, "triangles_before", "imperceptible"));
@@ -65,14 +54,12 @@ TEST(SimplifyCli, RefusesLabelsOfAnotherModel) {
   fs::path dir = fs::temp_directory_path() / "perclod_simplify_cli_bad";
   fs::create_directories(dir);
   write_labels(dir / "labels.txt", 100);
-  int st = 0;
-  run("simplify " + std::string(kModel) + " --up z --distance 56 --labels " + (dir / "labels.txt").string() +
-          " --out " + (dir / "lod.obj").string(),
-      &st);
-  EXPECT_EQ(st, 1);
+  auto r = run_cli("simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
+                   (dir / "labels.txt").string() + " --out " + (dir / "lod.obj").string());
+  EXPECT_EQ(r.exit_code, 1);
   EXPECT_FALSE(fs::exists(dir / "lod.obj"));
-  run("simplify " + std::string(kModel) + " --distance 56 --mode bounded --out " + (dir / "lod.obj").string(), &st);
-  EXPECT_EQ(st, 1);  // bounded without labels
+  r = run_cli("simplify " + std::string(kModel) + " --distance 56 --mode bounded --out " + (dir / "lod.obj").string());
+  EXPECT_EQ(r.exit_code, 1);  // bounded without labels
   fs::remove_all(dir);
 }
 
