@@ -182,7 +182,7 @@ TEST(Load, AssimpFormatsArriveWithComponents) {
 }
 
 TEST(Load, RealBuildingLoadsWithItsGroups) {
-  Scene s = load_scene(PERCLOD_SHARED_DATA "/ingolstadt/bldg_4018215.obj");
+  Scene s = load_scene(PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj");
   EXPECT_EQ(s.triangle_count(), 12456u);
   EXPECT_EQ(s.component_count(), 50u);  // 51 g lines, one name used twice (the same group)
   // Its coordinates are already offset-free: the recentring offset is the box centre.

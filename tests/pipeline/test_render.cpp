@@ -124,7 +124,7 @@ TEST(Render, TriangleColoursOverrideMaterials) {
 
 TEST(Render, UtmOffsetRendersTheSameImageToThePixel) {
   // The real building, once as shipped and once with a UTM offset added in the file's text.
-  std::ifstream in(PERCLOD_SHARED_DATA "/ingolstadt/bldg_4018215.obj");
+  std::ifstream in(PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj");
   std::ostringstream shifted;
   std::string line;
   while (std::getline(in, line)) {
@@ -147,7 +147,7 @@ TEST(Render, UtmOffsetRendersTheSameImageToThePixel) {
   }
   test::TempDir dir("utm");
   auto utm_path = dir.file("utm.obj", shifted.str());
-  Scene a = load_scene(PERCLOD_SHARED_DATA "/ingolstadt/bldg_4018215.obj");
+  Scene a = load_scene(PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj");
   Scene b = load_scene(utm_path);
   EXPECT_NEAR(b.offset[0] - a.offset[0], 678000.0, 1e-6);
   EXPECT_NEAR(b.offset[1] - a.offset[1], 5403500.0, 1e-6);

@@ -1,4 +1,5 @@
-// Small scene builders and oracles shared by the raycast tests.
+// Small scene builders and oracles shared by the raycast tests (and by
+// e2e/test_raycast_building.cpp, which includes this file by path).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -83,6 +84,28 @@ inline size_t count_nonzero(const std::vector<uint32_t>& v) {
   size_t n = 0;
   for (uint32_t x : v) n += x != 0;
   return n;
+}
+
+// Z-up facade view: eye `distance` in front of the bounding box's -y face.
+inline Camera facade_view(const Scene& s, double distance, double sideways, int w, int h) {
+  const Bounds b = scene_bounds(s);
+  const auto c = b.center();
+  const double diag = b.diagonal();
+  const V3 eye(c[0] + sideways, b.lo[1] - distance, c[2]);
+  return look_at(eye, V3(c[0], c[1], c[2]), V3(0, 0, 1), 0.585, w, h, 0.05, distance + 2 * diag);
+}
+
+// Octree against Embree on one view: identical on >= 99.99% of covered
+// pixels, no real disagreement.
+inline void expect_agreement(const Scene& s, const Camera& cam, const OctreeTracer& oct, const EmbreeTracer& emb) {
+  const auto a = oct.trace(cam);
+  const auto e = emb.trace(cam);
+  const Agreement g = compare_traced(s, cam, a.data(), e.data());
+  EXPECT_GT(g.covered, g.pixels / 50);
+  EXPECT_EQ(g.real_disagreements, 0u);
+  EXPECT_GE(g.identical_rate(), 0.9999) << "identical " << g.identical << " of " << g.covered << ", ties "
+                                        << g.ties << ", edge grazes " << g.edge_grazes;
+  ::testing::Test::RecordProperty("identical_rate", std::to_string(g.identical_rate()));
 }
 
 }  // namespace perclod::test

@@ -1,6 +1,9 @@
 // Test meshes, a tiny OBJ reader, the synthetic label rule and geometric
-// checks shared by the simplify tests.
+// checks shared by the simplify tests (and by e2e/test_simplify_building.cpp,
+// which includes this file by path).
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
@@ -9,6 +12,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -214,6 +218,31 @@ inline double one_sided_hausdorff(const Scene& from, const Scene& to, int sample
       }
   }
   return worst;
+}
+
+// Every perceptible input triangle appears in the output exactly as it was
+// (positions bit-identical, same cyclic order), and nothing else changed label.
+inline void expect_perceptible_preserved(const Scene& in, const std::vector<Label>& labels, const Scene& out,
+                                         const std::vector<uint32_t>& source) {
+  ASSERT_EQ(source.size(), out.triangle_count());
+  std::multiset<Tri> want, got;
+  for (size_t t = 0; t < in.triangle_count(); ++t)
+    if (labels[t] == Label::Perceptible) want.insert(canonical(tri_of(in, t)));
+  for (size_t t = 0; t < out.triangle_count(); ++t) {
+    if (labels[source[t]] != Label::Perceptible) continue;
+    auto tri = canonical(tri_of(out, t));
+    EXPECT_EQ(tri, canonical(tri_of(in, source[t]))) << "output triangle " << t;
+    got.insert(tri);
+  }
+  EXPECT_EQ(want.size(), got.size());
+  EXPECT_TRUE(want == got) << "perceptible triangles differ";
+}
+
+inline void expect_valid(const Scene& s) {
+  for (float x : s.positions) ASSERT_TRUE(std::isfinite(x));
+  for (uint32_t i : s.indices) ASSERT_LT(i, s.vertex_count());
+  EXPECT_EQ(s.component.size(), s.triangle_count());
+  EXPECT_EQ(s.material.size(), s.triangle_count());
 }
 
 }  // namespace perclod::test

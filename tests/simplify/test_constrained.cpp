@@ -7,7 +7,6 @@
 #include <set>
 
 #include "fixtures.h"
-#include "perclod/load.h"
 #include "perclod/simplify.h"
 
 namespace perclod {
@@ -17,31 +16,8 @@ using test::add_box;
 using test::add_grid;
 using test::add_tri;
 using test::add_vertex;
-
-// Every perceptible input triangle appears in the output exactly as it was
-// (positions bit-identical, same cyclic order), and nothing else changed label.
-void expect_perceptible_preserved(const Scene& in, const std::vector<Label>& labels, const Scene& out,
-                                  const std::vector<uint32_t>& source) {
-  ASSERT_EQ(source.size(), out.triangle_count());
-  std::multiset<test::Tri> want, got;
-  for (size_t t = 0; t < in.triangle_count(); ++t)
-    if (labels[t] == Label::Perceptible) want.insert(test::canonical(test::tri_of(in, t)));
-  for (size_t t = 0; t < out.triangle_count(); ++t) {
-    if (labels[source[t]] != Label::Perceptible) continue;
-    auto tri = test::canonical(test::tri_of(out, t));
-    EXPECT_EQ(tri, test::canonical(test::tri_of(in, source[t]))) << "output triangle " << t;
-    got.insert(tri);
-  }
-  EXPECT_EQ(want.size(), got.size());
-  EXPECT_TRUE(want == got) << "perceptible triangles differ";
-}
-
-void expect_valid(const Scene& s) {
-  for (float x : s.positions) ASSERT_TRUE(std::isfinite(x));
-  for (uint32_t i : s.indices) ASSERT_LT(i, s.vertex_count());
-  EXPECT_EQ(s.component.size(), s.triangle_count());
-  EXPECT_EQ(s.material.size(), s.triangle_count());
-}
+using test::expect_perceptible_preserved;
+using test::expect_valid;
 
 // A bumpy 40x40 grid: a perceptible band in the middle, imperceptible around.
 Scene bumpy_grid(std::vector<Label>& labels, double amplitude) {
@@ -343,32 +319,6 @@ TEST(SimplifyPaper, ReportsDisplacementRelativeToTheBox) {
   EXPECT_GT(st.mean_displacement_rel, 0.0);
   EXPECT_LE(st.mean_displacement_rel, st.max_displacement_rel);
   EXPECT_NEAR(st.bbox_diagonal, scene_bounds(in).diagonal(), 1e-6);
-}
-
-TEST(SimplifyPaper, RealBuildingKeepsPerceptibleTriangles) {
-  // One Ingolstadt LOD3 building (Z up) with the synthetic rule: viewer
-  // looking along +y, perceptible from 0.05 m^2.
-  Scene in = load_scene(PERCLOD_SHARED_DATA "/ingolstadt/bldg_4018215.obj");
-  ASSERT_EQ(in.triangle_count(), 12456u);
-  auto labels = test::synthetic_labels(in, {0, 1, 0}, 0.01);
-  for (SimplifyMode mode : {SimplifyMode::Paper, SimplifyMode::Bounded}) {
-    SimplifyOptions opt;
-    opt.mode = mode;
-    opt.pixel_footprint = 0.02;
-    SimplifyStats st;
-    std::vector<uint32_t> src;
-    Scene out = simplify(in, labels, opt, &st, &src);
-    expect_valid(out);
-    expect_perceptible_preserved(in, labels, out, src);
-    EXPECT_GT(st.triangles_before[0], 500u);
-    EXPECT_GT(st.triangles_before[1], 500u);
-    EXPECT_GT(st.triangles_before[2], 500u);
-    EXPECT_LT(st.triangles_after[1], st.triangles_before[1]) << simplify_mode_name(mode);
-    EXPECT_LT(st.triangles_after[2], st.triangles_before[2]) << simplify_mode_name(mode);
-    if (mode == SimplifyMode::Bounded) {
-      EXPECT_LE(st.max_error, 0.02);
-    }
-  }
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <random>
 
-#include "../e2e/cli_util.h"
+#include "cli_util.h"
 
 namespace fs = std::filesystem;
 

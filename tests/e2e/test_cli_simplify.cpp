@@ -1,32 +1,22 @@
-// `perclod simplify` on a real building, through the CLI (simplify_tests
-// does not link the loader). Labels by a fixed rule on the triangle index:
-// t % 5 == 0 perceptible, 1 or 2 imperceptible, 3 or 4 undisplayable.
+// `perclod simplify` on the real building that ships in data/, through the
+// CLI. Labels by a fixed rule on the triangle index: t % 5 == 0 perceptible,
+// 1 or 2 imperceptible, 3 or 4 undisplayable.
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
+
+#include "cli_util.h"
 
 namespace {
 
+using perclod::test::run_cli;
+
 namespace fs = std::filesystem;
 
-const char* kModel = PERCLOD_SHARED_DATA "/ingolstadt/bldg_4018215.obj";
-
-std::string run(const std::string& args, int* status) {
-  std::string cmd = std::string(PERCLOD_CLI) + " " + args + " 2>/dev/null";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while (p && (n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  int st = p ? pclose(p) : -1;
-  *status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return out;
-}
+const char* kModel = PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj";
 
 void write_labels(const fs::path& path, size_t n) {
   std::ofstream f(path);
@@ -46,11 +36,10 @@ TEST(SimplifyCli, PaperKeepsEveryPerceptibleTriangleOfARealBuilding) {
   fs::path dir = fs::temp_directory_path() / "perclod_simplify_cli";
   fs::create_directories(dir);
   write_labels(dir / "labels.txt", 12456);
-  int st = 0;
-  std::string json = run("simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
-                             (dir / "labels.txt").string() + " --out " + dir.string() + " --json",
-                         &st);
-  ASSERT_EQ(st, 0) << json;
+  auto r = run_cli("simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
+                   (dir / "labels.txt").string() + " --out " + dir.string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string& json = r.out;
   EXPECT_EQ(field(json, "triangles_before", "perceptible"), 2492);
   EXPECT_EQ(field(json, "triangles_after", "perceptible"), 2492);
   EXPECT_LT(field(json, "triangles_after", "imperceptible"), field(json, "triangles_before", "imperceptible"));
@@ -67,14 +56,12 @@ TEST(SimplifyCli, RefusesLabelsOfAnotherModel) {
   fs::path dir = fs::temp_directory_path() / "perclod_simplify_cli_bad";
   fs::create_directories(dir);
   write_labels(dir / "labels.txt", 100);
-  int st = 0;
-  run("simplify " + std::string(kModel) + " --up z --distance 56 --labels " + (dir / "labels.txt").string() +
-          " --out " + dir.string(),
-      &st);
-  EXPECT_EQ(st, 1);
+  auto r = run_cli("simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
+                   (dir / "labels.txt").string() + " --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 1);
   EXPECT_FALSE(fs::exists(dir / "bldg_4018215_lod_56m.obj"));
-  run("simplify " + std::string(kModel) + " -d 56 --mode bounded --out " + dir.string(), &st);
-  EXPECT_EQ(st, 1);  // bounded without labels
+  r = run_cli("simplify " + std::string(kModel) + " -d 56 --mode bounded --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 1);  // bounded without labels
   EXPECT_FALSE(fs::exists(dir / "bldg_4018215_lod_56m.obj"));
   fs::remove_all(dir);
 }

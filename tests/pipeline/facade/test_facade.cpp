@@ -1,37 +1,33 @@
 // The parametric facade: counts follow the parameters, the mesh is well
-// formed, and each switch builds the fixture it promises.
+// formed, and each switch builds the fixture it promises. What
+// `perclod generate facade` writes is checked in e2e/test_cli_facade.cpp.
 #include <gtest/gtest.h>
-
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <filesystem>
 #include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "../e2e/cli_util.h"
+#include "facade_fixtures.h"
 #include "perclod/facade.h"
-#include "perclod/load.h"
 
 namespace perclod {
 namespace {
 
-using Vec = std::array<double, 3>;
+using test::facade_fixtures::all_on;
+using test::facade_fixtures::corner;
+using test::facade_fixtures::Vec;
+using test::facade_fixtures::vertex;
 
-Vec vertex(const Scene& s, uint32_t i) {
-  return {s.positions[3 * size_t(i)], s.positions[3 * size_t(i) + 1], s.positions[3 * size_t(i) + 2]};
-}
 Vec sub(Vec a, Vec b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 Vec cross(Vec a, Vec b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 double dot(Vec a, Vec b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 double norm(Vec a) { return std::sqrt(dot(a, a)); }
-Vec corner(const Scene& s, size_t tri, int k) { return vertex(s, s.indices[3 * tri + k]); }
 Vec normal(const Scene& s, size_t tri) {
   Vec a = corner(s, tri, 0);
   return cross(sub(corner(s, tri, 1), a), sub(corner(s, tri, 2), a));
@@ -64,16 +60,6 @@ Box3 box_of(const Scene& s, Pick pick) {
     if (pick(s.component_names[s.component[t]]))
       for (int k = 0; k < 3; ++k) b.add(corner(s, t, k));
   return b;
-}
-
-// Everything switched on, small enough to generate quickly.
-FacadeParams all_on(int floors = 2, int bays = 3, int sides = 1) {
-  FacadeParams p;
-  p.floors = floors;
-  p.bays = bays;
-  p.sides = sides;
-  p.hidden_interior = p.coplanar_panels = p.subpixel_ornaments = true;
-  return p;
 }
 
 TEST(Facade, GeneratedCountEqualsPredictionOverASweep) {
@@ -400,47 +386,6 @@ TEST(Facade, BadParametersNameTheField) {
   p = {};
   p.depth = -1;
   EXPECT_THROW(generate_facade(p), std::invalid_argument);
-}
-
-// `perclod generate facade` writes what the library builds, and the
-// project's loader reads it back with every triangle, group and the offset.
-TEST(Facade, CliWritesTheFacadeAndItLoadsBack) {
-  namespace fs = std::filesystem;
-  fs::path dir = fs::temp_directory_path() / ("perclod-facade-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const std::string obj = (dir / "f.obj").string();
-  auto r = test::run_cli("generate facade --floors 2 --bays 3 --coplanar-panels --hidden-interior " +
-                         obj + " --json");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  FacadeParams p = all_on(2, 3);
-  p.subpixel_ornaments = false;
-  Scene expected = generate_facade(p);
-  auto j = nlohmann::json::parse(r.out);
-  EXPECT_EQ(j["triangles"].get<size_t>(), expected.triangle_count());
-  EXPECT_EQ(j["components"].get<size_t>(), expected.component_count());
-
-  Scene loaded = load_scene(obj);
-  ASSERT_EQ(loaded.triangle_count(), expected.triangle_count());
-  EXPECT_EQ(loaded.component_names, expected.component_names);
-  EXPECT_EQ(loaded.component, expected.component);
-  for (int a = 0; a < 3; ++a) EXPECT_NEAR(loaded.offset[a], expected.offset[a], 1e-6);
-  for (size_t t = 0; t < expected.triangle_count(); t += 97)
-    for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a)
-        EXPECT_NEAR(corner(loaded, t, k)[a], corner(expected, t, k)[a], 1e-4);
-  EXPECT_EQ(analyse_scene(loaded).degenerate_triangles, 0u);
-
-  // A budget picks the building; bad parameters fail with the field's name.
-  r = test::run_cli("generate facade --triangles 20000 " + obj + " --json");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NEAR(nlohmann::json::parse(r.out)["triangles"].get<double>() / 20000.0, 1.0, 0.1);
-  r = test::run_cli("generate facade --floors 0 " + obj);
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("floors"), std::string::npos) << r.err;
-  r = test::run_cli("generate facade --triangles 5 " + obj);
-  EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("smallest building"), std::string::npos) << r.err;
-  fs::remove_all(dir);
 }
 
 }  // namespace
