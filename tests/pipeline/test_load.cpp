@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "perclod/export.h"
 #include "perclod/load.h"
@@ -118,6 +119,32 @@ TEST(Load, LargeOffsetIsRemovedInDoubleAndRestoredOnExport) {
   for (size_t v = 0; v < s.vertex_count(); ++v)
     for (int a = 0; a < 3; ++a)
       EXPECT_NEAR(double(t.positions[3 * v + a]) + t.offset[a], double(s.positions[3 * v + a]) + s.offset[a], 1e-5);
+}
+
+// A scene without component or material arrays (Scene's contract: one
+// component, the default material) exports to OBJ and GLB and loads back; a
+// scene that breaks the contract is refused naming the output file, which is
+// not written.
+TEST(Export, SceneWithoutIdArraysExportsAndBrokenSceneIsRefused) {
+  test::TempDir dir("export-ids");
+  Scene s;
+  s.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  s.indices = {0, 1, 2, 1, 3, 2};
+  for (const char* name : {"bare.obj", "bare.glb"}) {
+    export_scene(s, dir / name);
+    Scene t = load_scene(dir / name);
+    EXPECT_EQ(t.triangle_count(), 2u) << name;
+  }
+  s.component = {0, 7};
+  s.component_names = {"a"};
+  try {
+    export_scene(s, dir / "broken.obj");
+    ADD_FAILURE() << "a component id without a name was exported";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("broken.obj"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("component 7"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "broken.obj"));
 }
 
 TEST(Load, UnitScaleAppliesToCoordinates) {

@@ -167,3 +167,35 @@ TEST(Render, UtmOffsetRendersTheSameImageToThePixel) {
     EXPECT_EQ(oa.ids, ob.ids) << "facade " << f;
   }
 }
+
+// The renderer keeps its own copies: a scene without component or material
+// arrays (Scene's contract: one component, the default material) draws, and
+// the scene may be destroyed between set_scene and render.
+TEST(Render, DrawsASceneWithoutIdArraysAfterTheSceneIsGone) {
+  Camera cam = look_at({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 0.8, 64, 48, 1, 100);
+  Renderer& r = shared_renderer();
+  {
+    Scene s;
+    add_quad(s, -1, -1, 1, 1, 0);
+    s.component.clear();
+    s.material.clear();
+    r.set_scene(s);
+  }
+  RenderOutput out = r.render(cam);
+  const size_t centre = size_t(24) * 64 + 32;
+  EXPECT_TRUE(out.ids[centre] == 1u || out.ids[centre] == 2u) << out.ids[centre];
+  EXPECT_EQ(out.ids[0], 0u);  // a corner shows the background
+  RenderOptions by_component;
+  by_component.color_by = ColorBy::Component;
+  RenderOutput c = r.render(cam, by_component);
+  EXPECT_NE(c.rgb[3 * centre], 255) << "the quad is drawn in its component's colour, not the white background";
+  EXPECT_EQ(c.rgb[0], 255);
+}
+
+TEST(Render, RefusesASceneThatBreaksTheContract) {
+  Scene s;
+  add_quad(s, -1, -1, 1, 1, 0);
+  s.material[1] = 5;
+  EXPECT_THROW(shared_renderer().set_scene(s), std::invalid_argument);
+}
+
