@@ -2,6 +2,7 @@
 #include "perclod/image_io.h"
 
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <stdexcept>
@@ -15,16 +16,22 @@ std::runtime_error io_error(const std::string& path, const std::string& what) {
   return std::runtime_error(path + ": " + what);
 }
 
+// Encodes into memory and writes the bytes with write_bytes_atomic: OIIO's
+// PNG writer does not report a failed write or close (a full disk would leave
+// a truncated PNG under its final name and report success).
 void write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type,
                  const void* data) {
   if (w <= 0 || h <= 0 || channels < 1 || channels > 4) throw io_error(path, "bad image size");
-  auto out = OIIO::ImageOutput::create(path);
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput mem(bytes);
+  auto out = OIIO::ImageOutput::create(path, &mem);
   if (!out) throw io_error(path, "no image writer for this extension");
-  write_atomic(path, [&](const std::string& tmp) {
-    OIIO::ImageSpec spec(w, h, channels, type);
-    if (!out->open(tmp, spec) || !out->write_image(type, data) || !out->close())
-      throw io_error(path, "cannot write image: " + out->geterror());
-  });
+  if (!out->supports("ioproxy")) throw io_error(path, "the image writer cannot write to memory");
+  OIIO::ImageSpec spec(w, h, channels, type);
+  if (!out->set_ioproxy(&mem) || !out->open(path, spec) || !out->write_image(type, data) || !out->close())
+    throw io_error(path, "cannot encode image: " + out->geterror());
+  out.reset();
+  write_bytes_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 template <class T>
