@@ -1,5 +1,7 @@
 #include "common.h"
 
+#include "perclod/outputs.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -44,6 +46,7 @@ std::vector<double> check_distances(const std::vector<double>& d) {
   if (d.empty()) throw std::invalid_argument("give at least one --distance");
   for (double x : d)
     if (!(x > 0) || !std::isfinite(x)) throw std::invalid_argument("distances must be positive metres");
+  check_distinct_tags(d);
   return d;
 }
 

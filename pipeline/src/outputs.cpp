@@ -22,6 +22,21 @@ std::string distance_tag(double d) {
   return ss.str();
 }
 
+void check_distinct_tags(const std::vector<double>& distances) {
+  for (size_t i = 0; i < distances.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (distance_tag(distances[i]) == distance_tag(distances[j])) {
+        char a[32], b[32];
+        std::string sa(a, std::to_chars(a, a + sizeof a, distances[j]).ptr);
+        std::string sb(b, std::to_chars(b, b + sizeof b, distances[i]).ptr);
+        throw std::invalid_argument(
+            (sa == sb ? "distance " + sa + " is given twice"
+                      : "distances " + sa + " and " + sb + " both name their files '" + distance_tag(distances[i]) +
+                            "' and would overwrite each other") +
+            "; give distinct distances");
+      }
+}
+
 OutputNames output_names_for(const std::string& dir, const std::string& input) {
   return {dir, fs::path(input).stem().string()};
 }

@@ -11,6 +11,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace perclod {
 
@@ -38,6 +39,9 @@ OutputNames output_names_for(const std::string& dir, const std::string& input);
 
 // "56m", "12.5m": the distance tag of every distance-tagged file name.
 std::string distance_tag(double distance);
+// Throws std::invalid_argument if two of `distances` have the same distance
+// tag (56 and 56.0000001 both print "56m"): their files would overwrite each other.
+void check_distinct_tags(const std::vector<double>& distances);
 
 // Calls write(temp) to fill a temporary file beside `path`, then renames it
 // to `path`. If `write` throws, or the rename fails, the temporary is removed
