@@ -5,12 +5,17 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <filesystem>
 #include <stdexcept>
 
 #include "perclod/outputs.h"
 
 namespace perclod {
 namespace {
+
+// Largest image perclod reads: renders are a few thousand pixels wide.
+constexpr int kMaxImageSide = 32768;
+constexpr long long kMaxImagePixels = 1LL << 28;
 
 std::runtime_error io_error(const std::string& path, const std::string& what) {
   return std::runtime_error(path + ": " + what);
@@ -39,6 +44,24 @@ std::vector<T> read_image(const std::string& path, OIIO::TypeDesc type, int* w, 
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw io_error(path, "cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
+  // The header's size is untrusted: bound it before allocating (a 68-byte PNG
+  // declaring 60000x60000 asked for 2 x 10.8 GB).
+  const double pixels = double(spec.width) * spec.height;
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1 || spec.nchannels > 16 || spec.depth > 1)
+    throw io_error(path, "unsupported image layout (" + std::to_string(spec.width) + "x" +
+                             std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) + " channels)");
+  if (spec.width > kMaxImageSide || spec.height > kMaxImageSide || pixels > double(kMaxImagePixels))
+    throw io_error(path, "image size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                             " is beyond perclod's limit (" + std::to_string(kMaxImageSide) + " per side, " +
+                             std::to_string(kMaxImagePixels) + " pixels): corrupt or not a perclod image");
+  std::error_code ec;
+  const auto file_bytes = std::filesystem::file_size(path, ec);
+  // Deflate (PNG) expands at most ~1032:1; allow some slack for the format's own structures.
+  if (!ec && std::string(in->format_name()) == "png" &&
+      pixels * spec.nchannels * spec.format.size() > 1100.0 * double(file_bytes) + 65536)
+    throw io_error(path, "PNG header declares " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                             " pixels, more than its " + std::to_string(file_bytes) +
+                             " bytes can hold (truncated or corrupt)");
   *w = spec.width;
   *h = spec.height;
   *c = spec.nchannels;
