@@ -477,7 +477,6 @@ uint32_t le32(const std::string& d, size_t at) {
 // A GLB's header length and chunk lengths must match the file.
 void check_glb(const std::string& path, const std::string& d) {
   if (d.size() < 20) fail(path, "GLB file too short for its header (" + std::to_string(d.size()) + " bytes)");
-  if (d.compare(0, 4, "glTF") != 0) fail(path, "not a GLB file (it does not start with 'glTF')");
   const uint64_t total = le32(d, 8);
   if (total > d.size())
     fail(path, "GLB header says " + std::to_string(total) + " bytes but the file has only " +
@@ -496,9 +495,10 @@ void check_glb(const std::string& path, const std::string& d) {
 
 RawModel read_assimp(const std::string& path, LoadReport& rep) {
   const std::string data = read_file(path);  // same existence / readability errors as OBJ
-  const std::string ext = lower_extension(path);
-  if (ext == ".ply" || data.compare(0, 4, "ply\n") == 0 || data.compare(0, 5, "ply\r\n") == 0) check_ply(path, data);
-  if (ext == ".glb" || data.compare(0, 4, "glTF") == 0) check_glb(path, data);
+  // Only files that claim the format by their magic: anything else is left to
+  // assimp (and its "cannot parse" message).
+  if (data.compare(0, 4, "ply\n") == 0 || data.compare(0, 5, "ply\r\n") == 0) check_ply(path, data);
+  if (data.compare(0, 4, "glTF") == 0) check_glb(path, data);
   // No aiProcess_Triangulate: perclod triangulates, so it can count polygons.
   // aiProcess_ValidateDataStructure runs before the other steps: without it a
   // truncated binary PLY's out-of-range face indices crashed JoinIdenticalVertices.
