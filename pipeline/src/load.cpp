@@ -65,7 +65,8 @@ constexpr size_t kLargePolygon = 1000;
 // walks on after each ear (never rescanning from the start), and an ear test
 // against the reflex corners only (a convex corner cannot lie inside an ear),
 // found through a uniform grid. Same ear rule as triangulate(); gives up to a
-// fan the same way when no ear is left.
+// fan the same way when no ear is left, or when a work budget linear in the
+// corner count is spent (hostile shapes: the rest is a fan, possibly overlapping).
 template <class FX, class FY, class FC>
 void triangulate_large(const std::vector<uint32_t>& poly, const FX& X, const FY& Y, const FC& cross,
                        std::vector<uint32_t>& out) {
@@ -89,16 +90,24 @@ void triangulate_large(const std::vector<uint32_t>& poly, const FX& X, const FY&
       reflex[i] = 1, ++reflex_left;
       grid[size_t(cell(Y(poly[i]), lo[1], ch)) * side + cell(X(poly[i]), lo[0], cw)].push_back(i);
     }
+  // Work budget (ear tests, grid cells and corners visited): shapes such as
+  // spirals have only a few ears at a time and would still clip in O(n^2).
+  // Once spent, the rest becomes a fan, as when no ear is left.
+  long long budget = 200LL * (long long)n;
   auto is_ear = [&](uint32_t b) {
     const uint32_t ia = prev[b], ic = next[b];
     const uint32_t a = poly[ia], v = poly[b], c = poly[ic];
+    --budget;
     if (cross(a, v, c) <= 0) return false;  // reflex or flat corner
     if (reflex_left == 0) return true;
     const int x0 = cell(std::min({X(a), X(v), X(c)}), lo[0], cw), x1 = cell(std::max({X(a), X(v), X(c)}), lo[0], cw);
     const int y0 = cell(std::min({Y(a), Y(v), Y(c)}), lo[1], ch), y1 = cell(std::max({Y(a), Y(v), Y(c)}), lo[1], ch);
+    budget -= (long long)(y1 - y0 + 1) * (x1 - x0 + 1);
+    if (budget < 0) return false;
     for (int gy = y0; gy <= y1; ++gy)
       for (int gx = x0; gx <= x1; ++gx)
         for (uint32_t j : grid[size_t(gy) * side + gx]) {
+          --budget;
           if (!alive[j] || !reflex[j]) continue;
           const uint32_t q = poly[j];
           if (q == a || q == v || q == c) continue;
@@ -109,7 +118,7 @@ void triangulate_large(const std::vector<uint32_t>& poly, const FX& X, const FY&
   size_t left = n;
   uint32_t cur = 0, stop = 0;
   bool first = true;
-  while (left > 3) {
+  while (left > 3 && budget > 0) {
     if (!first && cur == stop) break;  // a whole turn without an ear
     first = false;
     if (!is_ear(cur)) {

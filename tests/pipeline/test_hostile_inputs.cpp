@@ -238,3 +238,26 @@ TEST(HostileInputs, AHugePolygonTriangulatesInNearLinearTime) {
   }
   EXPECT_NEAR(area, poly, 1e-3 * poly);
 }
+
+// A spiral band has only a few ears at a time: ear clipping alone is O(n^2)
+// (over 140 s for 100k corners). The work budget bounds it; the rest is a fan.
+TEST(HostileInputs, AHugeSpiralPolygonStillLoadsQuickly) {
+  test::TempDir dir("spiral");
+  const int half = 50000;
+  std::string obj;
+  for (int side = 0; side < 2; ++side)
+    for (int k = 0; k < half; ++k) {
+      int i = side == 0 ? k : half - 1 - k;
+      double a = i * 0.01, r = 1 + a * 0.5 - (side ? 0.2 : 0.0);
+      obj.append("v ").append(std::to_string(r * std::cos(a))).append(" ");
+      obj.append(std::to_string(r * std::sin(a))).append(" 0\n");
+    }
+  obj += "f";
+  for (int i = 1; i <= 2 * half; ++i) obj.append(1, ' ').append(std::to_string(i));
+  obj += "\n";
+  auto p = dir.file("spiral.obj", obj);
+  auto t0 = std::chrono::steady_clock::now();
+  Scene s = load_scene(p);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+  EXPECT_EQ(s.triangle_count(), size_t(2 * half - 2));
+}
