@@ -68,6 +68,7 @@ TEST(ReliabilityCli, DistancesThatNameTheSameFilesAreRefused) {
   auto r = run_cli("render " + kBuilding + " --up z -d 56,56.0000001 -f +x -o " + out.string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("56 and 56.0000001 both name their files '56m'"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("loaded"), std::string::npos) << "refused only after loading the model:\n" << r.err;
   EXPECT_TRUE(fs::is_empty(out)) << listing(out);
   std::ofstream(out / "job.yaml") << "model: " << kBuilding << "\nup: z\nout: " << (out / "o").string()
                                   << "\ndistances: [56, 56.0000001]\n";
