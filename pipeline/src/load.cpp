@@ -68,7 +68,7 @@ constexpr size_t kLargePolygon = 1000;
 // fan the same way when no ear is left, or when a work budget linear in the
 // corner count is spent (hostile shapes: the rest is a fan, possibly overlapping).
 template <class FX, class FY, class FC>
-void triangulate_large(const std::vector<uint32_t>& poly, const FX& X, const FY& Y, const FC& cross,
+bool triangulate_large(const std::vector<uint32_t>& poly, const FX& X, const FY& Y, const FC& cross,
                        std::vector<uint32_t>& out) {
   const size_t n = poly.size();
   std::vector<uint32_t> prev(n), next(n);
@@ -140,16 +140,18 @@ void triangulate_large(const std::vector<uint32_t>& poly, const FX& X, const FY&
   std::vector<uint32_t> ring;
   for (uint32_t i = cur, k = 0; k < left; ++k, i = next[i]) ring.push_back(poly[i]);
   for (size_t i = 1; i + 1 < ring.size(); ++i) out.insert(out.end(), {ring[0], ring[i], ring[i + 1]});
+  return ring.size() > 3;
 }
 
 // Triangulates polygon `poly` (indices into pos) by ear clipping in the plane
-// of its Newell normal; falls back to a fan if the polygon is self-intersecting.
-void triangulate(const std::vector<double>& pos, const std::vector<uint32_t>& poly,
+// of its Newell normal; falls back to a fan if the polygon is self-intersecting
+// (or too costly to clip); returns whether that fallback fanned over 3 corners.
+bool triangulate(const std::vector<double>& pos, const std::vector<uint32_t>& poly,
                  std::vector<uint32_t>& out) {
   size_t n = poly.size();
   if (n == 3) {
     out.insert(out.end(), poly.begin(), poly.end());
-    return;
+    return false;
   }
   auto P = [&](uint32_t i, int a) { return pos[3 * size_t(i) + a]; };
   double nx = 0, ny = 0, nz = 0;
@@ -195,6 +197,7 @@ void triangulate(const std::vector<double>& pos, const std::vector<uint32_t>& po
   }
   // Whatever is left (3 corners, or a polygon ear clipping could not handle): a fan.
   for (size_t i = 1; i + 1 < ring.size(); ++i) out.insert(out.end(), {ring[0], ring[i], ring[i + 1]});
+  return ring.size() > 3;
 }
 
 // ---------------------------------------------------------------- OBJ
@@ -324,7 +327,7 @@ RawModel read_obj(const std::string& path, LoadReport& rep) {
         m.materials.push_back({"default", {0.8f, 0.8f, 0.8f}, false});
       }
       size_t before = m.indices.size();
-      triangulate(m.positions, poly, m.indices);
+      rep.polygons_fanned += triangulate(m.positions, poly, m.indices);
       for (size_t t = before / 3; t < m.indices.size() / 3; ++t) {
         m.component.push_back(comp);
         m.material.push_back(mat);
@@ -402,7 +405,7 @@ void assimp_node(const aiScene* sc, const aiNode* node, const aiMatrix4x4& paren
       }
       if (poly.size() > 3) ++rep.polygons_triangulated;
       size_t before = m.indices.size();
-      triangulate(m.positions, poly, m.indices);
+      rep.polygons_fanned += triangulate(m.positions, poly, m.indices);
       for (size_t t = before / 3; t < m.indices.size() / 3; ++t) {
         m.component.push_back(comp);
         m.material.push_back(mesh->mMaterialIndex);

@@ -219,7 +219,9 @@ TEST(HostileInputs, AHugePolygonTriangulatesInNearLinearTime) {
   obj += "\n";
   auto p = dir.file("star.obj", obj);
   auto t0 = std::chrono::steady_clock::now();
-  Scene s = load_scene(p);
+  LoadReport rep;
+  Scene s = load_scene(p, {}, &rep);
+  EXPECT_EQ(rep.polygons_fanned, 0u);  // clipped all the way
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(s.triangle_count(), size_t(n - 2));
   EXPECT_LT(seconds, 5.0);
@@ -257,7 +259,9 @@ TEST(HostileInputs, AHugeSpiralPolygonStillLoadsQuickly) {
   obj += "\n";
   auto p = dir.file("spiral.obj", obj);
   auto t0 = std::chrono::steady_clock::now();
-  Scene s = load_scene(p);
+  LoadReport rep;
+  Scene s = load_scene(p, {}, &rep);
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
   EXPECT_EQ(s.triangle_count(), size_t(2 * half - 2));
+  EXPECT_EQ(rep.polygons_fanned, 1u);  // reported, for `perclod info` and the load message
 }
