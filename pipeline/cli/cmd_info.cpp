@@ -39,6 +39,9 @@ void register_info(CLI::App& app) {
     std::printf("file                 %s\n", model->path.c_str());
     std::printf("triangles            %zu (%zu polygons, %zu triangulated)\n", info.triangles, rep.polygons,
                 rep.polygons_triangulated);
+    if (rep.polygons_fanned)
+      std::printf("fanned polygons      %zu (ear clipping could not finish them: the rest is a fan that may "
+                  "overlap)\n", rep.polygons_fanned);
     std::printf("vertices             %zu\n", info.vertices);
     std::printf("components           %zu%s\n", info.components,
                 rep.components_from_connectivity ? " (connected parts: the file has no groups)" : "");

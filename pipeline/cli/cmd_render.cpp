@@ -30,12 +30,12 @@ void register_render(CLI::App& app) {
   cmd->add_flag("--json", a->json, "Print a JSON summary on stdout");
   cmd->footer("Files: OUT/<model>_<facade>_<distance>m.png (+ _ids.tif, _depth.tif). Row 0 is the top row.");
   cmd->callback([a] {
-    Scene s = a->model.load();
     RenderViewsJob job;
+    job.distances = check_distances(a->distances);  // before a long load
+    Scene s = a->model.load();
     job.out = output_names_for(a->out, a->model.path);
     job.up = a->model.up_axis();
     job.facades = parse_facades(a->facades, job.up);
-    job.distances = check_distances(a->distances);
     job.display = a->display.profile();
     job.write_ids = a->ids;
     job.write_depth = a->depth;

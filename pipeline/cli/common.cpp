@@ -1,5 +1,7 @@
 #include "common.h"
 
+#include "perclod/outputs.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -25,6 +27,9 @@ Scene load_model(const std::string& path, const LoadOptions& options, LoadReport
     std::fprintf(stderr, "loaded %s: %zu triangles, %zu components in %.2f s", path.c_str(), s.triangle_count(),
                  s.component_count(), rep.seconds);
     if (rep.degenerate_triangles) std::fprintf(stderr, " (%zu degenerate triangles kept)", rep.degenerate_triangles);
+    if (rep.polygons_fanned)
+      std::fprintf(stderr, " (%zu polygons ear clipping could not finish: their rest is a fan that may overlap)",
+                   rep.polygons_fanned);
     std::fprintf(stderr, "\n");
   }
   if (report) *report = rep;
@@ -44,6 +49,7 @@ std::vector<double> check_distances(const std::vector<double>& d) {
   if (d.empty()) throw std::invalid_argument("give at least one --distance");
   for (double x : d)
     if (!(x > 0) || !std::isfinite(x)) throw std::invalid_argument("distances must be positive metres");
+  check_distinct_tags(d);
   return d;
 }
 
@@ -51,11 +57,13 @@ std::vector<double> check_distances(const std::vector<double>& d) {
 void print_progress(const std::string& message) { std::fprintf(stderr, "%s\n", message.c_str()); }
 
 nlohmann::json to_json(const LoadReport& r) {
-  return {{"polygons", r.polygons},
-          {"polygons_triangulated", r.polygons_triangulated},
-          {"degenerate_triangles", r.degenerate_triangles},
-          {"components_from_connectivity", r.components_from_connectivity},
-          {"seconds", r.seconds}};
+  nlohmann::json j = {{"polygons", r.polygons},
+                      {"polygons_triangulated", r.polygons_triangulated},
+                      {"degenerate_triangles", r.degenerate_triangles},
+                      {"components_from_connectivity", r.components_from_connectivity},
+                      {"seconds", r.seconds}};
+  if (r.polygons_fanned) j["polygons_fanned"] = r.polygons_fanned;  // only when it happened
+  return j;
 }
 
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }

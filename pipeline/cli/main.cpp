@@ -3,6 +3,7 @@
 #include <exception>
 
 #include "commands.h"
+#include "perclod/outputs.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -22,6 +23,8 @@ int main(int argc, char** argv) {
   perclod::cli::register_simplify(app);
   perclod::cli::register_run(app);
 
+  // An interrupted run leaves no temporaries behind (finished files stay).
+  perclod::remove_temporaries_on_signals();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

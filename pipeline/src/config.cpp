@@ -3,6 +3,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "perclod/outputs.h"
+
 #include <filesystem>
 #include <stdexcept>
 
@@ -100,6 +102,11 @@ BatchConfig load_batch_config(const std::string& path) {
     }
   }
   if (c.distances.empty()) throw config_error(path, "'distances' is required (a list of metres)");
+  try {
+    check_distinct_tags(c.distances);
+  } catch (const std::invalid_argument& e) {
+    throw config_error(path, std::string("'distances': ") + e.what());
+  }
   return c;
 }
 

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <filesystem>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 
 #define TINYGLTF_NO_STB_IMAGE
@@ -163,11 +164,13 @@ void export_glb(const Scene& s, const std::string& path) {
   model.buffers.push_back(buffer);
   model.asset.version = "2.0";
   model.asset.generator = "perclod";
-  write_atomic(path, [&](const std::string& tmp) {
-    tinygltf::TinyGLTF gltf;
-    if (!gltf.WriteGltfSceneToFile(&model, tmp, true, true, false, true))
-      throw std::runtime_error(path + ": cannot write GLB");
-  });
+  // Serialised in memory, then written with checked syscalls: tinygltf's file
+  // writer does not report a failed stream (a full disk gave a truncated GLB).
+  std::ostringstream glb;
+  tinygltf::TinyGLTF gltf;
+  if (!gltf.WriteGltfSceneToStream(&model, glb, false, true) || !glb)
+    throw std::runtime_error(path + ": cannot encode GLB");
+  write_bytes_atomic(path, glb.str());
 }
 
 }  // namespace

@@ -2,8 +2,10 @@
 #include "perclod/image_io.h"
 
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <filesystem>
 #include <stdexcept>
 
 #include "perclod/outputs.h"
@@ -11,20 +13,30 @@
 namespace perclod {
 namespace {
 
+// Largest image perclod reads: renders are a few thousand pixels wide.
+constexpr int kMaxImageSide = 32768;
+constexpr long long kMaxImagePixels = 1LL << 28;
+
 std::runtime_error io_error(const std::string& path, const std::string& what) {
   return std::runtime_error(path + ": " + what);
 }
 
+// Encodes into memory and writes the bytes with write_bytes_atomic: OIIO's
+// PNG writer does not report a failed write or close (a full disk would leave
+// a truncated PNG under its final name and report success).
 void write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type,
                  const void* data) {
   if (w <= 0 || h <= 0 || channels < 1 || channels > 4) throw io_error(path, "bad image size");
-  auto out = OIIO::ImageOutput::create(path);
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput mem(bytes);
+  auto out = OIIO::ImageOutput::create(path, &mem);
   if (!out) throw io_error(path, "no image writer for this extension");
-  write_atomic(path, [&](const std::string& tmp) {
-    OIIO::ImageSpec spec(w, h, channels, type);
-    if (!out->open(tmp, spec) || !out->write_image(type, data) || !out->close())
-      throw io_error(path, "cannot write image: " + out->geterror());
-  });
+  if (!out->supports("ioproxy")) throw io_error(path, "the image writer cannot write to memory");
+  OIIO::ImageSpec spec(w, h, channels, type);
+  if (!out->set_ioproxy(&mem) || !out->open(path, spec) || !out->write_image(type, data) || !out->close())
+    throw io_error(path, "cannot encode image: " + out->geterror());
+  out.reset();
+  write_bytes_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 template <class T>
@@ -32,6 +44,24 @@ std::vector<T> read_image(const std::string& path, OIIO::TypeDesc type, int* w, 
   auto in = OIIO::ImageInput::open(path);
   if (!in) throw io_error(path, "cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
+  // The header's size is untrusted: bound it before allocating (a 68-byte PNG
+  // declaring 60000x60000 asked for 2 x 10.8 GB).
+  const double pixels = double(spec.width) * spec.height;
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1 || spec.nchannels > 16 || spec.depth > 1)
+    throw io_error(path, "unsupported image layout (" + std::to_string(spec.width) + "x" +
+                             std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) + " channels)");
+  if (spec.width > kMaxImageSide || spec.height > kMaxImageSide || pixels > double(kMaxImagePixels))
+    throw io_error(path, "image size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                             " is beyond perclod's limit (" + std::to_string(kMaxImageSide) + " per side, " +
+                             std::to_string(kMaxImagePixels) + " pixels): corrupt or not a perclod image");
+  std::error_code ec;
+  const auto file_bytes = std::filesystem::file_size(path, ec);
+  // Deflate (PNG) expands at most ~1032:1; allow some slack for the format's own structures.
+  if (!ec && std::string(in->format_name()) == "png" &&
+      pixels * spec.nchannels * spec.format.size() > 1100.0 * double(file_bytes) + 65536)
+    throw io_error(path, "PNG header declares " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                             " pixels, more than its " + std::to_string(file_bytes) +
+                             " bytes can hold (truncated or corrupt)");
   *w = spec.width;
   *h = spec.height;
   *c = spec.nchannels;

@@ -7,11 +7,13 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -46,16 +48,110 @@ std::string read_file(const std::string& path) {
   return ss.str();
 }
 
+std::string lower_extension(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  for (auto& ch : e) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  return e;
+}
+
 // ---------------------------------------------------------------- polygons
 
+// Polygons with more corners than this are clipped by triangulate_large:
+// ear clipping below restarts its scan after every ear and tests every
+// corner, O(n^2) or worse (one 100k-corner polygon took 35 s).
+constexpr size_t kLargePolygon = 1000;
+
+// Ear clipping in near-linear time for large polygons: a linked ring that
+// walks on after each ear (never rescanning from the start), and an ear test
+// against the reflex corners only (a convex corner cannot lie inside an ear),
+// found through a uniform grid. Same ear rule as triangulate(); gives up to a
+// fan the same way when no ear is left, or when a work budget linear in the
+// corner count is spent (hostile shapes: the rest is a fan, possibly overlapping).
+template <class FX, class FY, class FC>
+bool triangulate_large(const std::vector<uint32_t>& poly, const FX& X, const FY& Y, const FC& cross,
+                       std::vector<uint32_t>& out) {
+  const size_t n = poly.size();
+  std::vector<uint32_t> prev(n), next(n);
+  std::vector<char> alive(n, 1), reflex(n, 0);
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (size_t i = 0; i < n; ++i) {
+    prev[i] = uint32_t((i + n - 1) % n), next[i] = uint32_t((i + 1) % n);
+    lo[0] = std::min(lo[0], X(poly[i])), hi[0] = std::max(hi[0], X(poly[i]));
+    lo[1] = std::min(lo[1], Y(poly[i])), hi[1] = std::max(hi[1], Y(poly[i]));
+  }
+  auto corner_cross = [&](uint32_t i) { return cross(poly[prev[i]], poly[i], poly[next[i]]); };
+  const int side = std::max(1, int(std::sqrt(double(n))));
+  const double cw = std::max(hi[0] - lo[0], 1e-300) / side, ch = std::max(hi[1] - lo[1], 1e-300) / side;
+  auto cell = [&](double v, double l, double c) { return std::clamp(int((v - l) / c), 0, side - 1); };
+  std::vector<std::vector<uint32_t>> grid(size_t(side) * side);
+  size_t reflex_left = 0;
+  for (uint32_t i = 0; i < n; ++i)
+    if (corner_cross(i) <= 0) {
+      reflex[i] = 1, ++reflex_left;
+      grid[size_t(cell(Y(poly[i]), lo[1], ch)) * side + cell(X(poly[i]), lo[0], cw)].push_back(i);
+    }
+  // Work budget (ear tests, grid cells and corners visited): shapes such as
+  // spirals have only a few ears at a time and would still clip in O(n^2).
+  // Once spent, the rest becomes a fan, as when no ear is left.
+  long long budget = 200LL * (long long)n;
+  auto is_ear = [&](uint32_t b) {
+    const uint32_t ia = prev[b], ic = next[b];
+    const uint32_t a = poly[ia], v = poly[b], c = poly[ic];
+    --budget;
+    if (cross(a, v, c) <= 0) return false;  // reflex or flat corner
+    if (reflex_left == 0) return true;
+    const int x0 = cell(std::min({X(a), X(v), X(c)}), lo[0], cw), x1 = cell(std::max({X(a), X(v), X(c)}), lo[0], cw);
+    const int y0 = cell(std::min({Y(a), Y(v), Y(c)}), lo[1], ch), y1 = cell(std::max({Y(a), Y(v), Y(c)}), lo[1], ch);
+    budget -= (long long)(y1 - y0 + 1) * (x1 - x0 + 1);
+    if (budget < 0) return false;
+    for (int gy = y0; gy <= y1; ++gy)
+      for (int gx = x0; gx <= x1; ++gx)
+        for (uint32_t j : grid[size_t(gy) * side + gx]) {
+          --budget;
+          if (!alive[j] || !reflex[j]) continue;
+          const uint32_t q = poly[j];
+          if (q == a || q == v || q == c) continue;
+          if (cross(a, v, q) >= 0 && cross(v, c, q) >= 0 && cross(c, a, q) >= 0) return false;
+        }
+    return true;
+  };
+  size_t left = n;
+  uint32_t cur = 0, stop = 0;
+  bool first = true;
+  while (left > 3 && budget > 0) {
+    if (!first && cur == stop) break;  // a whole turn without an ear
+    first = false;
+    if (!is_ear(cur)) {
+      cur = next[cur];
+      continue;
+    }
+    const uint32_t a = prev[cur], c = next[cur];
+    out.insert(out.end(), {poly[a], poly[cur], poly[c]});
+    alive[cur] = 0;
+    if (reflex[cur]) reflex[cur] = 0, --reflex_left;
+    next[a] = c, prev[c] = a;
+    --left;
+    for (uint32_t k : {a, c})
+      if (reflex[k] && corner_cross(k) > 0) reflex[k] = 0, --reflex_left;  // a reflex corner turned convex
+    cur = next[c];  // walk on: strips, not a fan of ever longer triangles
+    stop = cur, first = true;
+  }
+  // Whatever is left: a fan, as in triangulate().
+  std::vector<uint32_t> ring;
+  for (uint32_t i = cur, k = 0; k < left; ++k, i = next[i]) ring.push_back(poly[i]);
+  for (size_t i = 1; i + 1 < ring.size(); ++i) out.insert(out.end(), {ring[0], ring[i], ring[i + 1]});
+  return ring.size() > 3;
+}
+
 // Triangulates polygon `poly` (indices into pos) by ear clipping in the plane
-// of its Newell normal; falls back to a fan if the polygon is self-intersecting.
-void triangulate(const std::vector<double>& pos, const std::vector<uint32_t>& poly,
+// of its Newell normal; falls back to a fan if the polygon is self-intersecting
+// (or too costly to clip); returns whether that fallback fanned over 3 corners.
+bool triangulate(const std::vector<double>& pos, const std::vector<uint32_t>& poly,
                  std::vector<uint32_t>& out) {
   size_t n = poly.size();
   if (n == 3) {
     out.insert(out.end(), poly.begin(), poly.end());
-    return;
+    return false;
   }
   auto P = [&](uint32_t i, int a) { return pos[3 * size_t(i) + a]; };
   double nx = 0, ny = 0, nz = 0;
@@ -76,6 +172,7 @@ void triangulate(const std::vector<double>& pos, const std::vector<uint32_t>& po
   auto cross = [&](uint32_t a, uint32_t b, uint32_t c) {
     return (X(b) - X(a)) * (Y(c) - Y(a)) - (Y(b) - Y(a)) * (X(c) - X(a));
   };
+  if (n > kLargePolygon) return triangulate_large(poly, X, Y, cross, out);
   std::vector<uint32_t> ring(poly);
   size_t guard = 0;
   while (ring.size() > 3 && guard < 4 * n * n) {
@@ -100,6 +197,7 @@ void triangulate(const std::vector<double>& pos, const std::vector<uint32_t>& po
   }
   // Whatever is left (3 corners, or a polygon ear clipping could not handle): a fan.
   for (size_t i = 1; i + 1 < ring.size(); ++i) out.insert(out.end(), {ring[0], ring[i], ring[i + 1]});
+  return ring.size() > 3;
 }
 
 // ---------------------------------------------------------------- OBJ
@@ -132,6 +230,29 @@ bool parse_double(std::string_view w, double& v) {
   if (!w.empty() && w[0] == '+') w.remove_prefix(1);
   auto r = std::from_chars(w.data(), w.data() + w.size(), v);
   return r.ec == std::errc() && r.ptr == w.data() + w.size();
+}
+
+// A whole integer, nothing after it ("2x" and "1.5" are not).
+bool parse_long(std::string_view w, long& v) {
+  auto r = std::from_chars(w.data(), w.data() + w.size(), v);
+  return r.ec == std::errc() && r.ptr == w.data() + w.size();
+}
+
+// A face corner "v", "v/vt", "v//vn" or "v/vt/vn": every part a whole
+// integer (only vt may be left out, and only before "/vn"), v non-zero.
+bool parse_corner(std::string_view w, long& vertex) {
+  std::string_view parts[4];
+  int n = 0;
+  for (size_t slash; n < 4; w.remove_prefix(slash + 1)) {
+    slash = w.find('/');
+    parts[n++] = w.substr(0, slash);
+    if (slash == std::string_view::npos) break;
+  }
+  if (n > 3 || !parse_long(parts[0], vertex) || vertex == 0) return false;
+  long unused;
+  for (int i = 1; i < n; ++i)
+    if (!(i == 1 && n == 3 && parts[i].empty()) && !parse_long(parts[i], unused)) return false;
+  return true;
 }
 
 void read_mtl(const std::string& path, std::map<std::string, std::array<float, 3>>& colors) {
@@ -187,10 +308,8 @@ RawModel read_obj(const std::string& path, LoadReport& rep) {
       size_t nv = m.positions.size() / 3;
       while (!c.at_end()) {
         std::string_view w = c.word();
-        std::string_view vi = w.substr(0, w.find('/'));
         long idx = 0;
-        auto r = std::from_chars(vi.data(), vi.data() + vi.size(), idx);
-        if (r.ec != std::errc() || idx == 0)
+        if (!parse_corner(w, idx))
           fail(path, "face corner '" + std::string(w) + "' is not a vertex index", line_no);
         long resolved = idx > 0 ? idx - 1 : long(nv) + idx;  // negative: relative to the end
         if (resolved < 0 || resolved >= long(nv))
@@ -208,7 +327,7 @@ RawModel read_obj(const std::string& path, LoadReport& rep) {
         m.materials.push_back({"default", {0.8f, 0.8f, 0.8f}, false});
       }
       size_t before = m.indices.size();
-      triangulate(m.positions, poly, m.indices);
+      rep.polygons_fanned += triangulate(m.positions, poly, m.indices);
       for (size_t t = before / 3; t < m.indices.size() / 3; ++t) {
         m.component.push_back(comp);
         m.material.push_back(mat);
@@ -231,6 +350,27 @@ RawModel read_obj(const std::string& path, LoadReport& rep) {
     if (it != mtl_colors.end()) mt.color = it->second, mt.has_color = true;
   }
   return m;
+}
+
+// A file without an extension is read as OBJ (in double precision, like any
+// .obj) if its first statements are OBJ statements and one is a vertex.
+bool looks_like_obj(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::string head(65536, '\0');
+  f.read(head.data(), std::streamsize(head.size()));
+  head.resize(size_t(f.gcount()));
+  std::istringstream lines(head);
+  std::string line;
+  bool vertex = false;
+  for (int n = 0; n < 200 && std::getline(lines, line); ++n) {
+    std::istringstream ls(line);
+    std::string key;
+    if (!(ls >> key) || key[0] == '#') continue;
+    static const char* kObj[] = {"v", "vt", "vn", "vp", "f", "l", "p", "g", "o", "s", "usemtl", "mtllib"};
+    if (std::find(std::begin(kObj), std::end(kObj), key) == std::end(kObj)) return false;
+    vertex |= key == "v";
+  }
+  return vertex;
 }
 
 // ---------------------------------------------------------------- assimp
@@ -265,7 +405,7 @@ void assimp_node(const aiScene* sc, const aiNode* node, const aiMatrix4x4& paren
       }
       if (poly.size() > 3) ++rep.polygons_triangulated;
       size_t before = m.indices.size();
-      triangulate(m.positions, poly, m.indices);
+      rep.polygons_fanned += triangulate(m.positions, poly, m.indices);
       for (size_t t = before / 3; t < m.indices.size() / 3; ++t) {
         m.component.push_back(comp);
         m.material.push_back(mesh->mMaterialIndex);
@@ -275,10 +415,106 @@ void assimp_node(const aiScene* sc, const aiNode* node, const aiMatrix4x4& paren
   for (unsigned c = 0; c < node->mNumChildren; ++c) assimp_node(sc, node->mChildren[c], xf, m, rep, path);
 }
 
+// Checks made before assimp sees a file: assimp trusts declared sizes (a PLY
+// declaring 1e8 vertices in 108 bytes read for minutes) and tries every
+// reader on a file its own reader refuses (a GLB with a corrupt chunk length
+// took 47 s to be rejected).
+
+// Bytes one PLY property takes in a binary file, 0 for an unknown type.
+size_t ply_type_size(std::string_view t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+// A PLY header's element counts must fit in the bytes after it: at least the
+// fixed-size properties (and list counts) per element in binary, at least two
+// bytes ("0 ") per value in ASCII.
+void check_ply(const std::string& path, const std::string& data) {
+  size_t end = data.find("end_header");
+  if (end == std::string::npos) fail(path, "PLY file without 'end_header' (truncated or not a PLY file)");
+  size_t body = data.find('\n', end);
+  body = body == std::string::npos ? data.size() : body + 1;
+  const double available = double(data.size() - body);
+  std::istringstream header(data.substr(0, end));
+  std::string line, format;
+  struct Element {
+    std::string name;
+    double count = 0, min_bytes = 0;
+  };
+  std::vector<Element> elements;
+  while (std::getline(header, line)) {
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    if (key == "format") {
+      ls >> format;
+    } else if (key == "element") {
+      Element e;
+      std::string count;
+      ls >> e.name >> count;
+      unsigned long long n = 0;
+      auto r = std::from_chars(count.data(), count.data() + count.size(), n);
+      if (r.ec != std::errc() || r.ptr != count.data() + count.size())
+        fail(path, "PLY header: element '" + e.name + "' count '" + count + "' is not a number");
+      e.count = double(n);
+      elements.push_back(e);
+    } else if (key == "property" && !elements.empty()) {
+      std::string type;
+      ls >> type;
+      if (type == "list") ls >> type;  // the count's type: an empty list still holds it
+      elements.back().min_bytes += format == "ascii" ? 2 : double(std::max<size_t>(1, ply_type_size(type)));
+    }
+  }
+  double needed = 0;
+  const Element* largest = nullptr;
+  for (const auto& e : elements) {
+    needed += e.count * e.min_bytes;
+    if (!largest || e.count * e.min_bytes > largest->count * largest->min_bytes) largest = &e;
+  }
+  if (needed > available + 1)  // +1: the last ASCII value needs no separator
+    fail(path, "PLY header declares " + std::to_string((unsigned long long)largest->count) + " " + largest->name +
+                   " elements, which need at least " + std::to_string((unsigned long long)needed) +
+                   " bytes, but the file holds only " + std::to_string((unsigned long long)available) +
+                   " bytes after its header (truncated or corrupt)");
+}
+
+uint32_t le32(const std::string& d, size_t at) {
+  return uint32_t(uint8_t(d[at])) | uint32_t(uint8_t(d[at + 1])) << 8 | uint32_t(uint8_t(d[at + 2])) << 16 |
+         uint32_t(uint8_t(d[at + 3])) << 24;
+}
+
+// A GLB's header length and chunk lengths must match the file.
+void check_glb(const std::string& path, const std::string& d) {
+  if (d.size() < 20) fail(path, "GLB file too short for its header (" + std::to_string(d.size()) + " bytes)");
+  const uint64_t total = le32(d, 8);
+  if (total > d.size())
+    fail(path, "GLB header says " + std::to_string(total) + " bytes but the file has only " +
+                   std::to_string(d.size()) + " (truncated or corrupt)");
+  uint64_t at = 12;
+  for (int chunk = 0; at < total; ++chunk) {
+    if (at + 8 > total) fail(path, "GLB chunk " + std::to_string(chunk) + " header is cut off (corrupt)");
+    const uint64_t len = le32(d, size_t(at));
+    if (at + 8 + len > total)
+      fail(path, "GLB chunk " + std::to_string(chunk) + " declares " + std::to_string(len) + " bytes but only " +
+                     std::to_string(total - at - 8) + " follow (truncated or corrupt)");
+    if (chunk == 0 && le32(d, size_t(at) + 4) != 0x4E4F534Au) fail(path, "GLB's first chunk is not JSON (corrupt)");
+    at += 8 + len;
+  }
+}
+
 RawModel read_assimp(const std::string& path, LoadReport& rep) {
-  read_file(path);  // same existence / readability errors as OBJ
+  const std::string data = read_file(path);  // same existence / readability errors as OBJ
+  // Only files that claim the format by their magic: anything else is left to
+  // assimp (and its "cannot parse" message).
+  if (data.compare(0, 4, "ply\n") == 0 || data.compare(0, 5, "ply\r\n") == 0) check_ply(path, data);
+  if (data.compare(0, 4, "glTF") == 0) check_glb(path, data);
   // No aiProcess_Triangulate: perclod triangulates, so it can count polygons.
-  const aiScene* sc = aiImportFile(path.c_str(), aiProcess_JoinIdenticalVertices);
+  // aiProcess_ValidateDataStructure runs before the other steps: without it a
+  // truncated binary PLY's out-of-range face indices crashed JoinIdenticalVertices.
+  const aiScene* sc = aiImportFile(path.c_str(), aiProcess_ValidateDataStructure | aiProcess_JoinIdenticalVertices);
   if (!sc || !sc->mRootNode) fail(path, std::string("cannot parse: ") + aiGetErrorString());
   RawModel m;
   for (unsigned i = 0; i < sc->mNumMaterials; ++i) {
@@ -315,11 +551,27 @@ Scene build_scene(RawModel&& m, const std::string& path, const LoadOptions& opt,
       lo[a] = std::min(lo[a], v);
       hi[a] = std::max(hi[a], v);
     }
+  auto num = [](double v) {
+    char buf[32];
+    return std::string(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
+  };
+  const std::string scale_note = opt.scale == 1 ? "" : " (times unit scale " + num(opt.scale) + ")";
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(lo[a]) || !std::isfinite(hi[a]))
+      fail(path, "coordinates overflow" + scale_note + ": the model is too large or the unit scale is wrong");
   Scene s;
   for (int a = 0; a < 3; ++a) s.offset[a] = 0.5 * (lo[a] + hi[a]);
   s.positions.resize(m.positions.size());
-  for (size_t i = 0; i < m.positions.size(); ++i)
-    s.positions[i] = float(m.positions[i] * opt.scale - s.offset[i % 3]);
+  for (size_t i = 0; i < m.positions.size(); ++i) {
+    const double v = m.positions[i] * opt.scale - s.offset[i % 3];
+    // Positions are float after recentring: a coordinate beyond float's range
+    // (about 3.4e38) would become infinite.
+    if (!(std::fabs(v) <= double(std::numeric_limits<float>::max())))
+      fail(path, "vertex " + std::to_string(i / 3 + 1) + " coordinate " + num(m.positions[i]) + scale_note +
+                     " is too far from the model's centre for float precision (beyond 3.4e38): the model is "
+                     "too large or the unit scale is wrong");
+    s.positions[i] = float(v);
+  }
   s.indices = std::move(m.indices);
   s.material = std::move(m.material);
   s.materials = std::move(m.materials);
@@ -342,12 +594,6 @@ Scene build_scene(RawModel&& m, const std::string& path, const LoadOptions& opt,
   return s;
 }
 
-std::string lower_extension(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (auto& ch : e) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-  return e;
-}
-
 }  // namespace
 
 bool is_degenerate(const Scene& s, size_t t) {
@@ -366,7 +612,7 @@ Scene load_scene(const std::string& path, const LoadOptions& options, LoadReport
   auto t0 = std::chrono::steady_clock::now();
   LoadReport rep;
   std::string ext = lower_extension(path);
-  RawModel raw = ext == ".obj" ? read_obj(path, rep) : read_assimp(path, rep);
+  RawModel raw = ext == ".obj" || (ext.empty() && looks_like_obj(path)) ? read_obj(path, rep) : read_assimp(path, rep);
   Scene s = build_scene(std::move(raw), path, options, rep);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (report) *report = rep;

@@ -16,9 +16,10 @@ struct CliResult {
 };
 
 // Runs `perclod ARGS` through the shell; stdout and stderr captured separately.
-inline CliResult run_cli(const std::string& args) {
+// `shell_prefix` runs before it in the same shell (e.g. "ulimit -f 16;").
+inline CliResult run_cli(const std::string& args, const std::string& shell_prefix = "") {
   auto err_path = std::filesystem::temp_directory_path() / ("perclod-cli-err-" + std::to_string(::getpid()));
-  std::string cmd = std::string(PERCLOD_CLI) + " " + args + " 2>" + err_path.string();
+  std::string cmd = shell_prefix + std::string(PERCLOD_CLI) + " " + args + " 2>" + err_path.string();
   CliResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;

@@ -32,6 +32,9 @@ struct LoadOptions {
 struct LoadReport {
   size_t polygons = 0;              // faces in the file
   size_t polygons_triangulated = 0; // faces with more than 3 corners
+  // Faces ear clipping could not finish (self-intersecting, or too costly: a
+  // huge polygon with few ears); their remainder is a fan that may overlap.
+  size_t polygons_fanned = 0;
   size_t degenerate_triangles = 0;  // zero area or repeated vertex (kept)
   bool components_from_connectivity = false;
   double seconds = 0;

@@ -10,6 +10,8 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace perclod {
 
@@ -37,14 +39,32 @@ OutputNames output_names_for(const std::string& dir, const std::string& input);
 
 // "56m", "12.5m": the distance tag of every distance-tagged file name.
 std::string distance_tag(double distance);
+// Throws std::invalid_argument if two of `distances` have the same distance
+// tag (56 and 56.0000001 both print "56m"): their files would overwrite each other.
+void check_distinct_tags(const std::vector<double>& distances);
 
 // Calls write(temp) to fill a temporary file beside `path`, then renames it
 // to `path`. If `write` throws, or the rename fails, the temporary is removed
 // and the error (naming `path`) propagates; an existing `path` is untouched.
-// The temporary keeps `path`'s extension (image writers choose the format by it).
+// The temporary keeps `path`'s extension (image writers choose the format by
+// it) and is unique per process and call: ".tmp-<pid>-<n>-<file name>".
+// Before writing, temporaries of `path` left by dead processes are removed.
+// `write` must report every failure by throwing: writers whose libraries
+// ignore write errors build the bytes in memory and use write_bytes_atomic.
 void write_atomic(const std::string& path, const std::function<void(const std::string& temp)>& write);
-// write_atomic for a text (or any byte string).
+// write_atomic of a byte string, written with checked write(), fsync() and
+// close(): a full disk or any other I/O error throws naming `path`.
+void write_bytes_atomic(const std::string& path, std::string_view bytes);
+// write_atomic for a text (or any byte string); same as write_bytes_atomic.
 void write_text_atomic(const std::string& path, const std::string& text);
+// The low-level write under write_bytes_atomic: creates or truncates `file`
+// and writes `bytes` with checked write(), fsync() and close(). Errors throw
+// std::runtime_error naming `name` (the final path the bytes are meant for)
+// and the system's reason, e.g. "out/a.png: cannot write: No space left on device".
+void write_bytes(const std::string& file, std::string_view bytes, const std::string& name);
+// Installs SIGINT/SIGTERM/SIGHUP handlers that unlink the temporaries of
+// write_atomic calls still in flight, then re-raise the signal (the CLI's main).
+void remove_temporaries_on_signals();
 // Creates a directory (and parents); throws naming it on failure.
 void ensure_directory(const std::string& dir);
 
