@@ -151,6 +151,14 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     entry["pixel_footprint"] = so.pixel_footprint;
     entry["lod_file"] = lod_path;
     entry["simplify"] = simplify_stats_json(st);
+    if (st.total_after() == 0) {
+      // Nothing displayable at this distance: the LOD file holds no triangle.
+      entry["empty"] = true;
+      if (!report.contains("warnings")) report["warnings"] = nlohmann::json::array();
+      std::ostringstream ss;
+      ss << lod_path << ": the LOD at " << d << " m is empty (no triangle of the model is displayable there)";
+      report["warnings"].push_back(ss.str());
+    }
     auto t_cmp = Clock::now();
     entry["lod_vs_original"] = compare_lod_views(renderer, lod, lr, lj);
     entry["seconds_compare"] = since(t_cmp);

@@ -157,6 +157,9 @@ struct LodJob {
 
 // One LOD per distance: out.lod(d), out.labels(d), renders and marking
 // renders, and out.report() (returned too).
+// A LOD without triangles (nothing displayable at its distance) is still
+// written; its entry gets "empty": true and the report a "warnings" list
+// (absent when there is nothing to warn about) for the caller to print.
 nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress = {});
 
 }  // namespace perclod
