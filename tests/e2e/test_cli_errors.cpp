@@ -224,3 +224,21 @@ TEST(CliErrors, EmptyLodIsWrittenWithAWarning) {
 }
 
 }  // namespace
+
+namespace {
+
+// simplify: qem could never work from a config (no target key); now it can.
+TEST(CliErrors, QemConfigWithTargetRuns) {
+  Fixture f = make_fixture();
+  f.file("qem-ok.yaml", "model: cube.obj\ndisplay: display.yaml\ndistances: [20]\nfacades: +x\nsimplify: qem\n"
+                        "target: 6\nout: " + f.out.string() + "\n");
+  auto r = run_cli("run " + f.path("qem-ok.yaml") + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["simplify_mode"], "qem");
+  EXPECT_LE(j["lods"][0]["simplify"]["total_after"].get<size_t>(), 6u);
+  EXPECT_TRUE(fs::exists(f.out / "cube_lod_20m.obj"));
+  fs::remove_all(f.dir);
+}
+
+}  // namespace
