@@ -3,10 +3,12 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <set>
 #include <stdexcept>
+#include <vector>
 
 #include "perclod/views.h"
 
@@ -28,6 +30,22 @@ YAML::Node load_yaml(const std::string& path) {
   }
 }
 
+// Levenshtein distance, for "did you mean" on a misspelt key.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1])});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
 // Every key of the mapping must be one of `known` and appear once: yaml-cpp
 // keeps only one of two equal keys when indexing, so walk the keys themselves.
 void check_keys(const YAML::Node& n, const std::string& path, const std::set<std::string>& known) {
@@ -40,6 +58,9 @@ void check_keys(const YAML::Node& n, const std::string& path, const std::set<std
       throw config_error(path, "a key is not a plain name");
     }
     if (!known.count(key)) {
+      for (const auto& k : known)
+        if (size_t d = edit_distance(key, k); d <= 2 && 2 * d < key.size())
+          throw config_error(path, "unknown key '" + key + "' (did you mean '" + k + "'?)");
       std::string list;
       for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
       throw config_error(path, "unknown key '" + key + "' (known keys: " + list + ")");
