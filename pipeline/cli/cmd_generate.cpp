@@ -49,6 +49,7 @@ nlohmann::json params_json(const FacadeParams& p) {
 }
 
 void run_generate_facade(GenerateFacadeArgs a) {
+  set_error_files({a.out});
   if (a.triangles > 0) {
     // Pick the building's size and tessellation for the budget; the other
     // options (switches, sizes, bars) apply on top and may move the count.
@@ -146,9 +147,17 @@ void register_generate_facade(CLI::App* generate) {
   cmd->add_flag("--no-balusters", a->no_balusters, "Leave out the roof balustrade");
   auto* target = cmd->add_option("--triangles", a->triangles,
                                  "Pick floors, bays, sides, column segments and ornament detail "
-                                 "for about this many triangles (1000 .. millions)");
+                                 "for about this many triangles (1000 .. millions)")
+                     ->check(CLI::Validator(
+                         [](std::string& v) -> std::string {
+                           bool digits = !v.empty() && v.find_first_not_of("0123456789") == std::string::npos;
+                           return digits && v.find_first_not_of('0') != std::string::npos
+                                      ? ""
+                                      : "must be a positive number of triangles, got '" + v + "'";
+                         },
+                         "N"));
   for (auto* o : {floors, bays, sides, segments, detail}) target->excludes(o);
-  cmd->add_option("FILE", a->out, "Output model file (.obj with .mtl, or .glb)")->required();
+  cmd->add_option("FILE", a->out, "Output model file (.obj with .mtl, or .glb)")->required()->check(kNotEmpty);
   cmd->add_flag("--json", a->json, "Print a JSON summary on stdout");
   cmd->callback([a] { run_generate_facade(*a); });
 }

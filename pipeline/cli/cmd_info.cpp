@@ -13,6 +13,7 @@ void register_info(CLI::App& app) {
   model->add(cmd);
   cmd->add_flag("--json", *json, "Print JSON on stdout");
   cmd->callback([=] {
+    set_error_files({model->path});
     LoadReport rep;
     Scene s = model->load(&rep, true);
     SceneInfo info = analyse_scene(s);

@@ -20,35 +20,36 @@ void register_label(CLI::App& app) {
   auto a = std::make_shared<Args>();
   a->model.add(cmd);
   a->display.add(cmd);
-  cmd->add_option("--distance,-d", a->distance, "Viewing distance in metres")->required()->check(CLI::PositiveNumber);
+  cmd->add_option("--distance,-d", a->distance, "Viewing distance in metres")->required()->check(kPositive);
   cmd->add_option("--facade,-f", a->facades, "Facades: all, or a comma list (+x -x +y -y with Z up)");
   cmd->add_option("--tracer", a->tracer, "Pixel-to-triangle tracer: octree (default) or embree")
       ->check(CLI::IsMember({"octree", "embree"}));
   cmd->add_flag("--verify", a->verify, "Also trace with Embree (tie-rule reference) and report per-pixel agreement");
   cmd->add_option("--ratio", a->ratio, "Imperceptible when imperceptible/traced >= ratio (default 0.5)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(in_range(0, 1));
   cmd->add_option("--threshold", a->threshold, "Perception threshold T in grey levels (default: calibrated)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd->add_option("--closer", a->closer, "Second marking render at distance x this factor (default 0.25)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--out,-o", a->out, "Output directory (created)");
+      ->check(kPositive);
+  cmd->add_option("--out,-o", a->out, "Output directory (created)")->check(kNotEmpty);
   cmd->add_flag("--json", a->json, "Print the JSON summary on stdout");
   cmd->footer(
       "Writes OUT/<model>_labels_<d>m.txt (format in README.md), OUT/<model>_label_<d>m.json, and per facade\n"
       "<model>_<f>_<d>m.png, _simulated.png, _difference.png, _mask.png, _marking.png, _marking_near.png.");
   cmd->callback([a] {
-    Scene s = a->model.load();
+    set_error_files({a->model.path});
     LabelJob job;
     job.up = a->model.up_axis();
     job.display = a->display.profile();
     job.perception = perception_settings_for(job.display);
     if (a->threshold >= 0) job.perception.threshold = a->threshold;
-    job.facades = parse_facades(a->facades, job.up);
+    job.facades = facades_option(a->facades, job.up);
     job.distance = a->distance;
     job.ratio = a->ratio;
     job.verify = a->verify;
     job.closer_factor = a->closer;
     job.out = output_names_for(a->out, a->model.path);
+    Scene s = a->model.load();
     nlohmann::json report = label_model(s, job, parse_tracer(a->tracer), print_progress);
     const auto& l = report["labels"];
     std::fprintf(stderr, "labels: %d perceptible, %d imperceptible, %d undisplayable -> %s\n",

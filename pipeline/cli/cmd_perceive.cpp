@@ -21,13 +21,13 @@ PerceptionSettings::CsfMode parse_csf(const std::string& s) {
   if (s == "fir") return PerceptionSettings::CsfMode::Fir;
   if (s == "weights") return PerceptionSettings::CsfMode::Weights;
   if (s == "kakadu") return PerceptionSettings::CsfMode::Kakadu;
-  throw std::invalid_argument("--csf must be fir, weights or kakadu, got '" + s + "'");
+  throw OptionError("--csf must be fir, weights or kakadu, got '" + s + "'");
 }
 
 PerceptionSettings::Luminance parse_luminance(const std::string& s) {
   if (s == "luma") return PerceptionSettings::Luminance::Luma;
   if (s == "linear") return PerceptionSettings::Luminance::LinearY;
-  throw std::invalid_argument("--luminance must be luma or linear, got '" + s + "'");
+  throw OptionError("--luminance must be luma or linear, got '" + s + "'");
 }
 
 // "R,G,B" with 0..255 components.
@@ -44,10 +44,10 @@ std::vector<int> parse_rgb(const std::string& s) {
       used = 0;
     }
     if (used != part.size() || v < 0 || v > 255)
-      throw std::invalid_argument("--background must be R,G,B with 0..255 components, got '" + s + "'");
+      throw OptionError("--background must be R,G,B with 0..255 components, got '" + s + "'");
     c.push_back(v);
   }
-  if (c.size() != 3) throw std::invalid_argument("--background must be R,G,B, got '" + s + "'");
+  if (c.size() != 3) throw OptionError("--background must be R,G,B, got '" + s + "'");
   return c;
 }
 
@@ -116,7 +116,7 @@ void register_perceive(CLI::App& app) {
   auto a = std::make_shared<Args>();
   cmd->add_option("IMAGE", a->image, "Rendered image (PNG or anything OpenImageIO reads)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->check(kNotEmpty);
   a->display.add(cmd);
   auto* ppd_opt = cmd->add_option("--ppd", a->ppd, "Pixels per degree instead of a display profile (paper: 29.64)")
       ->excludes(cmd->get_option("--display"));
@@ -129,7 +129,7 @@ void register_perceive(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--luminance", a->luminance, "luma (encoded Rec.601 luma, default) or linear (CIE Y of linear sRGB)");
   cmd->add_option("--background", a->background, "R,G,B of the background: such pixels are left out of the fraction");
-  cmd->add_option("--out,-o", a->out, "Output directory (created)");
+  cmd->add_option("--out,-o", a->out, "Output directory (created)")->check(kNotEmpty);
   cmd->add_flag("--raw", a->raw, "Also write the float difference as <stem>_difference.tif");
   cmd->add_flag("--json", a->json, "Print the JSON summary on stdout");
   cmd->footer(
@@ -137,8 +137,10 @@ void register_perceive(CLI::App& app) {
       "detail, 64 + 4|d|), <stem>_mask.png (255 = imperceptible), <stem>_perception.json, and with --raw\n"
       "<stem>_difference.tif (32-bit float, signed grey levels).");
   cmd->callback([a, ppd_opt] {
+    set_error_files({a->image});
+    require_file(a->image);
     if (ppd_opt->count() && !(a->ppd > 0 && std::isfinite(a->ppd)))
-      throw std::invalid_argument("--ppd must be a positive number of pixels per degree");
+      throw OptionError("--ppd must be a positive number of pixels per degree");
     PerceptionSettings s = a->settings;
     s.ppd = ppd_opt->count() ? a->ppd : a->display.profile().pixels_per_degree();
     s.csf = parse_csf(a->csf);

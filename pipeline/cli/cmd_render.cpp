@@ -23,20 +23,22 @@ void register_render(CLI::App& app) {
       ->required()
       ->delimiter(',');
   cmd->add_option("--facade,-f", a->facades, "Facades: all, or a comma list of +x -x +y -y (Z up) / +x -x +z -z (Y up)");
-  cmd->add_option("--out,-o", a->out, "Output directory (created)");
+  cmd->add_option("--out,-o", a->out, "Output directory (created)")->check(kNotEmpty);
   cmd->add_flag("--ids", a->ids, "Also write the triangle-ID buffer (<name>_ids.tif, uint32, index + 1, 0 = background)");
   cmd->add_flag("--depth", a->depth, "Also write eye depth (<name>_depth.tif, float metres, 0 = background)");
   cmd->add_flag("--by-component", a->by_component, "Colour by component instead of material");
   cmd->add_flag("--json", a->json, "Print a JSON summary on stdout");
   cmd->footer("Files: OUT/<model>_<facade>_<distance>m.png (+ _ids.tif, _depth.tif). Row 0 is the top row.");
   cmd->callback([a] {
+    set_error_files({a->model.path});
+    // Options and the display profile first: a bad one fails before the model loads.
     RenderViewsJob job;
-    job.distances = check_distances(a->distances);  // before a long load
-    Scene s = a->model.load();
     job.out = output_names_for(a->out, a->model.path);
     job.up = a->model.up_axis();
-    job.facades = parse_facades(a->facades, job.up);
+    job.facades = facades_option(a->facades, job.up);
+    job.distances = check_distances(a->distances);
     job.display = a->display.profile();
+    Scene s = a->model.load();
     job.write_ids = a->ids;
     job.write_depth = a->depth;
     job.color_by = a->by_component ? ColorBy::Component : ColorBy::Material;

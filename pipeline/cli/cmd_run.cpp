@@ -13,19 +13,24 @@ void register_run(CLI::App& app) {
       "run", "Run the whole method from a YAML config (see configs/demo.yaml): one LOD per distance");
   auto config = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
-  cmd->add_option("CONFIG", *config, "Batch config YAML")->required()->check(CLI::ExistingFile);
+  cmd->add_option("CONFIG", *config, "Batch config YAML")->required()->check(kNotEmpty);
   cmd->add_flag("--json", *json, "Print the run report (also written to OUT/<model>_report.json) on stdout");
   cmd->footer(
       "Writes to OUT: <model>_lod_<d>m.obj, <model>_labels_<d>m.txt, per facade <model>_<f>_<d>m.png,\n"
       "_simulated/_difference/_mask.png, _marking.png and _marking_near.png, and <model>_report.json.");
   cmd->callback([=] {
-    BatchConfig c = load_batch_config(*config);
+    set_error_files({*config});
+    BatchConfig c = load_batch_config(*config);  // the whole config, checked before any work
     LodJob job = lod_job(c);
+    set_error_files({c.model, *config});
     LoadReport rep;
     Scene s = load_model(c.model, LoadOptions{c.scale}, &rep);
     nlohmann::json report = make_lods(s, job, print_progress);
     report["model"] = c.model;
     report["load"] = to_json(rep);
+    if (report.contains("warnings"))
+      for (const auto& w : report["warnings"])
+        std::fprintf(stderr, "perclod: warning: %s\n", w.get<std::string>().c_str());
     if (*json) print_json(report);
   });
 }

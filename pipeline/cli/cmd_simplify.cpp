@@ -4,6 +4,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "perclod/labels_io.h"
 #include "perclod/pipeline.h"
 
 namespace perclod::cli {
@@ -44,13 +45,32 @@ void print_table(const SimplifyArgs& a, const SimplifyRun& r) {
 }
 
 void run_simplify(SimplifyArgs a) {
+  set_error_files({a.model.path});
   a.job.options.mode = parse_simplify_mode(a.mode.c_str());
   a.job.options.target_triangles = a.target;
   a.job.options.delete_undisplayable = !a.keep_undisplayable;
   a.job.display = a.display.profile();
   a.job.out = output_names_for(a.out, a.model.path);
+  a.job.model_file = a.model.path;
+  if (a.job.options.mode == SimplifyMode::Qem && a.target == 0)
+    throw OptionError("--mode qem needs --target N (the number of triangles to keep)");
+  if (a.job.options.mode != SimplifyMode::Qem && a.target != 0)
+    throw OptionError("--target applies only to --mode qem");
+  if (simplify_mode_uses_labels(a.job.options.mode) && a.job.labels_file.empty())
+    throw OptionError("--mode " + a.mode + " needs --labels FILE (from perclod label)");
+  // The labels are read (and checked) before the model loads.
+  LabelFile labels;
+  if (!a.job.labels_file.empty()) {
+    require_file(a.job.labels_file);
+    labels = read_labels(a.job.labels_file);
+    a.job.labels = &labels;
+  }
   Scene scene = a.model.load(nullptr, a.json);
   SimplifyRun r = simplify_model(scene, a.job);
+  const bool empty = r.stats.total_after() == 0;
+  if (empty)
+    std::fprintf(stderr, "perclod: warning: %s: the LOD is empty (no triangle is displayable at %g m)\n",
+                 r.lod_file.c_str(), a.job.distance);
   if (!a.json) return print_table(a, r);
   nlohmann::json j = {{"model", a.model.path},
                       {"labels", a.job.labels_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.job.labels_file)},
@@ -61,6 +81,7 @@ void run_simplify(SimplifyArgs a) {
                       {"k", a.job.options.k},
                       {"target_triangles", a.target},
                       {"seconds_write", r.write_seconds}};
+  if (empty) j["empty"] = true;
   j.update(simplify_stats_json(r.stats));
   print_json(j);
 }
@@ -81,21 +102,21 @@ void register_simplify(CLI::App& app) {
   a->model.add(cmd);
   a->display.add(cmd);
   cmd->add_option("--labels", a->job.labels_file, "Labels file written by 'perclod label' (needed by paper and bounded)")
-      ->check(CLI::ExistingFile);
+      ->check(kNotEmpty);
   cmd->add_option("--distance,-d", a->job.distance, "Viewing distance of this LOD in metres")
       ->required()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd->add_option("--mode", a->mode, "paper, bounded, qem or cluster")
       ->check(CLI::IsMember({"paper", "bounded", "qem", "cluster"}))
       ->capture_default_str();
   cmd->add_option("--target", a->target, "qem: triangles to keep");
   cmd->add_option("-k,--k", a->job.options.k, "bounded: tolerance, cluster: cell size, in pixels at the distance")
-      ->check(CLI::PositiveNumber)
+      ->check(kPositive)
       ->capture_default_str();
   cmd->add_flag("--constraint-lines", a->job.options.constraint_lines,
                 "Never collapse edges sharper than --feature-angle (Shi, Yang, Li's constraint lines)");
   cmd->add_option("--feature-angle", a->job.options.feature_angle_deg, "Dihedral angle of a feature edge (degrees)")
-      ->check(CLI::Range(0.0, 180.0))
+      ->check(in_range(0, 180))
       ->capture_default_str();
   cmd->add_flag("--keep-undisplayable", a->keep_undisplayable,
                 "paper: collapse undisplayable triangles as the paper does and keep those collapses\n"
@@ -103,7 +124,8 @@ void register_simplify(CLI::App& app) {
                 "labelling view reaches them)");
   cmd->add_flag("--preserve-bbox", a->job.options.preserve_bbox,
                 "cluster: cluster each component alone and keep its bounding box (Belblidia)");
-  cmd->add_option("--out,-o", a->out, "Output directory (created); the LOD is OUT/<model>_lod_<D>m.<format>");
+  cmd->add_option("--out,-o", a->out, "Output directory (created); the LOD is OUT/<model>_lod_<D>m.<format>")
+      ->check(kNotEmpty);
   cmd->add_option("--format", a->job.format, "LOD file format: obj (+ .mtl) or glb")
       ->check(CLI::IsMember({"obj", "glb"}))
       ->capture_default_str();

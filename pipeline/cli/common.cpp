@@ -3,6 +3,7 @@
 #include "perclod/outputs.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -14,8 +15,7 @@ void ModelArgs::add(CLI::App* cmd) {
   cmd->add_option("MODEL", path, "Model file: OBJ, PLY, glTF/GLB, STL, IFC, DAE, FBX")->required();
   cmd->add_option("--up", up, "Up axis of the model: y (default) or z (CityGML-derived data)")
       ->check(CLI::IsMember({"y", "z", "Y", "Z"}));
-  cmd->add_option("--scale", scale, "Unit scale to metres (e.g. 0.001 for a model in mm)")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--scale", scale, "Unit scale to metres (e.g. 0.001 for a model in mm)")->check(kPositive);
 }
 
 Scene ModelArgs::load(LoadReport* report, bool quiet) const { return load_model(path, LoadOptions{scale}, report, quiet); }
@@ -38,7 +38,7 @@ Scene load_model(const std::string& path, const LoadOptions& options, LoadReport
 
 void DisplayArgs::add(CLI::App* cmd) {
   cmd->add_option("--display", path, "Display profile YAML (default: the paper's 1280x1024, 86.27 dpi, 0.5 m)")
-      ->check(CLI::ExistingFile);
+      ->check(kNotEmpty);
 }
 
 DisplayProfile DisplayArgs::profile() const {
@@ -46,11 +46,89 @@ DisplayProfile DisplayArgs::profile() const {
 }
 
 std::vector<double> check_distances(const std::vector<double>& d) {
-  if (d.empty()) throw std::invalid_argument("give at least one --distance");
+  if (d.empty()) throw OptionError("--distance: give at least one distance");
   for (double x : d)
-    if (!(x > 0) || !std::isfinite(x)) throw std::invalid_argument("distances must be positive metres");
+    if (!(x > 0) || !std::isfinite(x)) {
+      std::ostringstream ss;
+      ss << "--distance: must be a positive number of metres, got " << x;
+      throw OptionError(ss.str());
+    }
   check_distinct_tags(d);
   return d;
+}
+
+std::vector<std::string> facades_option(const std::string& spec, UpAxis up) {
+  try {
+    return parse_facades(spec, up);
+  } catch (const std::invalid_argument& e) {
+    throw OptionError(std::string("--facade: ") + e.what());
+  }
+}
+
+namespace {
+
+bool parse_number(const std::string& s, double& v) {
+  char* end = nullptr;
+  v = std::strtod(s.c_str(), &end);
+  return !s.empty() && end == s.c_str() + s.size() && std::isfinite(v);
+}
+
+std::vector<std::string>& error_files() {
+  static std::vector<std::string> files;
+  return files;
+}
+
+// True when `what` already starts with a file name: "FILE: ..." or "FILE:LINE: ...".
+bool names_a_file(const std::string& what) {
+  for (const auto& f : error_files())
+    if (!f.empty() && what.compare(0, f.size() + 1, f + ":") == 0) return true;
+  size_t colon = what.find(':');
+  if (colon == std::string::npos || colon == 0) return false;
+  std::string head = what.substr(0, colon);
+  return head.find(' ') == std::string::npos && head.find('\'') == std::string::npos &&
+         (head.find('/') != std::string::npos || head.find('.') != std::string::npos);
+}
+
+}  // namespace
+
+const CLI::Validator kPositive(
+    [](std::string& s) -> std::string {
+      double v;
+      return parse_number(s, v) && v > 0 ? "" : "must be a positive number, got '" + s + "'";
+    },
+    "POSITIVE");
+
+const CLI::Validator kNonNegative(
+    [](std::string& s) -> std::string {
+      double v;
+      return parse_number(s, v) && v >= 0 ? "" : "must be a number >= 0, got '" + s + "'";
+    },
+    "NONNEGATIVE");
+
+const CLI::Validator kNotEmpty([](std::string& s) -> std::string { return s.empty() ? "must not be empty" : ""; },
+                               "DIR");
+
+CLI::Validator in_range(double lo, double hi) {
+  std::ostringstream desc;
+  desc << "[" << lo << " - " << hi << "]";
+  return CLI::Validator(
+      [lo, hi, d = desc.str()](std::string& s) -> std::string {
+        double v;
+        return parse_number(s, v) && v >= lo && v <= hi ? "" : "must be a number in " + d + ", got '" + s + "'";
+      },
+      desc.str());
+}
+
+void set_error_files(std::vector<std::string> files) { error_files() = std::move(files); }
+
+std::string error_message(const std::string& what) {
+  if (error_files().empty() || error_files()[0].empty() || names_a_file(what)) return what;
+  return error_files()[0] + ": " + what;
+}
+
+void require_file(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error(path + ": no such file");
 }
 
 

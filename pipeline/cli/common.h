@@ -4,7 +4,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "perclod/config.h"
 #include "perclod/load.h"
@@ -34,8 +36,35 @@ struct DisplayArgs {
   DisplayProfile profile() const;
 };
 
+// parse_facades for the --facade option: a bad list is an OptionError.
+std::vector<std::string> facades_option(const std::string& spec, UpAxis up);
+
 // "56,132,427" or repeated --distance.
 std::vector<double> check_distances(const std::vector<double>& d);
+
+// A bad option value found by a command (not by CLI11): main() prints it as
+// "perclod: error: <message>" (no file) with exit status 1.
+struct OptionError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// Validators whose messages read "must be ..., got 'X'" (CLI11 prefixes the
+// option name), instead of CLI11's "Value 0 not in range 2.2e-308 to 1.8e308".
+extern const CLI::Validator kPositive;     // a finite number > 0
+extern const CLI::Validator kNonNegative;  // a finite number >= 0
+extern const CLI::Validator kNotEmpty;     // a non-empty string (output directories)
+CLI::Validator in_range(double lo, double hi);
+
+// The files an error is about, for messages that name none (e.g. "scene:
+// index out of range" from the library): main() prefixes the first. Each
+// command sets them before its work (model, config, image, ...).
+void set_error_files(std::vector<std::string> files);
+// "perclod: error: FILE: what" as main() prints it (without the prefix).
+std::string error_message(const std::string& what);
+
+// Throws "PATH: no such file" unless PATH is a regular file (checked before
+// a model is loaded, so a bad --labels fails at once).
+void require_file(const std::string& path);
 
 // Progress lines to stderr.
 void print_progress(const std::string& message);

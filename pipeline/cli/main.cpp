@@ -4,6 +4,7 @@
 
 #include "commands.h"
 #include "perclod/outputs.h"
+#include "common.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -25,12 +26,26 @@ int main(int argc, char** argv) {
 
   // An interrupted run leaves no temporaries behind (finished files stay).
   perclod::remove_temporaries_on_signals();
+  // One error format (README "Usage"): "perclod: error: FILE: what" for
+  // errors about a file, "perclod: error: what" for options. Exit status 1
+  // for errors, 2 for usage errors (unknown option, missing argument, ...),
+  // 0 for --help and --version.
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  } catch (const std::exception& e) {
+    // A bad option value (CLI11's validators and conversions) is an error;
+    // everything else CLI11 refuses is a usage error.
+    const bool bad_value = dynamic_cast<const CLI::ValidationError*>(&e) != nullptr ||
+                           dynamic_cast<const CLI::ConversionError*>(&e) != nullptr;
     std::fprintf(stderr, "perclod: error: %s\n", e.what());
+    return bad_value ? 1 : 2;
+  } catch (const perclod::cli::OptionError& e) {
+    std::fprintf(stderr, "perclod: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "perclod: error: %s\n", perclod::cli::error_message(e.what()).c_str());
     return 1;
   }
   return 0;

@@ -3,10 +3,15 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "perclod/outputs.h"
-
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <set>
 #include <stdexcept>
+#include <vector>
+
+#include "perclod/outputs.h"
+#include "perclod/views.h"
 
 namespace perclod {
 namespace {
@@ -23,6 +28,45 @@ YAML::Node load_yaml(const std::string& path) {
     return n;
   } catch (const YAML::Exception& e) {
     throw config_error(path, std::string("YAML error: ") + e.what());
+  }
+}
+
+// Levenshtein distance, for "did you mean" on a misspelt key.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diag = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1])});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// Every key of the mapping must be one of `known` and appear once: yaml-cpp
+// keeps only one of two equal keys when indexing, so walk the keys themselves.
+void check_keys(const YAML::Node& n, const std::string& path, const std::set<std::string>& known) {
+  std::set<std::string> seen;
+  for (const auto& kv : n) {
+    std::string key;
+    try {
+      key = kv.first.as<std::string>();
+    } catch (const YAML::Exception&) {
+      throw config_error(path, "a key is not a plain name");
+    }
+    if (!known.count(key)) {
+      for (const auto& k : known)
+        if (size_t d = edit_distance(key, k); d <= 2 && 2 * d < key.size())
+          throw config_error(path, "unknown key '" + key + "' (did you mean '" + k + "'?)");
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw config_error(path, "unknown key '" + key + "' (known keys: " + list + ")");
+    }
+    if (!seen.insert(key).second) throw config_error(path, "key '" + key + "' appears twice");
   }
 }
 
@@ -46,6 +90,7 @@ DisplayProfile default_display_profile() { return DisplayProfile{}; }
 
 DisplayProfile load_display_profile(const std::string& path) {
   YAML::Node n = load_yaml(path);
+  check_keys(n, path, {"name", "width", "height", "dpi", "viewer_distance_m", "fov_y_deg"});
   DisplayProfile d;
   d.name = get<std::string>(n, path, "name", std::filesystem::path(path).stem().string());
   d.width = get<int>(n, path, "width", d.width);
@@ -59,11 +104,17 @@ DisplayProfile load_display_profile(const std::string& path) {
   require_positive(path, "viewer_distance_m", d.viewer_distance);
   if (n["fov_y_deg"] && !(d.fov_y_override_deg > 0 && d.fov_y_override_deg < 179))
     throw config_error(path, "'fov_y_deg' must be in (0, 179)");
+  // Checked after the values so a present but bad key is reported as such.
+  for (const char* key : {"width", "height", "dpi", "viewer_distance_m"})
+    if (!n[key]) throw config_error(path, std::string("'") + key + "' is required");
   return d;
 }
 
 BatchConfig load_batch_config(const std::string& path) {
   YAML::Node n = load_yaml(path);
+  check_keys(n, path,
+             {"model", "up", "scale", "display", "distances", "facades", "out", "tracer", "verify", "ratio",
+              "simplify", "k", "target", "keep_undisplayable", "format"});
   namespace fs = std::filesystem;
   fs::path dir = fs::path(path).parent_path();
   auto rel = [&](const std::string& p) { return p.empty() || fs::path(p).is_absolute() ? p : (dir / p).string(); };
@@ -77,9 +128,18 @@ BatchConfig load_batch_config(const std::string& path) {
   }
   c.scale = get<double>(n, path, "scale", 1.0);
   require_positive(path, "scale", c.scale);
-  c.display = rel(get<std::string>(n, path, "display", ""));
+  if (n["display"]) {
+    c.display = rel(get<std::string>(n, path, "display", ""));
+    if (c.display.empty()) throw config_error(path, "'display' must name a display profile file");
+  }
   c.facades = get<std::string>(n, path, "facades", "all");
+  try {
+    parse_facades(c.facades, c.up);
+  } catch (const std::invalid_argument& e) {
+    throw config_error(path, std::string("'facades': ") + e.what());
+  }
   c.out = get<std::string>(n, path, "out", "out");
+  if (c.out.empty()) throw config_error(path, "'out' must name an output directory");
   c.tracer = get<std::string>(n, path, "tracer", c.tracer);
   if (c.tracer != "octree" && c.tracer != "embree") throw config_error(path, "'tracer' must be octree or embree");
   c.verify = get<bool>(n, path, "verify", c.verify);
@@ -90,13 +150,27 @@ BatchConfig load_batch_config(const std::string& path) {
     throw config_error(path, "'simplify' must be paper, bounded, qem or cluster");
   c.k = get<double>(n, path, "k", c.k);
   require_positive(path, "k", c.k);
+  if (n["target"]) {
+    long long t = get<long long>(n, path, "target", 0);
+    if (t <= 0) throw config_error(path, "'target' must be a positive number of triangles");
+    c.target = size_t(t);
+    if (c.simplify != "qem") throw config_error(path, "'target' applies only to 'simplify: qem'");
+  }
+  if (c.simplify == "qem" && c.target == 0)
+    throw config_error(path, "'simplify: qem' needs 'target' (the number of triangles to keep)");
   c.keep_undisplayable = get<bool>(n, path, "keep_undisplayable", c.keep_undisplayable);
   c.format = get<std::string>(n, path, "format", c.format);
   if (c.format != "obj" && c.format != "glb") throw config_error(path, "'format' must be obj or glb");
   if (n["distances"]) {
     if (!n["distances"].IsSequence()) throw config_error(path, "'distances' must be a list of metres");
     for (const auto& d : n["distances"]) {
-      double v = d.as<double>();
+      double v = 0;
+      try {
+        v = d.as<double>();
+      } catch (const YAML::Exception&) {
+        throw config_error(path, "'distances' must be a list of metres, got '" +
+                                     (d.IsScalar() ? d.Scalar() : std::string("a list or mapping")) + "'");
+      }
       require_positive(path, "distances", v);
       c.distances.push_back(v);
     }
@@ -107,6 +181,10 @@ BatchConfig load_batch_config(const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw config_error(path, std::string("'distances': ") + e.what());
   }
+  // The files it names, last: every value above is checked without them.
+  std::error_code ec;
+  if (!fs::is_regular_file(c.model, ec)) throw config_error(path, "model '" + c.model + "': no such file");
+  if (!c.display.empty()) load_display_profile(c.display);  // throws naming the profile
   return c;
 }
 
@@ -123,6 +201,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.tracer = parse_tracer(c.tracer);
   job.simplify.mode = parse_simplify_mode(c.simplify.c_str());
   job.simplify.k = c.k;
+  job.simplify.target_triangles = c.target;
   job.simplify.delete_undisplayable = !c.keep_undisplayable;
   job.lod_format = c.format;
   return job;

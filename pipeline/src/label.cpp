@@ -142,6 +142,9 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
 void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job) {
   LabelFile lf{result.labels, result.totals.traced, result.totals.imperceptible, {}};
   for (const auto& f : job.facades) lf.views.emplace_back(f, job.distance);
+  lf.has_model = true;
+  lf.model_triangles = scene.triangle_count();
+  lf.model_hash = model_fingerprint(scene);
   std::string path = job.out.labels(job.distance);
   write_labels(path, lf);
   result.report["labels_file"] = path;

@@ -1,6 +1,10 @@
 // The labels file: plain text, one line per triangle (format in labels_io.h).
 #include "perclod/labels_io.h"
 
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -8,6 +12,14 @@
 #include "perclod/outputs.h"
 
 namespace perclod {
+namespace {
+
+bool parse_hex(const std::string& s, uint64_t& v) {
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v, 16);
+  return ec == std::errc() && p == s.data() + s.size();
+}
+
+}  // namespace
 
 void write_labels(const std::string& path, const LabelFile& f) {
   size_t n = f.labels.size();
@@ -15,7 +27,13 @@ void write_labels(const std::string& path, const LabelFile& f) {
     throw std::invalid_argument("labels: counts and labels differ in length");
   std::string out;
   out.reserve(n * 10 + 256);
-  out += "perclod-labels 1\ntriangles " + std::to_string(n) + "\nviews " + std::to_string(f.views.size()) + "\n";
+  out += "perclod-labels 1\n";
+  if (f.has_model) {
+    char hash[17];
+    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(f.model_hash));
+    out += "model " + std::to_string(f.model_triangles) + " " + hash + "\n";
+  }
+  out += "triangles " + std::to_string(n) + "\nviews " + std::to_string(f.views.size()) + "\n";
   for (const auto& [name, d] : f.views) {
     std::ostringstream ss;
     ss << "view " << name << " " << d << "\n";
@@ -33,40 +51,114 @@ void write_labels(const std::string& path, const LabelFile& f) {
   write_text_atomic(path, out);
 }
 
+uint64_t model_fingerprint(const Scene& scene) {
+  uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a/64
+  auto add = [&](const void* data, size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < bytes; ++i) {
+      h ^= p[i];
+      h *= 0x100000001b3ull;
+    }
+  };
+  add(scene.positions.data(), scene.positions.size() * sizeof(float));
+  add(scene.indices.data(), scene.indices.size() * sizeof(uint32_t));
+  return h;
+}
+
+namespace {
+
+std::vector<std::string> words(const std::string& line) {
+  std::vector<std::string> w;
+  std::istringstream ss(line);
+  for (std::string t; ss >> t;) w.push_back(t);
+  return w;
+}
+
+// A non-negative decimal integer that fits T (no sign, no garbage).
+template <class T>
+bool parse_uint(const std::string& s, T& v) {
+  if (s.empty() || s[0] == '-' || s[0] == '+') return false;
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  return ec == std::errc() && p == s.data() + s.size();
+}
+
+}  // namespace
+
 LabelFile read_labels(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open labels file");
+  std::error_code ec;
+  const uintmax_t file_size = std::filesystem::file_size(path, ec);
   auto bad = [&](size_t line, const std::string& what) {
     return std::runtime_error(path + ":" + std::to_string(line) + ": " + what);
   };
-  std::string magic, key;
-  int version = 0;
-  size_t n = 0, views = 0, line = 1;
-  if (!(in >> magic >> version) || magic != "perclod-labels" || version != 1)
-    throw bad(1, "not a perclod labels file (expected 'perclod-labels 1')");
-  if (!(in >> key >> n) || key != "triangles") throw bad(2, "expected 'triangles N'");
-  if (!(in >> key >> views) || key != "views") throw bad(3, "expected 'views V'");
-  line = 3;
-  LabelFile f;
-  for (size_t v = 0; v < views; ++v) {
-    std::string name;
-    double d;
+  size_t line = 0;
+  std::vector<std::string> w;
+  auto next = [&]() -> bool {
+    std::string s;
+    if (!std::getline(in, s)) return false;
     ++line;
-    if (!(in >> key >> name >> d) || key != "view") throw bad(line, "expected 'view NAME DISTANCE'");
-    f.views.emplace_back(name, d);
+    w = words(s);
+    return true;
+  };
+  if (!next() || w.size() != 2 || w[0] != "perclod-labels" || w[1] != "1")
+    throw bad(1, "not a perclod labels file (expected 'perclod-labels 1')");
+  LabelFile f;
+  if (!next()) throw bad(line + 1, "expected 'triangles N'");
+  if (!w.empty() && w[0] == "model") {
+    uint64_t triangles = 0;
+    if (w.size() != 3 || !parse_uint(w[1], triangles) || w[2].size() != 16 ||
+        !parse_hex(w[2], f.model_hash))
+      throw bad(line, "expected 'model TRIANGLES HASH' (HASH: 16 hex digits)");
+    f.has_model = true;
+    f.model_triangles = triangles;
+    if (!next()) throw bad(line + 1, "expected 'triangles N'");
+  }
+  uint64_t n = 0, views = 0;
+  if (w.size() != 2 || w[0] != "triangles" || !parse_uint(w[1], n))
+    throw bad(line, "expected 'triangles N' (N a non-negative integer)");
+  // Every triangle line takes at least 6 bytes ("P 0 0\n"): refuse a count
+  // the file cannot hold before allocating for it.
+  if (ec == std::error_code() && n > file_size / 6)
+    throw bad(line, "says " + w[1] + " triangles but a file of " + std::to_string(file_size) +
+                        " bytes holds at most " + std::to_string(file_size / 6));
+  if (f.has_model && f.model_triangles != n)
+    throw bad(line, "the model line says " + std::to_string(f.model_triangles) + " triangles, this line " +
+                        std::to_string(n));
+  if (!next() || w.size() != 2 || w[0] != "views" || !parse_uint(w[1], views))
+    throw bad(line, "expected 'views V'");
+  if (views > file_size / 8) throw bad(line, "says " + w[1] + " views, more than the file can hold");
+  for (uint64_t v = 0; v < views; ++v) {
+    double d = 0;
+    if (!next() || w.size() != 3 || w[0] != "view") throw bad(line, "expected 'view NAME DISTANCE'");
+    try {
+      size_t used = 0;
+      d = std::stod(w[2], &used);
+      if (used != w[2].size() || !(d > 0) || !std::isfinite(d)) throw std::invalid_argument("");
+    } catch (const std::exception&) {
+      throw bad(line, "the view distance '" + w[2] + "' is not a positive number of metres");
+    }
+    f.views.emplace_back(w[1], d);
   }
   f.labels.resize(n);
   f.traced.resize(n);
   f.imperceptible.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    char c;
-    ++line;
-    if (!(in >> c >> f.traced[i] >> f.imperceptible[i])) throw bad(line, "expected 'LABEL TRACED IMPERCEPTIBLE'");
+    if (!next() || w.size() != 3 || w[0].size() != 1)
+      throw bad(line, "expected 'LABEL TRACED IMPERCEPTIBLE' (triangle " + std::to_string(i) + " of " +
+                          std::to_string(n) + ")");
+    if (!parse_uint(w[1], f.traced[i]) || !parse_uint(w[2], f.imperceptible[i]))
+      throw bad(line, "pixel counts must be non-negative integers, got '" + w[1] + " " + w[2] + "'");
+    if (f.imperceptible[i] > f.traced[i])
+      throw bad(line, "more imperceptible pixels (" + w[2] + ") than traced ones (" + w[1] + ")");
+    char c = w[0][0];
     if (c == 'P') f.labels[i] = Label::Perceptible;
     else if (c == 'I') f.labels[i] = Label::Imperceptible;
     else if (c == 'U') f.labels[i] = Label::Undisplayable;
-    else throw bad(line, std::string("label '") + c + "' is not P, I or U");
+    else throw bad(line, "label '" + w[0] + "' is not P, I or U");
   }
+  while (next())
+    if (!w.empty()) throw bad(line, "unexpected line after the " + std::to_string(n) + " triangle lines");
   return f;
 }
 

@@ -2,6 +2,7 @@
 // a labels file, and the whole job of `perclod run`, which labels, simplifies,
 // exports and compares each LOD with the original, one distance at a time.
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
@@ -51,11 +52,18 @@ SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
     throw std::invalid_argument("LOD format must be obj or glb, not '" + job.format + "'");
   std::vector<Label> labels(scene.triangle_count(), Label::Imperceptible);
   if (!job.labels_file.empty()) {
-    LabelFile lf = read_labels(job.labels_file);
+    LabelFile lf = job.labels ? *job.labels : read_labels(job.labels_file);
+    const std::string model = job.model_file.empty() ? std::string("the model") : job.model_file;
     if (lf.labels.size() != scene.triangle_count())
-      throw std::invalid_argument(job.labels_file + " has " + std::to_string(lf.labels.size()) +
-                                  " labels but the model has " + std::to_string(scene.triangle_count()) +
+      throw std::invalid_argument(job.labels_file + ": has " + std::to_string(lf.labels.size()) +
+                                  " labels but " + model + " has " + std::to_string(scene.triangle_count()) +
                                   " triangles (labels from another model or loader settings?)");
+    if (lf.has_model && lf.model_hash != model_fingerprint(scene)) {
+      char hash[40];
+      std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(model_fingerprint(scene)));
+      throw std::invalid_argument(job.labels_file + ": labels of another model: its fingerprint does not match " +
+                                  model + " (" + hash + "; another file, or loaded with another --scale?)");
+    }
     labels = std::move(lf.labels);
   }
   SimplifyRun run;
@@ -143,6 +151,14 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     entry["pixel_footprint"] = so.pixel_footprint;
     entry["lod_file"] = lod_path;
     entry["simplify"] = simplify_stats_json(st);
+    if (st.total_after() == 0) {
+      // Nothing displayable at this distance: the LOD file holds no triangle.
+      entry["empty"] = true;
+      if (!report.contains("warnings")) report["warnings"] = nlohmann::json::array();
+      std::ostringstream ss;
+      ss << lod_path << ": the LOD at " << d << " m is empty (no triangle of the model is displayable there)";
+      report["warnings"].push_back(ss.str());
+    }
     auto t_cmp = Clock::now();
     entry["lod_vs_original"] = compare_lod_views(renderer, lod, lr, lj);
     entry["seconds_compare"] = since(t_cmp);

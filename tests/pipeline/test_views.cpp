@@ -2,6 +2,7 @@
 // itself (one definition for renderer and ray caster) is tested with the
 // scene types, in raycast/scene/test_camera.cpp.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -92,5 +93,65 @@ TEST(Config, BadValuesNameTheFileAndTheKey) {
   expect_error(load_batch_config, write("nomodel.yaml", "distances: [56]\n"), "'model' is required");
   expect_error(load_batch_config, write("nodist.yaml", "model: a.obj\n"), "'distances' is required");
   expect_error(load_batch_config, write("up.yaml", "model: a.obj\nup: x\ndistances: [5]\n"), "up axis");
+  std::filesystem::remove_all(dir);
+}
+
+// Issue 12 A/C: the whole config is checked before any work, and mistakes
+// yaml-cpp or the old loader accepted silently are errors naming the file.
+TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
+  auto dir = std::filesystem::temp_directory_path() / ("perclod-config-strict-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  auto write = [&](const std::string& name, const std::string& text) {
+    auto p = (dir / name).string();
+    std::ofstream(p) << text;
+    return p;
+  };
+  write("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  const std::string good_display = write("ok-display.yaml", "width: 64\nheight: 48\ndpi: 90\nviewer_distance_m: 0.5\n");
+  auto expect_error = [](auto fn, const std::string& path, const std::string& what,
+                         const std::string& names = "") {
+    try {
+      fn(path);
+      ADD_FAILURE() << "no error for " << path;
+    } catch (const std::exception& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.rfind(names.empty() ? path : names, 0), 0u) << msg;  // starts with the file
+      EXPECT_NE(msg.find(what), std::string::npos) << msg;
+    }
+  };
+  const std::string base = "model: m.obj\ndistances: [56]\n";
+  expect_error(load_batch_config, write("typo.yaml", base + "verfy: true\n"), "unknown key 'verfy' (did you mean 'verify'?)");
+  expect_error(load_batch_config, write("typo2.yaml", base + "colour: red\n"), "known keys: display");
+  expect_error(load_batch_config, write("dup.yaml", base + "model: other.obj\n"), "'model' appears twice");
+  expect_error(load_batch_config, write("qem.yaml", base + "simplify: qem\n"), "needs 'target'");
+  expect_error(load_batch_config, write("target0.yaml", base + "simplify: qem\ntarget: 0\n"), "'target'");
+  expect_error(load_batch_config, write("target-paper.yaml", base + "target: 100\n"), "only to 'simplify: qem'");
+  expect_error(load_batch_config, write("abc.yaml", "model: m.obj\ndistances: [abc]\n"), "'distances'");
+  expect_error(load_batch_config, write("facades.yaml", base + "facades: +q\n"), "'facades'");
+  expect_error(load_batch_config, write("out.yaml", base + "out: \"\"\n"), "'out'");
+  expect_error(load_batch_config, write("nomodel-file.yaml", "model: gone.obj\ndistances: [56]\n"), "no such file");
+  const std::string missing_display = (dir / "gone.yaml").string();
+  expect_error(load_batch_config, write("nodisplay.yaml", base + "display: gone.yaml\n"), "no such file",
+               missing_display);
+  const std::string bad_display = write("nodpi.yaml", "width: 64\nheight: 48\nviewer_distance_m: 0.5\n");
+  expect_error(load_batch_config, write("baddisplay.yaml", base + "display: nodpi.yaml\n"), "'dpi' is required",
+               bad_display);
+
+  // Display profiles: every size key is required, unknown keys are refused.
+  for (const char* key : {"width", "height", "dpi", "viewer_distance_m"}) {
+    std::string text;
+    for (const char* line : {"width: 64\n", "height: 48\n", "dpi: 90\n", "viewer_distance_m: 0.5\n"})
+      if (std::string(line).rfind(key, 0) != 0) text += line;
+    expect_error(load_display_profile, write(std::string("no-") + key + ".yaml", text),
+                 std::string("'") + key + "' is required");
+  }
+  expect_error(load_display_profile, write("dpl.yaml", "width: 64\nheight: 48\ndpi: 90\nviewer_distance_m: 0.5\ndip: 3\n"),
+               "unknown key 'dip'");
+
+  // A correct qem config maps its target onto the job.
+  BatchConfig c = load_batch_config(write("qem-ok.yaml", base + "simplify: qem\ntarget: 500\ndisplay: ok-display.yaml\n"));
+  EXPECT_EQ(c.target, 500u);
+  EXPECT_EQ(lod_job(c).simplify.target_triangles, 500u);
+  EXPECT_EQ(lod_job(c).label.display.width, 64);
   std::filesystem::remove_all(dir);
 }

@@ -29,9 +29,14 @@ struct BatchConfig {
   double ratio = 0.5;                // label rule: imperceptible / traced >= ratio
   std::string simplify = "paper";    // paper | bounded | qem | cluster
   double k = 1.0;                    // bounded tolerance / cluster cell in pixels
+  size_t target = 0;                 // qem: triangles to keep (required by qem, refused otherwise)
   bool keep_undisplayable = false;   // paper: collapse undisplayable triangles instead of deleting them
   std::string format = "obj";        // LOD file format: obj | glb
 };
+// Checks the whole config before any work: unknown or repeated keys, every
+// value's type and range, each mode's requirements (qem needs target), that
+// the model file exists and that the display profile loads. Throws
+// "PATH: what is wrong" (or the profile's own error naming the profile).
 BatchConfig load_batch_config(const std::string& path);
 
 // The job `perclod run` does for a config: display profile loaded, names

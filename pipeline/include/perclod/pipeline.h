@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "perclod/display.h"
+#include "perclod/labels_io.h"
 #include "perclod/outputs.h"
 #include "perclod/perception.h"
 #include "perclod/raycast.h"
@@ -113,6 +114,8 @@ nlohmann::json label_model(const Scene& scene, const LabelJob& job, TracerKind t
 
 struct SimplifyJob {
   std::string labels_file;       // from perclod label; "" only for qem and cluster
+  std::string model_file;        // named in errors when the labels belong to another model
+  const LabelFile* labels = nullptr;  // already read from labels_file (else simplify_model reads it)
   double distance = 0;           // metres: p(d) for bounded and cluster
   DisplayProfile display;
   SimplifyOptions options;       // pixel_footprint is set from distance and display
@@ -154,6 +157,9 @@ struct LodJob {
 
 // One LOD per distance: out.lod(d), out.labels(d), renders and marking
 // renders, and out.report() (returned too).
+// A LOD without triangles (nothing displayable at its distance) is still
+// written; its entry gets "empty": true and the report a "warnings" list
+// (absent when there is nothing to warn about) for the caller to print.
 nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress = {});
 
 }  // namespace perclod
