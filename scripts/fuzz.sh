@@ -39,8 +39,8 @@ fi
 
 ((build)) && scripts/build-asan.sh "${targets[@]}" >/dev/null
 
-# Leaks inside Debian's assimp are not perclod's (tests/fuzz/lsan.supp says which).
-export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/fuzz/lsan.supp}
+# Leaks inside Debian's assimp are not perclod's (tests/lsan.supp says which).
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/lsan.supp}
 
 passed=0
 failed=0
