@@ -7,6 +7,7 @@
 #   FUZZ_SECONDS=3600 scripts/fuzz.sh   # same as --seconds
 #   scripts/fuzz.sh --keep-going        # -fork=1: go on after a finding, collect them all
 #   scripts/fuzz.sh --no-build          # use the targets already in build-asan/
+#   scripts/fuzz.sh --seed 1            # libFuzzer -seed: the same mutations every run (CI)
 #
 # Each target starts from its committed seeds (tests/fuzz/corpus/<target>/)
 # plus whatever earlier runs added to build-asan/fuzz/<target>/corpus/, and
@@ -22,6 +23,7 @@ cd "$(dirname "$0")/.."
 
 seconds=${FUZZ_SECONDS:-600}
 fork=()
+seed=()
 build=1
 targets=()
 while (($#)); do
@@ -29,7 +31,8 @@ while (($#)); do
     --seconds) seconds=$2; shift 2 ;;
     --keep-going) fork=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1); shift ;;
     --no-build) build=0; shift ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    --seed) seed=(-seed="$2"); shift 2 ;;
+    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
     *) targets+=("$1"); shift ;;
   esac
 done
@@ -54,7 +57,7 @@ for t in "${targets[@]}"; do
   start=$(date +%s)
   build-asan/tests/fuzz/"$t" "$work/corpus" "tests/fuzz/corpus/$t" \
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-    -artifact_prefix="$work/findings/" "${fork[@]}" >"$log" 2>&1 || rc=$?
+    -artifact_prefix="$work/findings/" "${seed[@]}" "${fork[@]}" >"$log" 2>&1 || rc=$?
   elapsed=$(($(date +%s) - start))
   # Executions: the final stats, else (fork mode) the last status line "#N ...".
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
