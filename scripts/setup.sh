@@ -21,6 +21,7 @@ PACKAGES=(
   nlohmann-json3-dev      # JSON reports
   libcli11-dev            # command line
   libmeshoptimizer-dev    # peer simplifier for benchmarks
+  clang libclang-rt-dev   # ASan/UBSan and libFuzzer stages (build-asan/); the runtimes are only a Recommends of clang
   python3 python3-matplotlib  # charts in scripts/
 )
 

@@ -1,7 +1,98 @@
 #!/usr/bin/env bash
-# Set up what is missing, build, and run the whole test suite (what CI runs).
+# What CI runs (.ci/run): set up what is missing, then three stages, each a
+# build and its checks:
+#   normal  Release build (build/, GCC), the whole test suite
+#   asan    ASan + UBSan build (build-asan/, clang, scripts/build-asan.sh):
+#           the whole test suite again, any sanitizer report fails its test
+#   fuzz    libFuzzer smoke: the targets in tests/fuzz/ for FUZZ_SECONDS
+#           (default 15) from their committed seeds (scripts/fuzz.sh);
+#           fuzz_assimp replays its seeds only (see stage_fuzz)
+# Every stage runs even when an earlier one failed; the last line is
+# `N passed, N failed` over all of them (ctest's tests, fuzz targets, and a
+# stage that failed before its checks counts as one failure), and the exit
+# status is non-zero when anything failed.
+# Usage: scripts/test.sh [--normal-only | --asan-only | --fuzz-only]
 set -euo pipefail
+self="$(cd "$(dirname "$0")" && pwd)/$(basename "$0")"
 cd "$(dirname "$0")/.."
-scripts/setup.sh
-cd build
-ctest --output-on-failure -j"${JOBS:-$(nproc)}" --timeout 600
+JOBS=${JOBS:-$(nproc)}
+export JOBS
+
+stage_normal() {
+  scripts/setup.sh
+  cd build
+  ctest --output-on-failure -j"$JOBS" --timeout 600
+}
+
+stage_asan() {
+  scripts/setup.sh --no-build
+  scripts/build-asan.sh
+  cd build-asan
+  # The first report fails the test (UBSan: -fno-sanitize-recover too). Leak
+  # detection stays on; tests/lsan.supp hides only leaks inside OSMesa and
+  # assimp, which perclod cannot free (measured: OSMesa leaks 480 bytes per
+  # rendering process, so detect_leaks=0 is not needed anywhere).
+  ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1} \
+  LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/../tests/lsan.supp} \
+  UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
+    ctest --output-on-failure -j"$JOBS" --timeout 900 -E "$asan_skip"
+}
+# Not under ASan: SimplifyBounded.NeverExceedsItsTolerance checks its result
+# with a brute-force sampled Hausdorff distance (test code, O(samples x
+# triangles)); 6 s in the Release build, but under ASan it ran into its 300 s
+# timeout (over 50x), over three times
+# the next slowest test (93 s). The bounded simplifier it
+# calls still runs under ASan in the other SimplifyBounded tests; the normal
+# stage runs this test.
+asan_skip='^SimplifyBounded\.NeverExceedsItsTolerance$'
+
+
+stage_fuzz() {
+  scripts/setup.sh --no-build
+  # --seed 1: one commit gets the same mutations every run, so the smoke does
+  # not flap between runs of one commit. fuzz_assimp only replays its seeds:
+  # mutating them finds the known assimp PLY hang and GLB 2 GB allocation
+  # within seconds (tests/fuzz/findings/README.md); scripts/fuzz.sh fuzzes it.
+  scripts/build-asan.sh fuzz >/dev/null
+  build-asan/tests/fuzz/fuzz_assimp -runs=0 -timeout=10 -rss_limit_mb=2048 tests/fuzz/corpus/fuzz_assimp 2>&1 | tail -2
+  scripts/fuzz.sh --no-build --seconds "${FUZZ_SECONDS:-15}" --seed 1 fuzz_obj fuzz_labels fuzz_yaml
+}
+
+stages=(normal asan fuzz)
+case "${1:-}" in
+  "") ;;
+  --normal-only) stages=(normal) ;;
+  --asan-only) stages=(asan) ;;
+  --fuzz-only) stages=(fuzz) ;;
+  --stage) "stage_$2"; exit ;;  # internal: one stage, in its own process so set -e holds
+  *) echo "usage: scripts/test.sh [--normal-only | --asan-only | --fuzz-only]" >&2; exit 2 ;;
+esac
+
+passed=0
+failed=0
+report=()
+for s in "${stages[@]}"; do
+  log=$(mktemp)
+  start=$(date +%s)
+  echo "==== test.sh: stage $s"
+  set +e
+  bash "$self" --stage "$s" 2>&1 | tee "$log"
+  rc=${PIPESTATUS[0]}
+  set -e
+  secs=$(($(date +%s) - start))
+  # ctest: "100% tests passed, 0 tests failed out of 153"; fuzz.sh: "4 passed, 0 failed".
+  if c=$(grep -oE '[0-9]+ tests failed out of [0-9]+' "$log" | tail -1) && [[ -n "$c" ]]; then
+    f=${c%% *}; total=${c##* }; p=$((total - f))
+  elif c=$(grep -oE '^[0-9]+ passed, [0-9]+ failed$' "$log" | tail -1) && [[ -n "$c" ]]; then
+    p=${c%% *}; f=$(echo "$c" | awk '{print $3}')
+  else
+    p=0; f=0
+  fi
+  ((rc != 0 && f == 0)) && f=1  # failed before (or outside) its checks: a build, say
+  rm -f "$log"
+  passed=$((passed + p)); failed=$((failed + f))
+  report+=("test.sh: stage $s: ${secs}s, $p passed, $f failed (exit $rc)")
+done
+printf '%s\n' "${report[@]}"
+echo "$passed passed, $failed failed"
+((failed == 0))
