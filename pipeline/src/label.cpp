@@ -2,6 +2,7 @@
 // render -> perceive -> trace -> count; labels from the counts, combined over
 // views; the labels file and marking renders.
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -152,6 +153,8 @@ void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& re
 }
 
 nlohmann::json label_model(const Scene& scene, const LabelJob& job, TracerKind kind, const Progress& progress) {
+  std::optional<OutputDirectoryLock> lock;
+  if (!job.out.dir.empty()) lock.emplace(job.out.dir);
   std::unique_ptr<Tracer> tracer = make_tracer(scene, kind);
   if (progress) progress(tracer_summary(*tracer));
   Renderer renderer;

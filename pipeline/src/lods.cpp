@@ -70,7 +70,7 @@ SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
   SimplifyOptions so = job.options;
   so.pixel_footprint = run.pixel_footprint = display_pixel_footprint(job.display, job.distance);
   Scene lod = simplify(scene, labels, so, &run.stats);
-  ensure_directory(job.out.dir);
+  OutputDirectoryLock lock(job.out.dir);
   run.lod_file = job.out.lod(job.distance, job.format);
   auto t0 = Clock::now();
   export_scene(lod, run.lod_file);
@@ -112,7 +112,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
   if (job.lod_format != "obj" && job.lod_format != "glb")
     throw std::invalid_argument("LOD format must be obj or glb, not '" + job.lod_format + "'");
   const OutputNames& out = job.label.out;
-  ensure_directory(out.dir);
+  OutputDirectoryLock lock(out.dir);
   auto t_all = Clock::now();
 
   std::unique_ptr<Tracer> tracer = make_tracer(scene, job.tracer);

@@ -2,6 +2,7 @@
 #include "perclod/outputs.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -204,6 +205,25 @@ void ensure_directory(const std::string& dir) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) throw std::runtime_error(dir + ": cannot create directory");
+}
+
+OutputDirectoryLock::OutputDirectoryLock(const std::string& dir) : path_(dir + "/.perclod.lock") {
+  ensure_directory(dir);
+  fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw std::runtime_error(path_ + ": cannot create the output lock: " + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int e = errno;
+    ::close(fd_);
+    if (e == EWOULDBLOCK)
+      throw std::runtime_error(dir + ": another perclod command is writing to this directory (it holds " +
+                               path_ + "); wait for it or choose another output directory");
+    throw std::runtime_error(path_ + ": cannot lock: " + std::strerror(e));
+  }
+}
+
+OutputDirectoryLock::~OutputDirectoryLock() {
+  ::unlink(path_.c_str());  // while still locked: a waiting command sees no stale lock file
+  ::close(fd_);
 }
 
 }  // namespace perclod

@@ -6,7 +6,7 @@ namespace perclod {
 
 std::vector<ViewFiles> render_views(const Scene& scene, const RenderViewsJob& job,
                                     const std::function<void(const ViewFiles&, size_t, size_t)>& progress) {
-  ensure_directory(job.out.dir);
+  OutputDirectoryLock lock(job.out.dir);
   Renderer renderer;
   renderer.set_scene(scene);
   Bounds b = scene_bounds(scene);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli_util.h"
+#include "perclod/outputs.h"
 
 namespace {
 
@@ -120,6 +121,24 @@ TEST(ReliabilityCli, TruncatedAndOverDeclaredPlyFilesAreErrors) {
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("perclod: error: " + huge + ": PLY header declares 100000000 vertex"), std::string::npos)
       << r.err;
+  fs::remove_all(out);
+}
+
+// Two commands writing to one directory: the second is refused while the
+// first holds it, and writes nothing there.
+TEST(ReliabilityCli, ASecondCommandOnABusyOutputDirectoryIsRefused) {
+  fs::path out = fresh_dir("busy");
+  {
+    perclod::OutputDirectoryLock busy(out.string());  // as a running `perclod run` holds it
+    auto r = run_cli("render " + kBuilding + " --up z -d 56 -f +x -o " + out.string());
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("another perclod command is writing to this directory"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out / "bldg_4018215_+x_56m.png"));
+  }
+  auto r = run_cli("render " + kBuilding + " --up z -d 56 -f +x -o " + out.string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out / "bldg_4018215_+x_56m.png"));
+  EXPECT_FALSE(fs::exists(out / ".perclod.lock"));
   fs::remove_all(out);
 }
 

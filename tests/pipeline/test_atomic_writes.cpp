@@ -193,3 +193,28 @@ TEST(AtomicWrites, ASignalDuringAWriteRemovesTheTemporary) {
   EXPECT_FALSE(fs::exists(path));
   EXPECT_EQ(temporaries_in(dir.path), 0u);
 }
+
+namespace {
+
+// A second writer of one output directory is refused while the first holds
+// it; the lock file goes with the lock.
+TEST(OutputDirectoryLock, OneWriterPerDirectory) {
+  test::TempDir dir("lock");
+  const std::string out = dir / "out";
+  {
+    OutputDirectoryLock first(out);
+    EXPECT_TRUE(fs::exists(out + "/.perclod.lock"));
+    try {
+      OutputDirectoryLock second(out);
+      ADD_FAILURE() << "two locks on one directory";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("another perclod command"), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind(out, 0), 0u) << e.what();
+    }
+    OutputDirectoryLock elsewhere(dir / "other");  // other directories are free
+  }
+  EXPECT_FALSE(fs::exists(out + "/.perclod.lock"));
+  OutputDirectoryLock again(out);  // released: the next command may write
+}
+
+}  // namespace

@@ -68,4 +68,21 @@ void remove_temporaries_on_signals();
 // Creates a directory (and parents); throws naming it on failure.
 void ensure_directory(const std::string& dir);
 
+// One writer per output directory: creates `dir` and holds an exclusive
+// advisory lock (flock) on <dir>/.perclod.lock for its lifetime; the file is
+// removed on release. A second perclod command writing to the same
+// directory meanwhile is refused with an error naming it, instead of the two
+// overwriting each other's finished files.
+class OutputDirectoryLock {
+ public:
+  explicit OutputDirectoryLock(const std::string& dir);
+  ~OutputDirectoryLock();
+  OutputDirectoryLock(const OutputDirectoryLock&) = delete;
+  OutputDirectoryLock& operator=(const OutputDirectoryLock&) = delete;
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
 }  // namespace perclod
