@@ -58,16 +58,6 @@ struct FileSizeLimit {
   }
 };
 
-// A closed box of 8 vertices and 6 quads: a small valid scene to export.
-Scene box() {
-  Scene s;
-  s.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
-  const uint32_t quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-  for (auto& q : quads) s.indices.insert(s.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
-  s.component_names = {"box"};
-  return s;
-}
-
 }  // namespace
 
 // ------------------------------------------------------------ item 1: full disk
@@ -89,7 +79,7 @@ TEST(AtomicWrites, AFullDiskLeavesNoPngGlbOrTextUnderItsFinalName) {
   {
     FileSizeLimit limit(4096);
     EXPECT_THROW(write_png(png, 128, 128, 3, px.data()), std::runtime_error);
-    Scene big = box();
+    Scene big = test::box();
     for (int i = 0; i < 2000; ++i) big.positions.push_back(float(i)), big.positions.push_back(0), big.positions.push_back(0);
     EXPECT_THROW(export_scene(big, glb), std::runtime_error);
     EXPECT_THROW(export_scene(big, obj), std::runtime_error);

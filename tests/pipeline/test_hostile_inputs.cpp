@@ -32,22 +32,12 @@ std::string load_error(const std::string& path, const LoadOptions& opt = {}) {
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-// A closed box of 8 vertices and 6 quads: a small valid scene to export.
-Scene box() {
-  Scene s;
-  s.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
-  const uint32_t quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-  for (auto& q : quads) s.indices.insert(s.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
-  s.component_names = {"box"};
-  return s;
-}
-
-// A binary little-endian PLY of box(): 8 float vertices, 6 quads (uchar count, int indices).
+// A binary little-endian PLY of test::box(): 8 float vertices, 6 quads (uchar count, int indices).
 std::string binary_ply_cube() {
   std::string ply =
       "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
       "property float z\nelement face 6\nproperty list uchar int vertex_indices\nend_header\n";
-  Scene b = box();
+  Scene b = test::box();
   for (float f : b.positions) ply.append(reinterpret_cast<const char*>(&f), 4);
   const int32_t quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
   for (auto& q : quads) {
@@ -112,7 +102,7 @@ TEST(HostileInputs, PlyDeclaringMoreElementsThanItsSizeFailsFast) {
 TEST(HostileInputs, GlbWithACorruptChunkLengthFailsFast) {
   test::TempDir dir("glb");
   const std::string good = dir / "box.glb";
-  export_scene(box(), good);
+  export_scene(test::box(), good);
   ASSERT_EQ(load_scene(good).triangle_count(), 12u);
   std::ifstream f(good, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(f)), {});

@@ -6,6 +6,8 @@
 #include <string>
 #include <unistd.h>
 
+#include "perclod/scene.h"
+
 namespace perclod::test {
 
 // A fresh directory under the system temp dir, removed at the end of the test.
@@ -25,5 +27,15 @@ struct TempDir {
   }
   std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
+
+// A closed box of 8 vertices and 6 quads (12 triangles): a small valid scene.
+inline Scene box() {
+  Scene s;
+  s.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+  const uint32_t quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  for (auto& q : quads) s.indices.insert(s.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+  s.component_names = {"box"};
+  return s;
+}
 
 }  // namespace perclod::test
