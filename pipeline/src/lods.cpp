@@ -66,11 +66,11 @@ SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
     }
     labels = std::move(lf.labels);
   }
+  OutputDirectoryLock lock(job.out.dir);  // a busy directory is refused before the work, not after
   SimplifyRun run;
   SimplifyOptions so = job.options;
   so.pixel_footprint = run.pixel_footprint = display_pixel_footprint(job.display, job.distance);
   Scene lod = simplify(scene, labels, so, &run.stats);
-  OutputDirectoryLock lock(job.out.dir);
   run.lod_file = job.out.lod(job.distance, job.format);
   auto t0 = Clock::now();
   export_scene(lod, run.lod_file);
