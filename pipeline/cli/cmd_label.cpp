@@ -13,7 +13,8 @@ void register_label(CLI::App& app) {
     ModelArgs model;
     DisplayArgs display;
     double distance = 0;
-    std::string facades = "all", out = "out", tracer = "octree";
+    std::string views = kDefaultViews, out = "out", tracer = "octree", per_building = "auto";
+    int samples = kDefaultSamples;
     bool verify = false, json = false;
     double ratio = 0.5, threshold = -1, closer = 0.25;
   };
@@ -21,7 +22,13 @@ void register_label(CLI::App& app) {
   a->model.add(cmd);
   a->display.add(cmd);
   cmd->add_option("--distance,-d", a->distance, "Viewing distance in metres")->required()->check(kPositive);
-  cmd->add_option("--facade,-f", a->facades, "Facades: all, or a comma list (+x -x +y -y with Z up)");
+  cmd->add_option("--views,--facade,-f", a->views, std::string("View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); default ") + kDefaultViews + ")");
+  cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4 or 8 (default " + std::to_string(kDefaultSamples) + ")")
+      ->check(CLI::IsMember({1, 2, 4, 8}));
+  cmd->add_option("--per-building", a->per_building,
+                  "Also label each building from views framed on it: true, false or auto (default: when the "
+                  "component names give two or more buildings)")
+      ->check(CLI::IsMember({"true", "false", "auto"}));
   cmd->add_option("--tracer", a->tracer, "Pixel-to-triangle tracer: octree (default) or embree")
       ->check(CLI::IsMember({"octree", "embree"}));
   cmd->add_flag("--verify", a->verify, "Also trace with Embree (tie-rule reference) and report per-pixel agreement");
@@ -34,8 +41,9 @@ void register_label(CLI::App& app) {
   cmd->add_option("--out,-o", a->out, "Output directory (created)")->check(kNotEmpty);
   cmd->add_flag("--json", a->json, "Print the JSON summary on stdout");
   cmd->footer(
-      "Writes OUT/<model>_labels_<d>m.txt (format in README.md), OUT/<model>_label_<d>m.json, and per facade\n"
-      "<model>_<f>_<d>m.png, _simulated.png, _difference.png, _mask.png, _marking.png, _marking_near.png.");
+      "Writes OUT/<model>_labels_<d>m.txt (format in README.md), OUT/<model>_label_<d>m.json, and per view\n"
+      "<model>_<view>_<d>m.png, _simulated.png, _difference.png, _mask.png, _marking.png, _marking_near.png\n"
+      "(a view too close to frame the model is tiled: <view>_t<i>).");
   cmd->callback([a] {
     set_error_files({a->model.path});
     LabelJob job;
@@ -43,7 +51,9 @@ void register_label(CLI::App& app) {
     job.display = a->display.profile();
     job.perception = perception_settings_for(job.display);
     if (a->threshold >= 0) job.perception.threshold = a->threshold;
-    job.facades = facades_option(a->facades, job.up);
+    job.views = views_option(a->views, job.up);
+    job.samples = a->samples;
+    job.per_building = parse_per_building(a->per_building);
     job.distance = a->distance;
     job.ratio = a->ratio;
     job.verify = a->verify;

@@ -1,4 +1,4 @@
-// perclod render MODEL --distance D [--facade all]: shaded facade renders.
+// perclod render MODEL --distance D [--views facades]: shaded renders of views.
 #include <cstdio>
 
 #include "commands.h"
@@ -8,12 +8,12 @@
 namespace perclod::cli {
 
 void register_render(CLI::App& app) {
-  auto* cmd = app.add_subcommand("render", "Render facade views of a model offscreen (OSMesa)");
+  auto* cmd = app.add_subcommand("render", "Render views of a model offscreen (OSMesa)");
   struct Args {
     ModelArgs model;
     DisplayArgs display;
     std::vector<double> distances;
-    std::string facades = "all", out = "out";
+    std::string views = "facades", out = "out";
     bool ids = false, depth = false, by_component = false, json = false;
   };
   auto a = std::make_shared<Args>();
@@ -22,20 +22,22 @@ void register_render(CLI::App& app) {
   cmd->add_option("--distance,-d", a->distances, "Viewing distance(s) in metres, e.g. -d 56 -d 132 or -d 56,132")
       ->required()
       ->delimiter(',');
-  cmd->add_option("--facade,-f", a->facades, "Facades: all, or a comma list of +x -x +y -y (Z up) / +x -x +z -z (Y up)");
+  cmd->add_option("--views,--facade,-f", a->views, "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); default facades)");
   cmd->add_option("--out,-o", a->out, "Output directory (created)")->check(kNotEmpty);
   cmd->add_flag("--ids", a->ids, "Also write the triangle-ID buffer (<name>_ids.tif, uint32, index + 1, 0 = background)");
   cmd->add_flag("--depth", a->depth, "Also write eye depth (<name>_depth.tif, float metres, 0 = background)");
   cmd->add_flag("--by-component", a->by_component, "Colour by component instead of material");
   cmd->add_flag("--json", a->json, "Print a JSON summary on stdout");
-  cmd->footer("Files: OUT/<model>_<facade>_<distance>m.png (+ _ids.tif, _depth.tif). Row 0 is the top row.");
+  cmd->footer(
+      "Files: OUT/<model>_<view>_<distance>m.png (+ _ids.tif, _depth.tif; <view>_t<i> for the tiles of a view\n"
+      "too close to frame the model). Row 0 is the top row.");
   cmd->callback([a] {
     set_error_files({a->model.path});
     // Options and the display profile first: a bad one fails before the model loads.
     RenderViewsJob job;
     job.out = output_names_for(a->out, a->model.path);
     job.up = a->model.up_axis();
-    job.facades = facades_option(a->facades, job.up);
+    job.views = views_option(a->views, job.up);
     job.distances = check_distances(a->distances);
     job.display = a->display.profile();
     Scene s = a->model.load();
@@ -49,7 +51,7 @@ void register_render(CLI::App& app) {
     if (a->json) {
       nlohmann::json j = {{"model", a->model.path}, {"triangles", s.triangle_count()}, {"views", nlohmann::json::array()}};
       for (const auto& v : views)
-        j["views"].push_back({{"facade", v.facade}, {"distance", v.distance}, {"color", v.color}, {"ids", v.ids},
+        j["views"].push_back({{"view", v.view}, {"distance", v.distance}, {"color", v.color}, {"ids", v.ids},
                               {"depth", v.depth}, {"covered_pixels", v.covered_pixels},
                               {"render_seconds", v.render_seconds}});
       print_json(j);

@@ -13,14 +13,22 @@ void register_run(CLI::App& app) {
       "run", "Run the whole method from a YAML config (see configs/demo.yaml): one LOD per distance");
   auto config = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
+  auto views = std::make_shared<std::string>();
+  auto samples = std::make_shared<int>(0);
   cmd->add_option("CONFIG", *config, "Batch config YAML")->required()->check(kNotEmpty);
+  cmd->add_option("--views", *views, "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); overrides the config's views)");
+  cmd->add_option("--samples", *samples, "Samples per pixel: 1, 2, 4 or 8 (overrides the config's samples)")
+      ->check(CLI::IsMember({1, 2, 4, 8}));
   cmd->add_flag("--json", *json, "Print the run report (also written to OUT/<model>_report.json) on stdout");
   cmd->footer(
-      "Writes to OUT: <model>_lod_<d>m.obj, <model>_labels_<d>m.txt, per facade <model>_<f>_<d>m.png,\n"
+      "Writes to OUT: <model>_lod_<d>m.obj, <model>_labels_<d>m.txt, per view <model>_<view>_<d>m.png,\n"
       "_simulated/_difference/_mask.png, _marking.png and _marking_near.png, and <model>_report.json.");
   cmd->callback([=] {
     set_error_files({*config});
     BatchConfig c = load_batch_config(*config);  // the whole config, checked before any work
+    if (!views->empty()) views_option(*views, c.up);  // a bad --views fails before any work
+    if (!views->empty()) c.views = {*views};
+    if (*samples) c.samples = *samples;
     LodJob job = lod_job(c);
     set_error_files({c.model, *config});
     LoadReport rep;

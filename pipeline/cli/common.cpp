@@ -57,11 +57,11 @@ std::vector<double> check_distances(const std::vector<double>& d) {
   return d;
 }
 
-std::vector<std::string> facades_option(const std::string& spec, UpAxis up) {
+std::vector<std::string> views_option(const std::string& spec, UpAxis up) {
   try {
-    return parse_facades(spec, up);
+    return parse_views(spec, up);
   } catch (const std::invalid_argument& e) {
-    throw OptionError(std::string("--facade: ") + e.what());
+    throw OptionError(std::string("--views: ") + e.what());
   }
 }
 

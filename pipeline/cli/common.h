@@ -37,7 +37,7 @@ struct DisplayArgs {
 };
 
 // parse_facades for the --facade option: a bad list is an OptionError.
-std::vector<std::string> facades_option(const std::string& spec, UpAxis up);
+std::vector<std::string> views_option(const std::string& spec, UpAxis up);
 
 // "56,132,427" or repeated --distance.
 std::vector<double> check_distances(const std::vector<double>& d);

@@ -113,8 +113,8 @@ DisplayProfile load_display_profile(const std::string& path) {
 BatchConfig load_batch_config(const std::string& path) {
   YAML::Node n = load_yaml(path);
   check_keys(n, path,
-             {"model", "up", "scale", "display", "distances", "facades", "out", "tracer", "verify", "ratio",
-              "simplify", "k", "target", "keep_undisplayable", "format"});
+             {"model", "up", "scale", "display", "distances", "views", "facades", "samples", "per_building", "out",
+              "tracer", "verify", "ratio", "simplify", "k", "target", "keep_undisplayable", "format"});
   namespace fs = std::filesystem;
   fs::path dir = fs::path(path).parent_path();
   auto rel = [&](const std::string& p) { return p.empty() || fs::path(p).is_absolute() ? p : (dir / p).string(); };
@@ -132,11 +132,41 @@ BatchConfig load_batch_config(const std::string& path) {
     c.display = rel(get<std::string>(n, path, "display", ""));
     if (c.display.empty()) throw config_error(path, "'display' must name a display profile file");
   }
-  c.facades = get<std::string>(n, path, "facades", "all");
+  if (n["views"] && n["facades"]) throw config_error(path, "give 'views' or its old name 'facades', not both");
+  const char* views_key = n["facades"] ? "facades" : "views";
+  if (const YAML::Node v = n[views_key]) {
+    c.views.clear();
+    if (v.IsSequence()) {
+      for (const auto& item : v) {
+        if (!item.IsScalar())
+          throw config_error(path, std::string("'") + views_key + "' must be a list of view names or presets");
+        c.views.push_back(item.Scalar());
+      }
+    } else if (v.IsScalar()) {
+      c.views.push_back(v.Scalar());
+    } else {
+      throw config_error(path, std::string("'") + views_key + "' must be a view set such as \"facades,top\" or a list");
+    }
+  }
   try {
-    parse_facades(c.facades, c.up);
+    parse_views(c.views, c.up);
   } catch (const std::invalid_argument& e) {
-    throw config_error(path, std::string("'facades': ") + e.what());
+    throw config_error(path, std::string("'") + views_key + "': " + e.what());
+  }
+  c.samples = get<int>(n, path, "samples", c.samples);
+  try {
+    sample_offsets(c.samples);
+  } catch (const std::invalid_argument& e) {
+    throw config_error(path, std::string("'samples': ") + e.what());
+  }
+  if (n["per_building"]) {
+    const YAML::Node pb = n["per_building"];
+    c.per_building = pb.IsScalar() ? pb.Scalar() : std::string("?");
+    try {
+      parse_per_building(c.per_building);
+    } catch (const std::invalid_argument& e) {
+      throw config_error(path, std::string("'per_building': ") + e.what());
+    }
   }
   c.out = get<std::string>(n, path, "out", "out");
   if (c.out.empty()) throw config_error(path, "'out' must name an output directory");
@@ -193,7 +223,9 @@ LodJob lod_job(const BatchConfig& c) {
   job.label.up = c.up;
   job.label.display = c.display.empty() ? default_display_profile() : load_display_profile(c.display);
   job.label.perception = perception_settings_for(job.label.display);
-  job.label.facades = parse_facades(c.facades, c.up);
+  job.label.views = parse_views(c.views, c.up);
+  job.label.samples = c.samples;
+  job.label.per_building = parse_per_building(c.per_building);
   job.label.ratio = c.ratio;
   job.label.verify = c.verify;
   job.label.out = output_names_for(c.out, c.model);

@@ -1,7 +1,11 @@
-// Labelling (the method's sections 2-4 for one distance): per facade view
-// render -> perceive -> trace -> count; labels from the counts, combined over
-// views; the labels file and marking renders.
+// Labelling (the method's sections 2-4 for one distance): per view (framed,
+// tiled when needed) render -> perceive -> trace each sample -> count; labels
+// from the counts, combined over views; per-building views; the labels file
+// and marking renders.
 #include <cstdio>
+#include <algorithm>
+#include <cmath>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -26,8 +30,9 @@ nlohmann::json to_json(const Agreement& a) {
           {"identical_rate", a.identical_rate()}};
 }
 
-// Marking-colour renders of `labels` from each facade at the job's distance and
-// at distance * closer_factor.
+// Marking-colour renders of `labels` from each view (untiled: the whole
+// model, cut off where it overfills the frame) at the job's distance and at
+// distance * closer_factor.
 std::vector<std::string> write_marking_renders(Renderer& renderer, const Scene& scene,
                                                const std::vector<Label>& labels, const LabelJob& job) {
   std::vector<std::string> files;
@@ -36,11 +41,11 @@ std::vector<std::string> write_marking_renders(Renderer& renderer, const Scene& 
   RenderOptions opt;
   opt.triangle_colors = marking_colors(labels);
   opt.want_ids = false;
-  for (const auto& facade : job.facades)
+  for (const auto& view : job.views)
     for (auto [d, suffix] : {std::pair{job.distance, "_marking.png"},
                              std::pair{job.distance * job.closer_factor, "_marking_near.png"}}) {
-      RenderOutput o = renderer.render(facade_camera(bounds, job.up, facade, d, job.display), opt);
-      files.push_back(job.out.view(facade, job.distance, suffix));
+      RenderOutput o = renderer.render(view_camera(bounds, job.up, view, d, job.display), opt);
+      files.push_back(job.out.view(view, job.distance, suffix));
       write_png(files.back(), o.width, o.height, 3, o.rgb.data());
     }
   return files;
@@ -59,9 +64,130 @@ std::unique_ptr<Tracer> make_tracer(const Scene& scene, TracerKind kind) {
   return std::make_unique<EmbreeTracer>(scene, EmbreeMode::Fast);
 }
 
+PerBuilding parse_per_building(const std::string& s) {
+  if (s == "false" || s == "off") return PerBuilding::Off;
+  if (s == "true" || s == "on") return PerBuilding::On;
+  if (s == "auto") return PerBuilding::Auto;
+  throw std::invalid_argument("per_building must be true, false or auto, not '" + s + "'");
+}
+
+Buildings find_buildings(const Scene& scene) {
+  Buildings b;
+  const size_t nc = std::max<size_t>(scene.component_count(), 1);
+  b.of_component.resize(nc);
+  std::map<std::string, uint32_t> index;
+  for (size_t c = 0; c < nc; ++c) {
+    std::string name = c < scene.component_names.size() ? scene.component_names[c] : std::string();
+    size_t slash = name.find('/');
+    std::string key = slash == std::string::npos ? name + "\n" + std::to_string(c) : name.substr(0, slash);
+    auto [it, added] = index.emplace(key, uint32_t(b.names.size()));
+    if (added) b.names.push_back(slash == std::string::npos ? name : key);
+    b.of_component[c] = it->second;
+  }
+  return b;
+}
+
+namespace {
+
+// Per-triangle state over the views of one distance.
+struct Accumulator {
+  std::vector<uint8_t> perceptible, displayed, in_frustum;
+  explicit Accumulator(size_t nt) : perceptible(nt), displayed(nt), in_frustum(nt) {}
+};
+
+struct ViewOutcome {
+  PerceptionResult perception;
+  std::vector<uint8_t> background;
+  RenderOutput image;
+  nlohmann::json report;
+};
+
+// Render, perceive and trace one camera at job.samples samples per pixel;
+// adds its counts and labels for the triangles `counts_for` accepts (all when
+// `owner` is null, else those whose owner[t] == building).
+void label_view(Renderer& renderer, const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference,
+                const LabelJob& job, const PerceptionSettings& ps, const std::string& name, const Camera& cam,
+                const std::vector<uint32_t>* owner, uint32_t building, LabelResult& res, Accumulator& acc,
+                ViewOutcome& out) {
+  const size_t nt = scene.triangle_count();
+  auto t0 = Clock::now();
+  out.image = renderer.render(cam);
+  const double t_render = since(t0);
+  background_of(out.image, out.background);
+  t0 = Clock::now();
+  perceive_into(out.image.rgb.data(), out.image.width, out.image.height, ps, out.background.data(), out.perception);
+  const double t_perceive = since(t0);
+
+  const size_t pixels = size_t(out.image.width) * out.image.height;
+  std::vector<uint32_t> rays(pixels), first;
+  TriangleCounts counts;
+  counts.traced.assign(nt, 0);
+  counts.imperceptible.assign(nt, 0);
+  t0 = Clock::now();
+  for (const auto& o : sample_offsets(job.samples)) {
+    Camera c = cam;
+    c.shift_x = o[0];
+    c.shift_y = o[1];
+    tracer.trace(c, rays.data());
+    if (owner)
+      for (uint32_t& id : rays)
+        if (id && (*owner)[id - 1] != building) id = 0;
+    add_counts(counts, rays.data(), out.perception.mask.data(), pixels);
+    if (first.empty()) first = rays;
+  }
+  const double t_trace = since(t0);
+
+  const std::vector<Label> labels = label_triangles(counts, job.ratio);
+  std::vector<uint8_t> seen(nt, 0);
+  mark_in_frustum(scene, cam, seen);
+  for (size_t t = 0; t < nt; ++t) {
+    if (owner && (*owner)[t] != building) continue;
+    res.totals.traced[t] += counts.traced[t];
+    res.totals.imperceptible[t] += counts.imperceptible[t];
+    acc.perceptible[t] |= labels[t] == Label::Perceptible;
+    acc.displayed[t] |= labels[t] != Label::Undisplayable;
+    acc.in_frustum[t] |= seen[t];
+  }
+  out.report = {{"view", name},
+                {"covered_pixels", out.perception.counted_pixels},
+                {"imperceptible_fraction", out.perception.imperceptible_fraction},
+                {"levels", out.perception.levels},
+                {"labels", to_json(count_labels(labels))},
+                {"seconds", {{"render", t_render}, {"perceive", t_perceive}, {"trace", t_trace}}}};
+  if (!owner) {
+    // Sample 0 against the renderer's ID buffer (the centre sample at 1 and 8
+    // samples per pixel; 2 and 4 have none, so a few more edge pixels differ).
+    out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, cam, first.data(), out.image.ids.data()));
+    if (reference) {
+      Camera c = cam;
+      c.shift_x = sample_offsets(job.samples)[0][0];
+      c.shift_y = sample_offsets(job.samples)[0][1];
+      std::vector<uint32_t> ref(pixels);
+      t0 = Clock::now();
+      reference->trace(c, ref.data());
+      out.report["seconds"]["trace_embree_verify"] = since(t0);
+      out.report["octree_vs_embree"] = to_json(compare_traced(scene, c, first.data(), ref.data()));
+    }
+  }
+}
+
+std::string progress_line(const std::string& name, double d, const ViewOutcome& o) {
+  std::ostringstream ss;
+  ss.precision(3);
+  const auto& s = o.report["seconds"];
+  ss << "  " << name << " at " << d << " m: " << o.perception.counted_pixels << " px, "
+     << 100 * o.perception.imperceptible_fraction << "% imperceptible; render " << 1e3 * s["render"].get<double>()
+     << " ms, perceive " << 1e3 * s["perceive"].get<double>() << " ms, trace " << 1e3 * s["trace"].get<double>()
+     << " ms";
+  return ss.str();
+}
+
+}  // namespace
+
 LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& job,
                         const Progress& progress) {
-  if (job.facades.empty()) throw std::invalid_argument("no facade views to label from");
+  if (job.views.empty()) throw std::invalid_argument("no views to label from");
+  sample_offsets(job.samples);  // checks the count
   const size_t nt = scene.triangle_count();
   Bounds bounds = scene_bounds(scene);
   const PerceptionSettings ps = perception_for(job);
@@ -74,75 +200,94 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   LabelResult res;
   res.totals.traced.assign(nt, 0);
   res.totals.imperceptible.assign(nt, 0);
-  res.report = {{"distance", job.distance}, {"tracer", tracer.name()}, {"views", nlohmann::json::array()}};
-  std::vector<uint32_t> rays;
-  std::vector<uint8_t> background;
-  PerceptionResult pr;  // reused across views: perceive_into allocates only once
-  for (const auto& facade : job.facades) {
-    Camera cam = facade_camera(bounds, job.up, facade, job.distance, job.display);
-    auto t0 = Clock::now();
-    RenderOutput img = renderer.render(cam);
-    double t_render = since(t0);
+  res.report = {{"distance", job.distance},
+                {"tracer", tracer.name()},
+                {"samples_per_pixel", job.samples},
+                {"views", nlohmann::json::array()}};
+  Accumulator acc(nt);
+  ViewOutcome o;
+  for (const auto& view : job.views)
+    for (const ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) {
+      label_view(renderer, scene, tracer, reference.get(), job, ps, tile.name, tile.camera, nullptr, 0, res, acc, o);
+      res.views.push_back({tile.name, tile.camera, o.perception.simulated, o.background});
+      if (write_files) {
+        auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
+        const RenderOutput& img = o.image;
+        write_png(file(".png"), img.width, img.height, 3, img.rgb.data());
+        if (job.write_perception_images) {
+          write_png(file("_simulated.png"), img.width, img.height, 1, simulated_view(o.perception).data());
+          write_png(file("_difference.png"), img.width, img.height, 1, difference_view(o.perception).data());
+          write_png(file("_mask.png"), img.width, img.height, 1, mask_view(o.perception).data());
+        }
+      }
+      res.report["views"].push_back(o.report);
+      if (progress) progress(progress_line(tile.name, job.distance, o));
+    }
 
-    background_of(img, background);
-    t0 = Clock::now();
-    perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
-    double t_perceive = since(t0);
-
-    rays.resize(size_t(img.width) * img.height);
-    t0 = Clock::now();
-    tracer.trace(cam, rays.data());
-    double t_trace = since(t0);
-
-    TriangleCounts counts = count_triangles(rays.data(), pr.mask.data(), rays.size(), nt);
+  // Per building: views framed on each building, counting its own triangles.
+  Buildings buildings;
+  bool per_building = job.per_building == PerBuilding::On;
+  if (job.per_building != PerBuilding::Off) {
+    buildings = find_buildings(scene);
+    if (job.per_building == PerBuilding::Auto) per_building = buildings.names.size() >= 2;
+  }
+  if (per_building) {
+    std::vector<uint32_t> owner(nt);
+    Bounds none;
+    none.lo = {INFINITY, INFINITY, INFINITY};
+    none.hi = {-INFINITY, -INFINITY, -INFINITY};
+    std::vector<Bounds> box(buildings.names.size(), none);
     for (size_t t = 0; t < nt; ++t) {
-      res.totals.traced[t] += counts.traced[t];
-      res.totals.imperceptible[t] += counts.imperceptible[t];
-    }
-    res.per_view.push_back(label_triangles(counts, job.ratio));
-    res.views.push_back({facade, cam, pr.simulated, background});
-
-    nlohmann::json v = {{"facade", facade},
-                        {"covered_pixels", pr.counted_pixels},
-                        {"imperceptible_fraction", pr.imperceptible_fraction},
-                        {"levels", pr.levels},
-                        {"labels", to_json(count_labels(res.per_view.back()))},
-                        {"rays_vs_id_buffer", to_json(compare_with_id_buffer(scene, cam, rays.data(), img.ids.data()))},
-                        {"seconds", {{"render", t_render}, {"perceive", t_perceive}, {"trace", t_trace}}}};
-    if (reference) {
-      std::vector<uint32_t> ref(rays.size());
-      t0 = Clock::now();
-      reference->trace(cam, ref.data());
-      v["seconds"]["trace_embree_verify"] = since(t0);
-      v["octree_vs_embree"] = to_json(compare_traced(scene, cam, rays.data(), ref.data()));
-    }
-    if (write_files) {
-      auto file = [&](const char* suffix) { return job.out.view(facade, job.distance, suffix); };
-      write_png(file(".png"), img.width, img.height, 3, img.rgb.data());
-      if (job.write_perception_images) {
-        write_png(file("_simulated.png"), img.width, img.height, 1, simulated_view(pr).data());
-        write_png(file("_difference.png"), img.width, img.height, 1, difference_view(pr).data());
-        write_png(file("_mask.png"), img.width, img.height, 1, mask_view(pr).data());
+      owner[t] = buildings.of_component[scene.component_of(t)];
+      Bounds& bb = box[owner[t]];
+      for (int k = 0; k < 3; ++k) {
+        const float* p = &scene.positions[3 * size_t(scene.indices[3 * t + k])];
+        for (int a = 0; a < 3; ++a) bb.lo[a] = std::min(bb.lo[a], p[a]), bb.hi[a] = std::max(bb.hi[a], p[a]);
       }
     }
-    res.report["views"].push_back(v);
-    if (progress) {
-      std::ostringstream ss;
-      ss.precision(3);
-      ss << "  " << facade << " at " << job.distance << " m: " << pr.counted_pixels << " px, "
-         << 100 * pr.imperceptible_fraction << "% imperceptible; render " << 1e3 * t_render << " ms, perceive "
-         << 1e3 * t_perceive << " ms, trace " << 1e3 * t_trace << " ms";
-      progress(ss.str());
+    nlohmann::json per = nlohmann::json::array();
+    for (uint32_t b = 0; b < buildings.names.size(); ++b) {
+      if (!(box[b].lo[0] <= box[b].hi[0])) continue;  // a building without triangles
+      size_t views = 0;
+      double seconds = 0;
+      for (const auto& view : job.views)
+        for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display)) {
+          label_view(renderer, scene, tracer, nullptr, job, ps, tile.name, tile.camera, &owner, b, res, acc, o);
+          ++views;
+          for (const auto& [k, v] : o.report["seconds"].items()) seconds += v.get<double>();
+        }
+      per.push_back({{"building", buildings.names[b]}, {"views", views}, {"seconds", seconds}});
+      if (progress) {
+        std::ostringstream ss;
+        ss.precision(3);
+        ss << "  building " << b + 1 << "/" << buildings.names.size() << " " << buildings.names[b] << ": " << views
+           << " views, " << seconds << " s";
+        progress(ss.str());
+      }
+    }
+    res.report["per_building"] = per;
+  }
+
+  res.labels.assign(nt, Label::Undisplayable);
+  for (size_t t = 0; t < nt; ++t) {
+    if (acc.perceptible[t])
+      res.labels[t] = Label::Perceptible;
+    else if (acc.displayed[t])
+      res.labels[t] = Label::Imperceptible;
+    else if (!acc.in_frustum[t]) {
+      res.labels[t] = Label::Imperceptible;  // no view could have seen it: the view set was incomplete
+      ++res.outside_views;
     }
   }
-  res.labels = combine_views(res.per_view);
   res.report["labels"] = to_json(count_labels(res.labels));
+  res.report["outside_views"] = res.outside_views;
   return res;
 }
 
 void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job) {
   LabelFile lf{result.labels, result.totals.traced, result.totals.imperceptible, {}};
-  for (const auto& f : job.facades) lf.views.emplace_back(f, job.distance);
+  for (const auto& v : result.views) lf.views.emplace_back(v.view, job.distance);
+  lf.samples = job.samples;
   lf.has_model = true;
   lf.model_triangles = scene.triangle_count();
   lf.model_hash = model_fingerprint(scene);

@@ -39,6 +39,7 @@ void write_labels(const std::string& path, const LabelFile& f) {
     ss << "view " << name << " " << d << "\n";
     out += ss.str();
   }
+  if (f.samples != 1) out += "samples " + std::to_string(f.samples) + "\n";
   static const char code[3] = {'P', 'I', 'U'};
   for (size_t i = 0; i < n; ++i) {
     out += code[uint8_t(f.labels[i])];
@@ -143,8 +144,17 @@ LabelFile read_labels(const std::string& path) {
   f.labels.resize(n);
   f.traced.resize(n);
   f.imperceptible.resize(n);
+  bool pending = next();  // the optional samples line, or the first triangle's
+  if (pending && !w.empty() && w[0] == "samples") {
+    uint64_t s = 0;
+    if (w.size() != 2 || !parse_uint(w[1], s) || !(s == 2 || s == 4 || s == 8))
+      throw bad(line, "expected 'samples S' with S one of 2, 4, 8");
+    f.samples = int(s);
+    pending = next();
+  }
   for (size_t i = 0; i < n; ++i) {
-    if (!next() || w.size() != 3 || w[0].size() != 1)
+    if (i > 0) pending = next();
+    if (!pending || w.size() != 3 || w[0].size() != 1)
       throw bad(line, "expected 'LABEL TRACED IMPERCEPTIBLE' (triangle " + std::to_string(i) + " of " +
                           std::to_string(n) + ")");
     if (!parse_uint(w[1], f.traced[i]) || !parse_uint(w[2], f.imperceptible[i]))
@@ -157,6 +167,7 @@ LabelFile read_labels(const std::string& path) {
     else if (c == 'U') f.labels[i] = Label::Undisplayable;
     else throw bad(line, "label '" + w[0] + "' is not P, I or U");
   }
+ if (n == 0 && pending && !w.empty()) throw bad(line, "unexpected line after the header of a file of 0 triangles");
   while (next())
     if (!w.empty()) throw bad(line, "unexpected line after the " + std::to_string(n) + " triangle lines");
   return f;

@@ -98,7 +98,7 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const Lab
       changed += std::abs(pr.simulated[i] - v.simulated[i]) > ps.threshold;
       coverage_changed += background[i] != v.background[i];
     }
-    views.push_back({{"facade", v.facade},
+    views.push_back({{"view", v.view},
                      {"drawn_pixels", drawn},
                      {"changed_pixels", changed},
                      {"changed_fraction", drawn ? double(changed) / double(drawn) : 0.0},

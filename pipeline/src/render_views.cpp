@@ -1,4 +1,5 @@
-// perclod render: every requested view at every distance, written as images.
+// perclod render: every requested view (framed, tiled when needed) at every
+// distance, written as images.
 #include "perclod/image_io.h"
 #include "perclod/pipeline.h"
 
@@ -11,17 +12,26 @@ std::vector<ViewFiles> render_views(const Scene& scene, const RenderViewsJob& jo
   renderer.set_scene(scene);
   Bounds b = scene_bounds(scene);
   std::vector<ViewFiles> done;
-  size_t total = job.facades.size() * job.distances.size();
+  std::vector<std::vector<ViewTile>> tiles;
+  size_t total = 0;
   for (double d : job.distances)
-    for (const auto& f : job.facades) {
-      Camera cam = facade_camera(b, job.up, f, d, job.display);
+    for (const auto& v : job.views) {
+      tiles.push_back(frame_view(b, job.up, v, d, job.display));
+      total += tiles.back().size();
+    }
+  size_t next = 0;
+  for (double d : job.distances)
+    for (size_t vi = 0; vi < job.views.size(); ++vi)
+    for (const ViewTile& tile : tiles[next++]) {
+      const std::string& f = tile.name;
+      const Camera& cam = tile.camera;
       RenderOptions opt;
       opt.color_by = job.color_by;
       opt.want_ids = true;
       opt.want_depth = job.write_depth;
       RenderOutput r = renderer.render(cam, opt);
       ViewFiles v;
-      v.facade = f;
+      v.view = f;
       v.distance = d;
       v.render_seconds = r.seconds;
       for (uint32_t id : r.ids) v.covered_pixels += id != 0;

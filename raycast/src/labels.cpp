@@ -9,11 +9,19 @@ namespace perclod {
 
 TriangleCounts count_triangles(const uint32_t* tri_plus_one, const uint8_t* mask, size_t pixel_count,
                                size_t triangle_count) {
-  if (!tri_plus_one && pixel_count > 0)
-    throw std::invalid_argument("count_triangles: triangle buffer is null");
   TriangleCounts c;
   c.traced.assign(triangle_count, 0);
   c.imperceptible.assign(triangle_count, 0);
+  add_counts(c, tri_plus_one, mask, pixel_count);
+  return c;
+}
+
+void add_counts(TriangleCounts& c, const uint32_t* tri_plus_one, const uint8_t* mask, size_t pixel_count) {
+  if (!tri_plus_one && pixel_count > 0)
+    throw std::invalid_argument("count_triangles: triangle buffer is null");
+  if (c.traced.size() != c.imperceptible.size())
+    throw std::invalid_argument("count_triangles: traced and imperceptible counts differ in size");
+  const size_t triangle_count = c.traced.size();
   for (size_t p = 0; p < pixel_count; ++p) {
     const uint32_t id = tri_plus_one[p];
     if (id == 0) continue;
@@ -24,7 +32,44 @@ TriangleCounts count_triangles(const uint32_t* tri_plus_one, const uint8_t* mask
     ++c.traced[id - 1];
     if (mask && mask[p]) ++c.imperceptible[id - 1];
   }
-  return c;
+}
+
+std::vector<std::array<double, 2>> sample_offsets(int n) {
+  switch (n) {
+    case 1: return {{0.0, 0.0}};
+    case 2: return {{-0.25, -0.25}, {0.25, 0.25}};
+    case 4: return {{-0.125, -0.375}, {0.375, -0.125}, {-0.375, 0.125}, {0.125, 0.375}};
+    case 8: {
+      std::vector<std::array<double, 2>> s;
+      for (auto [x, y] : {std::pair{1, -3}, {-1, 3}, {5, 1}, {-3, -5}, {-5, 5}, {-7, -1}, {3, 7}, {7, -7}})
+        s.push_back({x / 16.0, y / 16.0});
+      return s;
+    }
+  }
+  throw std::invalid_argument("samples per pixel must be 1, 2, 4 or 8, not " + std::to_string(n));
+}
+
+void mark_in_frustum(const Scene& scene, const Camera& cam, std::vector<uint8_t>& inside) {
+  const size_t nt = scene.triangle_count();
+  if (inside.size() != nt) throw std::invalid_argument("mark_in_frustum: one entry per triangle expected");
+  const double ty = cam.tan_half_y(), tx = ty * cam.aspect();
+  // Per vertex: bit k set when outside plane k (near, far, left, right, bottom, top).
+  const size_t nv = scene.positions.size() / 3;
+  std::vector<uint8_t> out(nv);
+  for (size_t v = 0; v < nv; ++v) {
+    Eigen::Vector3d d(scene.positions[3 * v] - cam.eye.x(), scene.positions[3 * v + 1] - cam.eye.y(),
+                      scene.positions[3 * v + 2] - cam.eye.z());
+    const double z = d.dot(cam.forward), u = d.dot(cam.right), w = d.dot(cam.up);
+    // The shifted frame moves the edges by at most a pixel: widen by one pixel.
+    const double mx = z * tx * (1.0 + 2.0 / cam.width), my = z * ty * (1.0 + 2.0 / cam.height);
+    out[v] = uint8_t((z < cam.znear) | (z > cam.zfar) << 1 | (u < -mx) << 2 | (u > mx) << 3 | (w < -my) << 4 |
+                     (w > my) << 5);
+  }
+  for (size_t t = 0; t < nt; ++t) {
+    if (inside[t]) continue;
+    const uint32_t* i = &scene.indices[3 * t];
+    if ((out[i[0]] & out[i[1]] & out[i[2]]) == 0) inside[t] = 1;
+  }
 }
 
 std::vector<Label> label_triangles(const TriangleCounts& counts, double ratio) {

@@ -384,8 +384,8 @@ Frame make_frame(const Camera& cam, const detail::PixelDirections& dirs) {
   const double th = cam.tan_half_y();
   f.fx = 0.5 * cam.width / (th * cam.aspect());
   f.fy = 0.5 * cam.height / th;
-  f.cx = 0.5 * cam.width;
-  f.cy = 0.5 * cam.height;
+  f.cx = 0.5 * cam.width - cam.shift_x;  // pixel coordinates of the shifted camera
+  f.cy = 0.5 * cam.height - cam.shift_y;
   f.fmax = std::max(f.fx, f.fy);
   for (int k = 0; k < 3; ++k) {
     f.pos_fwd[k] = f.fwd[k] >= 0;

@@ -7,7 +7,8 @@
 
 namespace perclod::detail {
 
-// Direction through the centre of pixel (x, y), computed in double by
+// Direction through the sampling point of pixel (x, y) (its centre unless
+// the camera is shifted), computed in double by
 // Camera::ray_direction and rounded to float once. Every float tracer uses
 // exactly this ray, so octree and Embree see bit-identical rays.
 inline void pixel_direction(const Camera& c, int x, int y, float d[3]) {
@@ -25,8 +26,8 @@ class PixelDirections {
  public:
   explicit PixelDirections(const Camera& c) : cam_(c), sx_(size_t(c.width)), sy_(size_t(c.height)) {
     const double th = c.tan_half_y();
-    for (int x = 0; x < c.width; ++x) sx_[size_t(x)] = (2.0 * (x + 0.5) / c.width - 1.0) * th * c.aspect();
-    for (int y = 0; y < c.height; ++y) sy_[size_t(y)] = (1.0 - 2.0 * (y + 0.5) / c.height) * th;
+    for (int x = 0; x < c.width; ++x) sx_[size_t(x)] = (2.0 * (x + 0.5 + c.shift_x) / c.width - 1.0) * th * c.aspect();
+    for (int y = 0; y < c.height; ++y) sy_[size_t(y)] = (1.0 - 2.0 * (y + 0.5 + c.shift_y) / c.height) * th;
   }
   void direction(int x, int y, float d[3]) const {
     const double sx = sx_[size_t(x)], sy = sy_[size_t(y)];

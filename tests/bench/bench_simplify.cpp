@@ -136,7 +136,7 @@ std::vector<Label> pipeline_labels(const Scene& scene, double distance) {
   OctreeTracer tracer(scene);
   LabelJob job;
   job.up = UpAxis::Z;
-  job.facades = parse_facades("all", UpAxis::Z);
+  job.views = parse_views("facades", UpAxis::Z);
   job.distance = distance;
   std::vector<Label> labels = label_scene(renderer, scene, tracer, job).labels;
   std::fprintf(stderr, "  labelled in %.2f s (render, perceive, trace four views)\n",

@@ -26,7 +26,7 @@ Labelled label_building(Renderer& renderer) {
   Labelled l;
   l.scene = load_scene(kBuilding);
   l.job.up = UpAxis::Z;
-  l.job.facades = parse_facades("all", UpAxis::Z);
+  l.job.views = parse_views("facades", UpAxis::Z);
   l.job.distance = 56;
   OctreeTracer tracer(l.scene);
   l.result = label_scene(renderer, l.scene, tracer, l.job);

@@ -56,6 +56,74 @@ TEST(Views, FacadeNamesFollowTheUpAxis) {
   EXPECT_THROW(parse_facades("az30", UpAxis::Z), std::invalid_argument);
 }
 
+TEST(Views, PresetsExpandInOrderWithoutDuplicates) {
+  EXPECT_EQ(parse_views("facades", UpAxis::Z), parse_facades("all", UpAxis::Z));
+  EXPECT_EQ(parse_views("obliques", UpAxis::Y),
+            (std::vector<std::string>{"az45el0", "az135el0", "az225el0", "az315el0"}));
+  EXPECT_EQ(parse_views("top,+x,top", UpAxis::Z), (std::vector<std::string>{"top", "+x"}));
+  EXPECT_EQ(parse_views("ring4el30", UpAxis::Z),
+            (std::vector<std::string>{"az0el30", "az90el30", "az180el30", "az270el30"}));
+  EXPECT_EQ(parse_views("ring2el0/45", UpAxis::Z),
+            (std::vector<std::string>{"az0el0", "az180el0", "az0el45", "az180el45"}));
+  EXPECT_EQ(parse_views("ring3", UpAxis::Z).size(), 9u);  // 3 azimuths x elevations 0, 30, 60
+  EXPECT_EQ(parse_views(std::vector<std::string>{"facades", " top "}, UpAxis::Z).size(), 5u);
+  EXPECT_EQ(parse_views(kDefaultViews, UpAxis::Z).size(), parse_views(kDefaultViews, UpAxis::Y).size());
+  for (const char* bad : {"ring0", "ring8el", "ring8el90", "ring8elx", "ringx", "tops", "az10el90", "", "+y"}) {
+    try {
+      parse_views(bad, UpAxis::Y);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("view"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Views, TopLooksDownFromAboveTheRoof) {
+  Bounds b;
+  b.lo = {-10, -4, 0};
+  b.hi = {10, 4, 12};
+  DisplayProfile d;
+  Camera c = view_camera(b, UpAxis::Z, "top", 30, d);
+  EXPECT_NEAR(c.eye.z(), 42, 1e-9);
+  EXPECT_NEAR(c.forward.z(), -1, 1e-12);
+  EXPECT_NEAR(c.up.y(), 1, 1e-12);  // north up in the image
+  Camera y = view_camera(b, UpAxis::Y, "top", 30, d);
+  EXPECT_NEAR(y.forward.y(), -1, 1e-12);
+  EXPECT_NEAR(y.eye.y(), 4 + 30, 1e-9);
+}
+
+// Every box corner lies inside some tile; a view that fits stays one camera.
+TEST(Views, FrameViewTilesAModelThatOverfillsTheFrame) {
+  Bounds b;
+  b.lo = {-20, -1, 0};
+  b.hi = {20, 1, 15};
+  DisplayProfile d;
+  for (const char* view : {"-y", "az30el20", "top"}) {
+    auto far = frame_view(b, UpAxis::Z, view, 200, d);
+    ASSERT_EQ(far.size(), 1u) << view;
+    EXPECT_EQ(far[0].name, view);
+    auto near = frame_view(b, UpAxis::Z, view, 5, d);
+    EXPECT_GT(near.size(), 4u) << view;
+    EXPECT_EQ(near[1].name, std::string(view) + "_t1");
+    // Sample the box densely: every point projects into some tile's image.
+    for (int i = 0; i <= 20; ++i)
+      for (int j = 0; j <= 10; ++j)
+        for (int k = 0; k <= 10; ++k) {
+          Eigen::Vector3d p(-20 + 2.0 * i, -1 + 0.2 * j, 1.5 * k);
+          bool inside = false;
+          for (const auto& t : near) {
+            double px, py, depth;
+            inside |= t.camera.project(p, px, py, depth) && px >= 0 && px <= t.camera.width && py >= 0 &&
+                      py <= t.camera.height && depth >= t.camera.znear && depth <= t.camera.zfar;
+          }
+          EXPECT_TRUE(inside) << view << " misses " << p.transpose();
+        }
+    // Same direction as the untiled view, eyes panned.
+    EXPECT_NEAR(near[0].camera.forward.dot(far[0].camera.forward), 1, 1e-12);
+  }
+  EXPECT_THROW(frame_view(b, UpAxis::Z, "-y", 0.01, d, 64), std::invalid_argument);
+}
+
 TEST(Views, FreeViewLooksAtTheCentreFromAzimuthAndElevation) {
   Bounds b;
   b.lo = {-3, -4, 0};
@@ -128,6 +196,11 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   expect_error(load_batch_config, write("target-paper.yaml", base + "target: 100\n"), "only to 'simplify: qem'");
   expect_error(load_batch_config, write("abc.yaml", "model: m.obj\ndistances: [abc]\n"), "'distances'");
   expect_error(load_batch_config, write("facades.yaml", base + "facades: +q\n"), "'facades'");
+  expect_error(load_batch_config, write("views.yaml", base + "views: [facades, ring0]\n"), "'views': view 'ring0'");
+  expect_error(load_batch_config, write("views2.yaml", base + "views: {a: 1}\n"), "'views' must be");
+  expect_error(load_batch_config, write("both.yaml", base + "views: top\nfacades: all\n"), "not both");
+  expect_error(load_batch_config, write("spp.yaml", base + "samples: 3\n"), "'samples'");
+  expect_error(load_batch_config, write("pb.yaml", base + "per_building: maybe\n"), "'per_building'");
   expect_error(load_batch_config, write("out.yaml", base + "out: \"\"\n"), "'out'");
   expect_error(load_batch_config, write("nomodel-file.yaml", "model: gone.obj\ndistances: [56]\n"), "no such file");
   const std::string missing_display = (dir / "gone.yaml").string();

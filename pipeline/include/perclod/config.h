@@ -22,7 +22,9 @@ struct BatchConfig {
   double scale = 1.0;
   std::string display;               // profile path ("" = default)
   std::vector<double> distances;     // metres
-  std::string facades = "all";
+  std::vector<std::string> views = {kDefaultViews};  // view set items (perclod/views.h); "facades:" is the old key
+  int samples = kDefaultSamples;     // samples per pixel: 1, 2, 4, 8
+  std::string per_building = "auto"; // true | false | auto (two or more buildings in the file)
   std::string out = "out";
   std::string tracer = "octree";     // octree | embree
   bool verify = false;               // also trace with Embree and report agreement

@@ -5,6 +5,7 @@
 //   triangles N
 //   views V
 //   view <name> <distance>          (V lines)
+//   samples S                        (optional, S > 1: counts are samples, S per pixel)
 //   <label> <traced> <imperceptible> (N lines, label one of P I U, counts summed over views)
 //
 // Labels are the combined ones (perceptible in any view wins; undisplayable only
@@ -23,6 +24,7 @@ struct LabelFile {
   std::vector<Label> labels;
   std::vector<uint32_t> traced, imperceptible;  // per triangle, summed over views
   std::vector<std::pair<std::string, double>> views;
+  int samples = 1;  // samples per pixel the counts were taken with
   // The model the labels belong to (the "model" line; files written before it
   // existed have none and are still read).
   bool has_model = false;

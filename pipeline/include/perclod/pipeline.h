@@ -33,7 +33,7 @@ using Progress = std::function<void(const std::string& message)>;
 // ---- perclod render -------------------------------------------------------
 
 struct ViewFiles {
-  std::string facade;
+  std::string view;
   double distance = 0;
   std::string color, ids, depth;  // paths written ("" = not requested)
   size_t covered_pixels = 0;      // pixels showing geometry
@@ -43,7 +43,7 @@ struct ViewFiles {
 struct RenderViewsJob {
   OutputNames out;
   UpAxis up = UpAxis::Y;
-  std::vector<std::string> facades;
+  std::vector<std::string> views;     // view names (tiled like labelling views)
   std::vector<double> distances;
   DisplayProfile display;
   bool write_ids = false, write_depth = false;
@@ -63,11 +63,33 @@ TracerKind parse_tracer(const std::string& s);  // "octree" | "embree"
 // The production tracer of that kind (Embree in its fast packet mode).
 std::unique_ptr<Tracer> make_tracer(const Scene& scene, TracerKind kind);
 
+// How a model is split into buildings for per-building labelling.
+enum class PerBuilding { Off, On, Auto };
+PerBuilding parse_per_building(const std::string& s);  // "false" | "true" | "auto"
+
+// Buildings of a scene: component names "<building>/<part>/..." (CityGML-
+// derived OBJ groups) share a building when their text before the first '/'
+// is the same; a component without '/' is a building of its own. Returns the
+// building of each component and the buildings' names.
+struct Buildings {
+  std::vector<uint32_t> of_component;
+  std::vector<std::string> names;
+};
+Buildings find_buildings(const Scene& scene);
+
+// Samples per pixel `perclod run` and `label` take unless told otherwise
+// (README, "Stable labels", says how it was chosen).
+constexpr int kDefaultSamples = 4;
+
 struct LabelJob {
   UpAxis up = UpAxis::Y;
   DisplayProfile display;
   PerceptionSettings perception;      // ppd is taken from `display`
-  std::vector<std::string> facades;   // e.g. parse_facades("all", up)
+  std::vector<std::string> views;     // view names, e.g. parse_views("facades", up)
+  int samples = 1;                    // samples per pixel (1, 2, 4, 8; see sample_offsets)
+  // Also label each building from views framed on it (its neighbours drawn
+  // and occluding); Auto = when find_buildings finds two or more.
+  PerBuilding per_building = PerBuilding::Off;
   double distance = 56;
   double ratio = 0.5;                 // imperceptible / traced >= ratio -> imperceptible
   bool verify = false;                // also trace with Embree (tie-rule mode) and compare
@@ -78,7 +100,7 @@ struct LabelJob {
 
 // What one labelling view saw, kept to judge a LOD from the same view.
 struct ViewRecord {
-  std::string facade;
+  std::string view;  // view name (with "_t<i>" for a tile)
   Camera camera;
   std::vector<float> simulated;            // vision-simulated luminance of the render
   std::vector<uint8_t> background;         // 1 where no triangle was drawn
@@ -86,21 +108,33 @@ struct ViewRecord {
 
 struct LabelResult {
   std::vector<Label> labels;               // combined over views
-  TriangleCounts totals;                   // summed over views
-  std::vector<std::vector<Label>> per_view;
-  std::vector<ViewRecord> views;           // in job.facades order
+  TriangleCounts totals;                   // summed over views, in samples
+  std::vector<ViewRecord> views;           // whole-model views (and tiles), in job.views order
+  size_t outside_views = 0;                // triangles in no view's frustum (labelled imperceptible)
   nlohmann::json report;                   // per view: pixels, fractions, agreement, timings
 };
 
-// Labels every triangle of `scene` from the job's facade views at one
-// distance. Uploads `scene` to `renderer`, where it stays for
-// write_label_outputs. Writes the renders and perception images of each view
-// when job.out.dir is set.
+// Labels every triangle of `scene` from the job's views at one distance
+// (docs/method.md section 4):
+//  * each view is framed (frame_view: tiled when the model overfills it),
+//    rendered, perceived and traced at job.samples samples per pixel; a
+//    sample counts for the triangle it hits, and is imperceptible when its
+//    pixel is in the perception mask;
+//  * per view, traced == 0 -> undisplayable, imperceptible / traced >= ratio
+//    -> imperceptible, else perceptible; over views perceptible wins, then
+//    imperceptible;
+//  * a triangle no view's frustum contains is never undisplayable: it is
+//    labelled imperceptible and counted in outside_views;
+//  * per building (job.per_building): each building is also labelled from
+//    its own framed views, counting only its own triangles.
+// Uploads `scene` to `renderer`, where it stays for write_label_outputs.
+// Writes the renders and perception images of each whole-model view when
+// job.out.dir is set.
 LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& job,
                         const Progress& progress = {});
 
 // Writes out.labels(d) and the marking-colour renders of the combined labels
-// from each facade at d and at d * closer_factor (out.view(f, d, "_marking.png"),
+// from each view at d and at d * closer_factor (out.view(f, d, "_marking.png"),
 // "_marking_near.png"); records their paths in result.report ("labels_file",
 // "marking_renders"). `renderer` must hold `scene` (as label_scene leaves it).
 void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job);
@@ -148,7 +182,7 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const Lab
                                  const LabelJob& job);
 
 struct LodJob {
-  LabelJob label;                      // facades, display, perception, ratio, output names
+  LabelJob label;                      // views, samples, display, perception, ratio, output names
   std::vector<double> distances;
   TracerKind tracer = TracerKind::Octree;
   SimplifyOptions simplify;            // mode, k, ...; pixel_footprint is set per distance

@@ -34,6 +34,7 @@
 //   compare_with_id_buffer(scene, camera, ids, render.ids).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -187,11 +188,28 @@ enum class DoubleHit { Miss, Inside, Edge };
 DoubleHit intersect_pixel_double(const Scene& scene, const Camera& camera, int x, int y,
                                  uint32_t triangle, double& t);
 
+// ---- samples and frusta ----------------------------------------------------
+
+// Sub-pixel sample positions for `n` samples per pixel, as offsets from the
+// pixel centre (Camera::shift_x, shift_y): n = 1 the centre; 2 the diagonal
+// (-1/4, -1/4), (1/4, 1/4); 4 the rotated grid (+-1/8, +-3/8 rotated);
+// 8 the 8-rooks pattern of D3D's standard multisample positions. Every pattern
+// has one sample in each row and column of an n x n sub-grid, so thin
+// horizontal and vertical parts are sampled evenly. Throws for other n.
+std::vector<std::array<double, 2>> sample_offsets(int n);
+
+// Marks (sets to 1) the triangles that may lie inside `camera`'s frustum
+// (between znear and zfar and within the image's four edge planes): a
+// triangle is outside only when all three corners are outside one plane, so
+// a few triangles just outside a corner of the frustum are marked too.
+// `inside` must hold scene.triangle_count() entries.
+void mark_in_frustum(const Scene& scene, const Camera& camera, std::vector<uint8_t>& inside);
+
 // ---- counts and labels -----------------------------------------------------
 
 struct TriangleCounts {
-  std::vector<uint32_t> traced;         // per triangle: pixels whose ray hit it
-  std::vector<uint32_t> imperceptible;  // of those, pixels flagged imperceptible
+  std::vector<uint32_t> traced;         // per triangle: samples (pixels at 1 sample per pixel) whose ray hit it
+  std::vector<uint32_t> imperceptible;  // of those, samples whose pixel is flagged imperceptible
 };
 
 // Counts from a per-pixel triangle buffer (index + 1) and a mask (1 byte per
@@ -199,6 +217,9 @@ struct TriangleCounts {
 // Throws std::invalid_argument when a pixel names a triangle >= triangle_count.
 TriangleCounts count_triangles(const uint32_t* tri_plus_one, const uint8_t* imperceptible_mask,
                                size_t pixel_count, size_t triangle_count);
+// Adds the counts of one more sample buffer (same encoding, same mask) to `c`.
+void add_counts(TriangleCounts& c, const uint32_t* tri_plus_one, const uint8_t* imperceptible_mask,
+                size_t pixel_count);
 
 // traced == 0 -> Undisplayable; imperceptible / traced >= ratio -> Imperceptible;
 // else Perceptible. Throws std::invalid_argument for mismatched vector sizes

@@ -7,7 +7,12 @@
 //  * ray_direction() is NOT normalised: its camera-space z is -1, so a hit's
 //    ray parameter t equals its eye depth and [znear, zfar] are the clip planes;
 //  * projection() is reversed-Z with a [0, 1] depth range (glClipControl
-//    GL_ZERO_TO_ONE): depth 1 at znear, 0 at zfar.
+//    GL_ZERO_TO_ONE): depth 1 at znear, 0 at zfar;
+//  * shift_x, shift_y (pixels, default 0) move the sampling point inside each
+//    pixel: pixel (x, y) samples the unshifted camera's image point
+//    (x + 0.5 + shift_x, y + 0.5 + shift_y). The renderer and every tracer
+//    honour it (an off-axis frustum), which is how several samples per pixel
+//    are taken (perclod/views.h, sample_offsets) without a second camera type.
 #pragma once
 
 #include <Eigen/Core>
@@ -24,6 +29,7 @@ struct Camera {
   double fov_y = 0.5;                 // vertical field of view, radians
   int width = 1, height = 1;
   double znear = 0.1, zfar = 1000.0;
+  double shift_x = 0.0, shift_y = 0.0;  // sub-pixel sampling offset, pixels (see above)
 
   double tan_half_y() const { return std::tan(0.5 * fov_y); }
   double aspect() const { return double(width) / double(height); }
@@ -32,8 +38,8 @@ struct Camera {
   // component along `forward`.
   Eigen::Vector3d ray_direction(double px, double py) const {
     double th = tan_half_y();
-    double sx = (2.0 * px / width - 1.0) * th * aspect();
-    double sy = (1.0 - 2.0 * py / height) * th;
+    double sx = (2.0 * (px + shift_x) / width - 1.0) * th * aspect();
+    double sy = (1.0 - 2.0 * (py + shift_y) / height) * th;
     return forward + sx * right + sy * up;
   }
 
@@ -45,8 +51,8 @@ struct Camera {
     double th = tan_half_y();
     double sx = d.dot(right) / depth / (th * aspect());
     double sy = d.dot(up) / depth / th;
-    px = (sx + 1.0) * 0.5 * width;
-    py = (1.0 - sy) * 0.5 * height;
+    px = (sx + 1.0) * 0.5 * width - shift_x;
+    py = (1.0 - sy) * 0.5 * height - shift_y;
     return true;
   }
 
@@ -70,6 +76,8 @@ struct Camera {
     Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
     m(0, 0) = 1.0 / (th * aspect());
     m(1, 1) = 1.0 / th;
+    m(0, 2) = 2.0 * shift_x / width;  // off-axis: image point x + shift_x lands on pixel x
+    m(1, 2) = -2.0 * shift_y / height;
     m(2, 2) = n / (f - n);
     m(2, 3) = n * f / (f - n);
     m(3, 2) = -1.0;

@@ -1,0 +1,314 @@
+// bench_labels: are the labels right for views they never saw, do they hold
+// still, and what do they cost. Three sections, each printing a table:
+//
+//  coverage   For each candidate view set: label the model at each distance,
+//             then trace a held-out view set (azimuths offset from every
+//             labelling azimuth, at 15 and 45 degrees of elevation, and
+//             az0el75) and report the fraction of drawn pixels that show a
+//             triangle labelled undisplayable: what a LOD that deletes
+//             undisplayable triangles loses from those views.
+//  stability  Move the geometry by +0.25 px and by -0.25 px (of p(d)) along
+//             all three axes, so along both screen axes of every horizontal
+//             view, keeping the bounding box and so every camera fixed: two
+//             zero-area anchor triangles stand at the box corners widened by
+//             the shift, and the distance is corrected by the same amount.
+//             Relabel and report the fraction of visible triangles whose
+//             label changes, by count and weighted by traced samples, P<->I
+//             and visible<->U separately, and by count per triangle-size
+//             class (projected area in pixels at d: <1, 1-10, 10-100, >=100).
+//  cost       Labelling seconds per view (render, perceive, trace) for the
+//             paper's set (facades, 1 sample) beside the default (views and
+//             samples), medians of R runs, same process.
+//
+// Models: the demo building (ingolstadt/bldg_4018215.obj), han_ministry.obj,
+// the 53-building block (per building), and for cost a generated facade.
+//
+// Usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]
+//                     [--distances 56,132,427] [--samples 1,4] [--views "facades;facades,obliques,top"]
+//                     [--runs R] [--facade-triangles N]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "perclod/facade.h"
+#include "perclod/load.h"
+#include "perclod/pipeline.h"
+
+using namespace perclod;
+
+namespace {
+
+struct Model {
+  std::string key, path;
+  UpAxis up;
+  PerBuilding per_building;
+};
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, sep))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+LabelJob make_job(UpAxis up, const std::string& views, int samples, double d, PerBuilding pb) {
+  LabelJob job;
+  job.up = up;
+  job.display = DisplayProfile{};
+  job.perception = perception_settings_for(job.display);
+  job.views = parse_views(views, up);
+  job.samples = samples;
+  job.distance = d;
+  job.per_building = pb;
+  job.write_perception_images = false;
+  return job;
+}
+
+// Held-out views: every labelling azimuth of ring8 offset by half a step, at
+// 15 and 45 degrees, and one steep view.
+std::vector<std::string> held_out_views() {
+  std::vector<std::string> v;
+  for (double el : {15.0, 45.0})
+    for (int i = 0; i < 8; ++i) {
+      std::ostringstream ss;
+      ss << "az" << 22.5 + 45.0 * i << "el" << el;
+      v.push_back(ss.str());
+    }
+  v.push_back("az0el75");
+  return v;
+}
+
+void coverage(const Model& m, const Scene& scene, const std::vector<double>& distances,
+              const std::vector<std::string>& view_sets, int samples) {
+  OctreeTracer tracer(scene);
+  Renderer renderer;
+  const Bounds b = scene_bounds(scene);
+  const DisplayProfile display;
+  for (double d : distances)
+    for (const auto& set : view_sets) {
+      LabelJob job = make_job(m.up, set, samples, d, m.per_building);
+      auto t0 = std::chrono::steady_clock::now();
+      LabelResult r = label_scene(renderer, scene, tracer, job);
+      double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      double worst = 0, sum = 0;
+      std::string worst_view;
+      size_t n = 0;
+      for (const auto& v : held_out_views())
+        for (const ViewTile& t : frame_view(b, m.up, v, d, display)) {
+          std::vector<uint32_t> ids = tracer.trace(t.camera);
+          size_t drawn = 0, undisplayable = 0;
+          for (uint32_t id : ids)
+            if (id) {
+              ++drawn;
+              undisplayable += r.labels[id - 1] == Label::Undisplayable;
+            }
+          double f = drawn ? double(undisplayable) / double(drawn) : 0.0;
+          sum += f;
+          ++n;
+          if (f >= worst) worst = f, worst_view = t.name;
+        }
+      LabelCounts c = count_labels(r.labels);
+      std::printf("%-6s %5.0f  %-34s %4zu views %6.1f s  P %6zu I %6zu U %6zu out %5zu  held-out U px: mean %6.2f%% worst %6.2f%% (%s)\n",
+                  m.key.c_str(), d, set.c_str(), r.report["views"].size(), sec, c.perceptible, c.imperceptible,
+                  c.undisplayable, r.outside_views, 100 * sum / double(n), 100 * worst, worst_view.c_str());
+      std::fflush(stdout);
+    }
+}
+
+// `scene` moved by (s, s, s) with two zero-area triangles pinning the box
+// [lo - a, hi + a].
+Scene shifted(const Scene& scene, double s, double a) {
+  Scene out = scene;
+  for (size_t i = 0; i < out.positions.size(); ++i) out.positions[i] = float(double(out.positions[i]) + s);
+  const Bounds b = scene_bounds(scene);
+  const uint32_t v0 = uint32_t(out.positions.size() / 3);
+  for (int corner = 0; corner < 2; ++corner)
+    for (int k = 0; k < 3; ++k)
+      out.positions.push_back(float(corner ? double(b.hi[k]) + a : double(b.lo[k]) - a));
+  for (uint32_t c = 0; c < 2; ++c) {
+    out.indices.insert(out.indices.end(), {v0 + c, v0 + c, v0 + c});
+    if (!out.component.empty()) out.component.push_back(out.component.back());
+    if (!out.material.empty()) out.material.push_back(out.material.back());
+  }
+  return out;
+}
+
+struct Flips {
+  double visible = 0, pi = 0, vu = 0, w_visible = 0, w_pi = 0, w_vu = 0;
+  double cls_visible[4] = {0, 0, 0, 0}, cls_flip[4] = {0, 0, 0, 0};
+};
+
+// Projected area in pixels of triangle t at distance d (facing the viewer).
+int size_class(const Scene& s, size_t t, double footprint) {
+  const float* p[3];
+  for (int k = 0; k < 3; ++k) p[k] = &s.positions[3 * size_t(s.indices[3 * t + k])];
+  double e1[3], e2[3];
+  for (int k = 0; k < 3; ++k) e1[k] = p[1][k] - p[0][k], e2[k] = p[2][k] - p[0][k];
+  const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
+  const double px = 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz) / (footprint * footprint);
+  return px < 1 ? 0 : px < 10 ? 1 : px < 100 ? 2 : 3;
+}
+
+void stability(const Model& m, const Scene& scene, const std::vector<double>& distances, const std::string& views,
+               int samples) {
+  const size_t nt = scene.triangle_count();
+  for (double d : distances) {
+    const double p = display_pixel_footprint(DisplayProfile{}, d);
+    const double s = 0.25 * p;
+    Scene ref = shifted(scene, 0.0, s);
+    LabelJob job = make_job(m.up, views, samples, d - s, m.per_building);
+    Renderer renderer;
+    auto label = [&](const Scene& sc) {
+      OctreeTracer tracer(sc);
+      return label_scene(renderer, sc, tracer, job);
+    };
+    LabelResult base = label(ref);
+    Flips f;
+    for (double sign : {1.0, -1.0}) {
+      LabelResult moved = label(shifted(scene, sign * s, s));
+      for (size_t t = 0; t < nt; ++t) {
+        const Label a = base.labels[t], b = moved.labels[t];
+        const bool va = a != Label::Undisplayable, vb = b != Label::Undisplayable;
+        if (!va && !vb) continue;
+        const double w = std::max(base.totals.traced[t], moved.totals.traced[t]);
+        const int c = size_class(scene, t, p);
+        f.visible += 1, f.w_visible += w, f.cls_visible[c] += 1;
+        if (a == b) continue;
+        f.cls_flip[c] += 1;
+        if (va && vb)
+          f.pi += 1, f.w_pi += w;
+        else
+          f.vu += 1, f.w_vu += w;
+      }
+    }
+    auto pct = [](double a, double b) { return b > 0 ? 100 * a / b : 0.0; };
+    std::printf("%-6s %5.0f  %-28s spp %d  visible %7.0f  flips by count: P<->I %5.2f%% vis<->U %5.2f%% all %5.2f%%  "
+                "by samples: P<->I %5.2f%% vis<->U %5.2f%% all %5.2f%%  by size <1/1-10/10-100/>=100 px: "
+                "%5.1f%% %5.1f%% %5.1f%% %5.1f%% (of %.0f/%.0f/%.0f/%.0f)\n",
+                m.key.c_str(), d, views.c_str(), samples, f.visible / 2,
+                pct(f.pi, f.visible), pct(f.vu, f.visible), pct(f.pi + f.vu, f.visible), pct(f.w_pi, f.w_visible),
+                pct(f.w_vu, f.w_visible), pct(f.w_pi + f.w_vu, f.w_visible), pct(f.cls_flip[0], f.cls_visible[0]),
+                pct(f.cls_flip[1], f.cls_visible[1]), pct(f.cls_flip[2], f.cls_visible[2]),
+                pct(f.cls_flip[3], f.cls_visible[3]), f.cls_visible[0] / 2, f.cls_visible[1] / 2,
+                f.cls_visible[2] / 2, f.cls_visible[3] / 2);
+    std::fflush(stdout);
+  }
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+void cost(const std::string& key, const Scene& scene, UpAxis up, double d, int runs) {
+  OctreeTracer tracer(scene);
+  Renderer renderer;
+  struct Setup {
+    const char* name;
+    std::string views;
+    int samples;
+  } setups[] = {{"paper: facades, 1 spp", "facades", 1},
+                {"facades, default spp", "facades", kDefaultSamples},
+                {"default views and spp", kDefaultViews, kDefaultSamples}};
+  double paper_per_view = 0;
+  for (const auto& st : setups) {
+    std::vector<double> per_view, render, perceive, trace;
+    size_t views = 0;
+    for (int r = 0; r < runs; ++r) {
+      LabelJob job = make_job(up, st.views, st.samples, d, PerBuilding::Off);
+      auto t0 = std::chrono::steady_clock::now();
+      LabelResult res = label_scene(renderer, scene, tracer, job);
+      double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      views = res.report["views"].size();
+      per_view.push_back(sec / double(views));
+      double a = 0, b = 0, c = 0;
+      for (const auto& v : res.report["views"]) {
+        a += v["seconds"]["render"].get<double>();
+        b += v["seconds"]["perceive"].get<double>();
+        c += v["seconds"]["trace"].get<double>();
+      }
+      render.push_back(a / double(views));
+      perceive.push_back(b / double(views));
+      trace.push_back(c / double(views));
+    }
+    const double pv = median(per_view);
+    if (paper_per_view == 0) paper_per_view = pv;
+    std::printf("%-8s %5.0f m  %-24s %3zu views  per view %7.1f ms (render %6.1f, perceive %6.1f, trace %6.1f)  x%.2f of paper\n",
+                key.c_str(), d, st.name, views, 1e3 * pv, 1e3 * median(render), 1e3 * median(perceive),
+                1e3 * median(trace), pv / paper_per_view);
+    std::fflush(stdout);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string section = "all", models_arg = "demo,han,block", views_arg = "facades;facades,obliques,top";
+  std::vector<double> distances = {56, 132, 427};
+  std::vector<int> samples = {1, kDefaultSamples};
+  int runs = 5;
+  size_t facade_triangles = 1000000;
+  for (int i = 1; i < argc; ++i) {
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "bench_labels: %s needs a value\n", argv[i]);
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    std::string a = argv[i];
+    if (a == "--section") section = next();
+    else if (a == "--models") models_arg = next();
+    else if (a == "--views") views_arg = next();
+    else if (a == "--runs") runs = std::stoi(next());
+    else if (a == "--facade-triangles") facade_triangles = std::stoul(next());
+    else if (a == "--distances") {
+      distances.clear();
+      for (auto& s : split(next(), ',')) distances.push_back(std::stod(s));
+    } else if (a == "--samples") {
+      samples.clear();
+      for (auto& s : split(next(), ',')) samples.push_back(std::stoi(s));
+    } else {
+      std::fprintf(stderr, "usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]\n"
+                           "  [--distances 56,132,427] [--samples 1,4] [--views \"facades;facades,obliques,top\"]\n"
+                           "  [--runs R] [--facade-triangles N]\n");
+      return 2;
+    }
+  }
+  const std::string data = PERCLOD_SHARED_DATA;
+  const std::vector<Model> all = {
+      {"demo", data + "/ingolstadt/bldg_4018215.obj", UpAxis::Z, PerBuilding::Off},
+      {"han", data + "/han/han_ministry.obj", UpAxis::Y, PerBuilding::Off},
+      {"block", data + "/ingolstadt/ingolstadt_lod3_all53.obj", UpAxis::Z, PerBuilding::On}};
+  const std::vector<std::string> view_sets = split(views_arg, ';');
+  for (const auto& key : split(models_arg, ',')) {
+    auto it = std::find_if(all.begin(), all.end(), [&](const Model& m) { return m.key == key; });
+    if (it == all.end()) {
+      std::fprintf(stderr, "bench_labels: unknown model '%s' (demo, han, block)\n", key.c_str());
+      return 2;
+    }
+    Scene scene = load_scene(it->path);
+    std::printf("# %s: %s, %zu triangles\n", it->key.c_str(), it->path.c_str(), scene.triangle_count());
+    if (section == "coverage" || section == "all")
+      for (int spp : samples) coverage(*it, scene, distances, view_sets, spp);
+    if (section == "stability" || section == "all")
+      for (const auto& set : view_sets)
+        for (int spp : samples) stability(*it, scene, distances, set, spp);
+    if ((section == "cost" || section == "all") && it->key == "demo")
+      for (double d : distances) cost("demo", scene, it->up, d, runs);
+  }
+  if (section == "cost" || section == "all") {
+    Scene f = generate_facade(facade_params_for_triangles(facade_triangles));
+    std::printf("# generated facade: %zu triangles\n", f.triangle_count());
+    for (double d : distances) cost("facade", f, UpAxis::Z, d, std::max(1, runs / 2));
+  }
+  return 0;
+}
