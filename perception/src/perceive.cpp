@@ -23,6 +23,8 @@ void check_settings(const PerceptionSettings& s) {
   if (!(s.threshold >= 0) || !std::isfinite(s.threshold))
     throw std::invalid_argument("perception: threshold must be >= 0 grey levels, got " +
                                 std::to_string(s.threshold));
+  if (s.spins != 1 && s.spins != 2 && s.spins != 4)
+    throw std::invalid_argument("perception: spins must be 1, 2 or 4, got " + std::to_string(s.spins));
   if (s.fir_half_length < 0 || s.fir_half_length > 16)
     throw std::invalid_argument("perception: FIR half length must be 0..16, got " +
                                 std::to_string(s.fir_half_length));
@@ -146,10 +148,38 @@ void perceive_luminance(const float* lum, int w, int h, const PerceptionSettings
   out.bands = cached_band_responses(s, out.levels);
   if (out.luminance.data() != lum) out.luminance.assign(lum, lum + n);
 
-  out.simulated.assign(lum, lum + n);
-  dwt97_forward(out.simulated.data(), w, h, out.levels);
-  apply_csf(out.simulated.data(), w, h, out.levels, out.bands, s.csf);
-  dwt97_inverse(out.simulated.data(), w, h, out.levels);
+  if (s.spins == 1) {
+    out.simulated.assign(lum, lum + n);
+    dwt97_forward(out.simulated.data(), w, h, out.levels);
+    apply_csf(out.simulated.data(), w, h, out.levels, out.bands, s.csf);
+    dwt97_inverse(out.simulated.data(), w, h, out.levels);
+  } else {
+    // Cycle spinning: the image shifted by (dx, dy) pixels (first row/column
+    // repeated), filtered, shifted back; the simulated images averaged.
+    out.simulated.assign(n, 0.0f);
+    std::vector<float> buf;
+    const int shifts[4][2] = {{0, 0}, {1, 1}, {1, 0}, {0, 1}};
+    for (int k = 0; k < s.spins; ++k) {
+      const int dx = shifts[k][0], dy = shifts[k][1], W = w + dx, H = h + dy;
+      buf.resize(size_t(W) * size_t(H));
+      for (int y = 0; y < H; ++y) {
+        const float* src = lum + size_t(std::max(y - dy, 0)) * size_t(w);
+        float* dst = buf.data() + size_t(y) * size_t(W);
+        if (dx) dst[0] = src[0];
+        std::copy(src, src + w, dst + dx);
+      }
+      dwt97_forward(buf.data(), W, H, out.levels);
+      apply_csf(buf.data(), W, H, out.levels, out.bands, s.csf);
+      dwt97_inverse(buf.data(), W, H, out.levels);
+      for (int y = 0; y < h; ++y) {
+        const float* src = buf.data() + size_t(y + dy) * size_t(W) + dx;
+        float* dst = out.simulated.data() + size_t(y) * size_t(w);
+        for (int x = 0; x < w; ++x) dst[x] += src[x];
+      }
+    }
+    const float inv = 1.0f / float(s.spins);
+    for (float& v : out.simulated) v *= inv;
+  }
 
   out.difference.resize(n);
   out.mask.resize(n);

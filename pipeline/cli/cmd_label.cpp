@@ -14,7 +14,7 @@ void register_label(CLI::App& app) {
     DisplayArgs display;
     double distance = 0;
     std::string views = kDefaultViews, out = "out", tracer = "octree", per_building = "auto";
-    int samples = kDefaultSamples;
+    int samples = kDefaultSamples, spins = 1;
     bool verify = false, json = false;
     double ratio = 0.5, threshold = -1, closer = 0.25;
   };
@@ -25,6 +25,9 @@ void register_label(CLI::App& app) {
   cmd->add_option("--views,--facade,-f", a->views, std::string("View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); default ") + kDefaultViews + ")");
   cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4 or 8 (default " + std::to_string(kDefaultSamples) + ")")
       ->check(CLI::IsMember({1, 2, 4, 8}));
+  cmd->add_option("--spins", a->spins,
+                  "Perception cycle spinning: 1 (the paper), 2 or 4 DWT phases averaged (shift-invariant mask)")
+      ->check(CLI::IsMember({1, 2, 4}));
   cmd->add_option("--per-building", a->per_building,
                   "Also label each building from views framed on it: true, false or auto (default: when the "
                   "component names give two or more buildings)")
@@ -51,6 +54,7 @@ void register_label(CLI::App& app) {
     job.display = a->display.profile();
     job.perception = perception_settings_for(job.display);
     if (a->threshold >= 0) job.perception.threshold = a->threshold;
+    job.perception.spins = a->spins;
     job.views = views_option(a->views, job.up);
     job.samples = a->samples;
     job.per_building = parse_per_building(a->per_building);

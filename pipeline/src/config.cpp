@@ -113,7 +113,7 @@ DisplayProfile load_display_profile(const std::string& path) {
 BatchConfig load_batch_config(const std::string& path) {
   YAML::Node n = load_yaml(path);
   check_keys(n, path,
-             {"model", "up", "scale", "display", "distances", "views", "facades", "samples", "per_building", "out",
+             {"model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins", "per_building", "out",
               "tracer", "verify", "ratio", "simplify", "k", "target", "keep_undisplayable", "format"});
   namespace fs = std::filesystem;
   fs::path dir = fs::path(path).parent_path();
@@ -159,6 +159,8 @@ BatchConfig load_batch_config(const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw config_error(path, std::string("'samples': ") + e.what());
   }
+  c.spins = get<int>(n, path, "spins", c.spins);
+  if (c.spins != 1 && c.spins != 2 && c.spins != 4) throw config_error(path, "'spins' must be 1, 2 or 4");
   if (n["per_building"]) {
     const YAML::Node pb = n["per_building"];
     c.per_building = pb.IsScalar() ? pb.Scalar() : std::string("?");
@@ -225,6 +227,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.label.perception = perception_settings_for(job.label.display);
   job.label.views = parse_views(c.views, c.up);
   job.label.samples = c.samples;
+  job.label.perception.spins = c.spins;
   job.label.per_building = parse_per_building(c.per_building);
   job.label.ratio = c.ratio;
   job.label.verify = c.verify;

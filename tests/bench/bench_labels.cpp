@@ -24,8 +24,10 @@
 // the 53-building block (per building), and for cost a generated facade.
 //
 // Usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]
-//                     [--distances 56,132,427] [--samples 1,4] [--views "facades;facades,obliques,top"]
+//                     [--distances 56,132,427] [--samples 1,4] [--views "facades;facades,ring8el30"]
 //                     [--runs R] [--facade-triangles N]
+//   experiments: [--spins 1|2|4] (perception cycle spinning) [--threshold T] (grey levels)
+//                [--shift-scale 0] (relabel without moving: the noise floor, 0 when deterministic)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -43,6 +45,10 @@
 using namespace perclod;
 
 namespace {
+
+int g_spins = 0;  // 0 = the job's default
+double g_shift_scale = 1.0;  // --shift-scale 0: the noise floor (relabel without moving)
+double g_threshold = -1;  // --threshold T: perception threshold (grey levels)
 
 struct Model {
   std::string key, path;
@@ -69,6 +75,8 @@ LabelJob make_job(UpAxis up, const std::string& views, int samples, double d, Pe
   job.distance = d;
   job.per_building = pb;
   job.write_perception_images = false;
+  if (g_spins) job.perception.spins = g_spins;
+  if (g_threshold >= 0) job.perception.threshold = g_threshold;
   return job;
 }
 
@@ -173,7 +181,7 @@ void stability(const Model& m, const Scene& scene, const std::vector<double>& di
     LabelResult base = label(ref);
     Flips f;
     for (double sign : {1.0, -1.0}) {
-      LabelResult moved = label(shifted(scene, sign * s, s));
+      LabelResult moved = label(shifted(scene, g_shift_scale * sign * s, s));
       for (size_t t = 0; t < nt; ++t) {
         const Label a = base.labels[t], b = moved.labels[t];
         const bool va = a != Label::Undisplayable, vb = b != Label::Undisplayable;
@@ -251,7 +259,7 @@ void cost(const std::string& key, const Scene& scene, UpAxis up, double d, int r
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string section = "all", models_arg = "demo,han,block", views_arg = "facades;facades,obliques,top";
+  std::string section = "all", models_arg = "demo,han,block", views_arg = std::string("facades;") + kDefaultViews;
   std::vector<double> distances = {56, 132, 427};
   std::vector<int> samples = {1, kDefaultSamples};
   int runs = 5;
@@ -269,6 +277,9 @@ int main(int argc, char** argv) {
     else if (a == "--models") models_arg = next();
     else if (a == "--views") views_arg = next();
     else if (a == "--runs") runs = std::stoi(next());
+    else if (a == "--spins") g_spins = std::stoi(next());
+    else if (a == "--shift-scale") g_shift_scale = std::stod(next());
+    else if (a == "--threshold") g_threshold = std::stod(next());
     else if (a == "--facade-triangles") facade_triangles = std::stoul(next());
     else if (a == "--distances") {
       distances.clear();
@@ -278,8 +289,8 @@ int main(int argc, char** argv) {
       for (auto& s : split(next(), ',')) samples.push_back(std::stoi(s));
     } else {
       std::fprintf(stderr, "usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]\n"
-                           "  [--distances 56,132,427] [--samples 1,4] [--views \"facades;facades,obliques,top\"]\n"
-                           "  [--runs R] [--facade-triangles N]\n");
+                           "  [--distances 56,132,427] [--samples 1,4] [--views \"facades;facades,ring8el30\"]\n"
+                           "  [--runs R] [--facade-triangles N] [--spins S] [--threshold T] [--shift-scale F]\n");
       return 2;
     }
   }

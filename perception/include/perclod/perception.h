@@ -36,6 +36,11 @@ struct PerceptionSettings {
   double threshold = 1.0;    // grey levels; |difference| > threshold is imperceptible
   double ppd = 29.64;        // pixels per degree of the display (the paper's 19" LCD)
   int fir_half_length = 3;   // FIR taps per axis = 2 * fir_half_length + 1
+  // Cycle spinning: 1 = one decimated DWT (the paper); 2 or 4 = the simulated
+  // image averaged over the image shifted by (0,0), (1,1) [, (1,0), (0,1)]
+  // pixels. A decimated DWT is not shift-invariant: moving the image one pixel
+  // changes ~2% of the mask; 4 spins make the finest level shift-invariant.
+  int spins = 1;
 };
 
 // Settings for a display profile: ppd from the profile, everything else default.
