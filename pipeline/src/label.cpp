@@ -155,18 +155,25 @@ void label_view(Renderer& renderer, const Scene& scene, const Tracer& tracer, co
                 {"labels", to_json(count_labels(labels))},
                 {"seconds", {{"render", t_render}, {"perceive", t_perceive}, {"trace", t_trace}}}};
   if (!owner) {
-    // Sample 0 against the renderer's ID buffer (the centre sample at 1 and 8
-    // samples per pixel; 2 and 4 have none, so a few more edge pixels differ).
-    out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, cam, first.data(), out.image.ids.data()));
+    // Rays against the renderer's ID buffer and, with verify, octree against
+    // Embree: both at the pixel centres, where the rasteriser samples. With
+    // one sample per pixel that is the trace above; otherwise verify traces
+    // the centres once more, and without verify the comparison is left out.
+    std::vector<uint32_t> centre;
+    if (job.samples == 1) {
+      centre = std::move(first);
+    } else if (reference) {
+      centre.resize(pixels);
+      tracer.trace(cam, centre.data());
+    }
+    if (!centre.empty())
+      out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, cam, centre.data(), out.image.ids.data()));
     if (reference) {
-      Camera c = cam;
-      c.shift_x = sample_offsets(job.samples)[0][0];
-      c.shift_y = sample_offsets(job.samples)[0][1];
       std::vector<uint32_t> ref(pixels);
       t0 = Clock::now();
-      reference->trace(c, ref.data());
+      reference->trace(cam, ref.data());
       out.report["seconds"]["trace_embree_verify"] = since(t0);
-      out.report["octree_vs_embree"] = to_json(compare_traced(scene, c, first.data(), ref.data()));
+      out.report["octree_vs_embree"] = to_json(compare_traced(scene, cam, centre.data(), ref.data()));
     }
   }
 }

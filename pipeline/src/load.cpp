@@ -445,12 +445,34 @@ void check_ply(const std::string& path, const std::string& data) {
     double count = 0, min_bytes = 0;
   };
   std::vector<Element> elements;
+  // The header is checked line by line before assimp sees it: assimp's PLY
+  // reader looped forever on a garbled header line (fuzz finding
+  // tests/fuzz/findings/fuzz_assimp/timeout-ply-header-hang-2.ply).
+  int line_no = 0;
+  auto bad_line = [&](const std::string& why) {
+    fail(path, "PLY header line " + std::to_string(line_no) + ": " + why);
+  };
   while (std::getline(header, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    for (unsigned char c : line)
+      if (c < 0x20 && c != '\t') bad_line("control character in the header (corrupt)");
     std::istringstream ls(line);
     std::string key;
     ls >> key;
+    if (line_no == 1) {
+      if (key != "ply") bad_line("expected 'ply'");
+      continue;
+    }
+    if (key == "comment" || key == "obj_info") continue;
+    if (key != "format" && key != "element" && key != "property")
+      bad_line("'" + key.substr(0, 40) + "' is not a PLY header keyword (format, element, property, comment)");
+    for (unsigned char c : line)
+      if (c >= 0x80) bad_line("non-ASCII byte in a '" + key + "' line (corrupt)");
     if (key == "format") {
       ls >> format;
+      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+        bad_line("unknown format '" + format.substr(0, 40) + "'");
     } else if (key == "element") {
       Element e;
       std::string count;
@@ -461,11 +483,17 @@ void check_ply(const std::string& path, const std::string& data) {
         fail(path, "PLY header: element '" + e.name + "' count '" + count + "' is not a number");
       e.count = double(n);
       elements.push_back(e);
-    } else if (key == "property" && !elements.empty()) {
-      std::string type;
+    } else {  // property
+      if (elements.empty()) bad_line("property before any element");
+      std::string type, item, name;
       ls >> type;
-      if (type == "list") ls >> type;  // the count's type: an empty list still holds it
-      elements.back().min_bytes += format == "ascii" ? 2 : double(std::max<size_t>(1, ply_type_size(type)));
+      if (type == "list") {
+        ls >> type >> item;  // the count's type (an empty list still holds it), the items' type
+        if (!ply_type_size(item)) bad_line("unknown list item type '" + item.substr(0, 40) + "'");
+      }
+      if (!ply_type_size(type)) bad_line("unknown property type '" + type.substr(0, 40) + "'");
+      if (!(ls >> name)) bad_line("property without a name");
+      elements.back().min_bytes += format == "ascii" ? 2 : double(ply_type_size(type));
     }
   }
   double needed = 0;

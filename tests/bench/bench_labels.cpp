@@ -28,6 +28,7 @@
 //                     [--runs R] [--facade-triangles N]
 //   experiments: [--spins 1|2|4] (perception cycle spinning) [--threshold T] (grey levels)
 //                [--shift-scale 0] (relabel without moving: the noise floor, 0 when deterministic)
+//                [--per-building true|false|auto] (the block runs per building unless told otherwise)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -48,6 +49,7 @@ namespace {
 
 int g_spins = 0;  // 0 = the job's default
 double g_shift_scale = 1.0;  // --shift-scale 0: the noise floor (relabel without moving)
+std::string g_per_building;  // --per-building true|false|auto: overrides the model's setting
 double g_threshold = -1;  // --threshold T: perception threshold (grey levels)
 
 struct Model {
@@ -73,7 +75,7 @@ LabelJob make_job(UpAxis up, const std::string& views, int samples, double d, Pe
   job.views = parse_views(views, up);
   job.samples = samples;
   job.distance = d;
-  job.per_building = pb;
+  job.per_building = g_per_building.empty() ? pb : parse_per_building(g_per_building);
   job.write_perception_images = false;
   if (g_spins) job.perception.spins = g_spins;
   if (g_threshold >= 0) job.perception.threshold = g_threshold;
@@ -280,6 +282,7 @@ int main(int argc, char** argv) {
     else if (a == "--spins") g_spins = std::stoi(next());
     else if (a == "--shift-scale") g_shift_scale = std::stod(next());
     else if (a == "--threshold") g_threshold = std::stod(next());
+    else if (a == "--per-building") g_per_building = next();
     else if (a == "--facade-triangles") facade_triangles = std::stoul(next());
     else if (a == "--distances") {
       distances.clear();
@@ -290,7 +293,8 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr, "usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]\n"
                            "  [--distances 56,132,427] [--samples 1,4] [--views \"facades;facades,ring8el30\"]\n"
-                           "  [--runs R] [--facade-triangles N] [--spins S] [--threshold T] [--shift-scale F]\n");
+                           "  [--runs R] [--facade-triangles N] [--spins S] [--threshold T] [--shift-scale F]\n"
+                           "  [--per-building true|false|auto]\n");
       return 2;
     }
   }

@@ -80,6 +80,9 @@ Fixture make_fixture() {
   f.file("qem.yaml", base + "simplify: qem\n");
   f.file("abc.yaml", "model: cube.obj\ndisplay: display.yaml\ndistances: [abc]\nout: " + f.out.string() + "\n");
   f.file("facades.yaml", base + "facades: +q\n");
+  f.file("views.yaml", base + "views: [facades, ring0]\n");
+  f.file("spp.yaml", base + "samples: 3\n");
+  f.file("ok.yaml", base);
   f.file("noout.yaml", "model: cube.obj\ndistances: [56]\nout: \"\"\n");
   f.file("nomodel.yaml", "model: gone.obj\ndistances: [56]\nout: " + f.out.string() + "\n");
   f.file("nodpi.yaml", "model: cube.obj\ndisplay: display-nodpi.yaml\ndistances: [56]\nout: " + f.out.string() + "\n");
@@ -98,7 +101,7 @@ const std::vector<Case>& cases() {
        {"{D}/display-nodpi.yaml", "'dpi'"}},
       {"render_display_unknown_key", "render {D}/cube.obj -d 56 --display {D}/display-typo.yaml -o {O}", 1,
        {"{D}/display-typo.yaml", "viewer_distance'"}},
-      {"render_bad_facade", "render {D}/cube.obj --up z -d 56 -f +z -o {O}", 1, {"--facade"}},
+      {"render_bad_facade", "render {D}/cube.obj --up z -d 56 -f +z -o {O}", 1, {"--views", "+z"}},
       // label
       {"label_distance_0", "label {D}/cube.obj -d 0 -o {O}", 1, {"--distance"}},
       {"label_no_distance", "label {D}/cube.obj -o {O}", 2, {"--distance"}},
@@ -122,6 +125,9 @@ const std::vector<Case>& cases() {
       {"simplify_qem_without_target", "simplify {D}/cube.obj -d 56 --mode qem -o {O}", 1, {"--target"}},
       {"simplify_bounded_without_labels", "simplify {D}/cube.obj -d 56 --mode bounded -o {O}", 1, {"--labels"}},
       {"simplify_distance_0", "simplify {D}/cube.obj -d 0 --mode cluster -o {O}", 1, {"--distance"}},
+      {"label_bad_views", "label {D}/cube.obj -d 56 --views facades,az10el95 -o {O}", 1, {"--views", "az10el95"}},
+      {"label_bad_samples", "label {D}/cube.obj -d 56 --samples 3 -o {O}", 1, {"--samples"}},
+      {"label_too_close_to_frame", "label {D}/cube.obj -d 0.0001 --views +x -o {O}", 1, {"tiles", "too close"}},
       // generate
       {"generate_triangles_0", "generate facade --triangles 0 {O}/facade.obj", 1, {"--triangles"}},
       // perceive
@@ -133,6 +139,9 @@ const std::vector<Case>& cases() {
       {"run_qem_without_target", "run {D}/qem.yaml", 1, {"{D}/qem.yaml", "'target'"}},
       {"run_distance_not_a_number", "run {D}/abc.yaml", 1, {"{D}/abc.yaml", "'distances'"}},
       {"run_bad_facades", "run {D}/facades.yaml", 1, {"{D}/facades.yaml", "'facades'"}},
+      {"run_bad_views", "run {D}/views.yaml", 1, {"{D}/views.yaml", "'views'", "ring0"}},
+      {"run_bad_views_option", "run {D}/ok.yaml --views tops", 1, {"--views", "tops"}},
+      {"run_bad_samples", "run {D}/spp.yaml", 1, {"{D}/spp.yaml", "'samples'"}},
       {"run_empty_out", "run {D}/noout.yaml", 1, {"{D}/noout.yaml", "'out'"}},
       {"run_missing_model", "run {D}/nomodel.yaml", 1, {"{D}/nomodel.yaml", "gone.obj"}},
       {"run_display_without_dpi", "run {D}/nodpi.yaml", 1, {"display-nodpi.yaml", "'dpi'"}},

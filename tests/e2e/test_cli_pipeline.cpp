@@ -55,6 +55,36 @@ TEST(CliPipeline, LabelWritesLabelsMarkingRendersAndAgreement) {
   fs::remove_all(out);
 }
 
+// Issue 10 from the command line: a view set with a free view and the top,
+// several samples per pixel (recorded in the labels file), and a view too
+// close to frame the building tiled into files of its own.
+TEST(CliPipeline, LabelTakesViewSetsSamplesAndTilesCloseViews) {
+  fs::path out = fresh_dir("label-views");
+  auto r = run_cli("label " + kBuilding + " --up z -d 56 --views top,az45el30 --samples 2 --json -o " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["views"].size(), 2u);
+  EXPECT_EQ(j["views"][0]["view"], "top");
+  EXPECT_EQ(j["samples_per_pixel"], 2);
+  EXPECT_TRUE(fs::exists(out / "bldg_4018215_az45el30_56m.png"));
+  auto lf = perclod::read_labels(j["labels_file"].get<std::string>());
+  EXPECT_EQ(lf.samples, 2);
+  ASSERT_EQ(lf.views.size(), 2u);
+  EXPECT_EQ(lf.views[1].first, "az45el30");
+
+  // 8 m in front of the -y face: the facade overfills one frame, so the view is tiled.
+  fs::path near = fresh_dir("label-tiles");
+  auto t = run_cli("label " + kBuilding + " --up z -d 8 --views -y --samples 1 --json -o " + near.string());
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  auto k = nlohmann::json::parse(t.out);
+  EXPECT_GT(k["views"].size(), 1u);
+  EXPECT_EQ(k["views"][0]["view"], "-y_t0");
+  EXPECT_TRUE(fs::exists(near / "bldg_4018215_-y_t0_8m.png"));
+  EXPECT_EQ(k["outside_views"], 0);
+  fs::remove_all(out);
+  fs::remove_all(near);
+}
+
 TEST(CliPipeline, RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput) {
   fs::path out = fresh_dir("run");
   fs::create_directories(out);

@@ -83,11 +83,11 @@ TEST(LodFidelity, PaperLodAt56mHoldsAFractionOfTheInputAndLooksAlike) {
   nlohmann::json views = compare_lod_views(renderer, lod, l.result, l.job);
   for (const auto& v : views) {
     std::printf("  %s: %zu drawn, %zu changed after vision simulation, %zu coverage\n",
-                v["facade"].get<std::string>().c_str(), v["drawn_pixels"].get<size_t>(),
+                v["view"].get<std::string>().c_str(), v["drawn_pixels"].get<size_t>(),
                 v["changed_pixels"].get<size_t>(), v["coverage_changed_pixels"].get<size_t>());
     // Measured 0-2.8% per view; coverage changes under 0.2% of drawn pixels.
-    EXPECT_LT(v["changed_fraction"].get<double>(), 0.05) << v["facade"];
-    EXPECT_LT(v["coverage_changed_pixels"].get<double>(), 0.003 * v["drawn_pixels"].get<double>()) << v["facade"];
+    EXPECT_LT(v["changed_fraction"].get<double>(), 0.05) << v["view"];
+    EXPECT_LT(v["coverage_changed_pixels"].get<double>(), 0.003 * v["drawn_pixels"].get<double>()) << v["view"];
   }
 
   // Plain quadric simplification aimed at the same count, labels ignored,

@@ -99,6 +99,37 @@ TEST(HostileInputs, PlyDeclaringMoreElementsThanItsSizeFailsFast) {
   EXPECT_TRUE(has(m, q + ": PLY header declares")) << m;
 }
 
+// The 10-minute fuzz run's finding: assimp's PLY reader never returned on a
+// garbled header line. perclod now checks every header line first.
+TEST(HostileInputs, GarbledPlyHeaderIsRefusedBeforeAssimpReadsIt) {
+  test::TempDir dir("ply-header");
+  const std::string finding = std::string(PERCLOD_SOURCE_DIR) + "/tests/fuzz/findings/fuzz_assimp/timeout-ply-header-hang-2.ply";
+  std::string m = load_error(finding);
+  EXPECT_TRUE(has(m, finding + ": PLY header line 3: 'esectionlement' is not a PLY header keyword")) << m;
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\n";
+  const std::string tail = "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+  EXPECT_EQ(load_scene(dir.file("ok.ply", head + xyz + tail)).triangle_count(), 1u);
+  const std::pair<std::string, std::string> cases[] = {
+      {"property float x\nproperty flot y\nproperty float z\n", "line 5: unknown property type 'flot'"},
+      {"property float x\nproperty float\nproperty float z\n", "line 5: property without a name"},
+      {"property float x\nproperty float y\xff\nproperty float z\n", "line 5: non-ASCII byte"},
+      {xyz + "propertyy float w\n", "line 7: 'propertyy' is not a PLY header keyword"},
+      {xyz + "comment anything \xff goes\n", ""},
+  };
+  for (const auto& [props, want] : cases) {
+    auto p = dir.file("case.ply", head + props + tail);
+    if (want.empty()) {
+      EXPECT_EQ(load_scene(p).triangle_count(), 1u);
+      continue;
+    }
+    m = load_error(p);
+    EXPECT_TRUE(has(m, p + ": PLY header " + want)) << m;
+  }
+  m = load_error(dir.file("fmt.ply", "ply\nformat text 1.0\n" + std::string("element vertex 0\nend_header\n")));
+  EXPECT_TRUE(has(m, "line 2: unknown format 'text'")) << m;
+}
+
 TEST(HostileInputs, GlbWithACorruptChunkLengthFailsFast) {
   test::TempDir dir("glb");
   const std::string good = dir / "box.glb";
