@@ -8,6 +8,7 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -535,10 +536,12 @@ void check_glb(const std::string& path, const std::string& d) {
 
 RawModel read_assimp(const std::string& path, LoadReport& rep) {
   const std::string data = read_file(path);  // same existence / readability errors as OBJ
-  // Only files that claim the format by their magic: anything else is left to
-  // assimp (and its "cannot parse" message).
-  if (data.compare(0, 4, "ply\n") == 0 || data.compare(0, 5, "ply\r\n") == 0) check_ply(path, data);
-  if (data.compare(0, 4, "glTF") == 0) check_glb(path, data);
+  // Files that claim a format by their magic or their extension: assimp picks
+  // its reader by either (a PLY starting "ply?" hung it as well).
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (data.compare(0, 3, "ply") == 0 || ext == ".ply") check_ply(path, data);
+  if (data.compare(0, 4, "glTF") == 0 || ext == ".glb") check_glb(path, data);
   // No aiProcess_Triangulate: perclod triangulates, so it can count polygons.
   // aiProcess_ValidateDataStructure runs before the other steps: without it a
   // truncated binary PLY's out-of-range face indices crashed JoinIdenticalVertices.

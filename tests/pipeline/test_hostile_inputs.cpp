@@ -126,6 +126,12 @@ TEST(HostileInputs, GarbledPlyHeaderIsRefusedBeforeAssimpReadsIt) {
     m = load_error(p);
     EXPECT_TRUE(has(m, p + ": PLY header " + want)) << m;
   }
+  // The same run's second finding: "ply?" on the first line, picked by its extension.
+  const std::string magic = std::string(PERCLOD_SOURCE_DIR) + "/tests/fuzz/findings/fuzz_assimp/timeout-ply-magic-hang.ply";
+  m = load_error(magic);
+  EXPECT_TRUE(has(m, magic + ": PLY file without 'end_header'")) << m;
+  m = load_error(dir.file("q.ply", "ply?\nformat ascii 1.0\nelement vertex 0\nend_header\n"));
+  EXPECT_TRUE(has(m, "PLY header line 1: expected 'ply'")) << m;
   m = load_error(dir.file("fmt.ply", "ply\nformat text 1.0\n" + std::string("element vertex 0\nend_header\n")));
   EXPECT_TRUE(has(m, "line 2: unknown format 'text'")) << m;
 }
