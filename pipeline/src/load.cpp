@@ -434,10 +434,24 @@ size_t ply_type_size(std::string_view t) {
 // fixed-size properties (and list counts) per element in binary, at least two
 // bytes ("0 ") per value in ASCII.
 void check_ply(const std::string& path, const std::string& data) {
-  size_t end = data.find("end_header");
-  if (end == std::string::npos) fail(path, "PLY file without 'end_header' (truncated or not a PLY file)");
-  size_t body = data.find('\n', end);
-  body = body == std::string::npos ? data.size() : body + 1;
+  // The header is every line up to the first that is exactly "end_header"
+  // (assimp took "2.0atend_header" for the end and then never returned).
+  size_t body = std::string::npos;
+  for (size_t at = 0; at < data.size();) {
+    size_t nl = data.find('\n', at);
+    size_t stop = nl == std::string::npos ? data.size() : nl;
+    std::string_view l(data.data() + at, stop - at);
+    if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
+    if (l == "end_header") {
+      body = nl == std::string::npos ? data.size() : nl + 1;
+      break;
+    }
+    if (nl == std::string::npos) break;
+    at = nl + 1;
+  }
+  if (body == std::string::npos)
+    fail(path, "PLY file without an 'end_header' line (truncated or not a PLY file)");
+  const size_t end = data.rfind("end_header", body);
   const double available = double(data.size() - body);
   std::istringstream header(data.substr(0, end));
   std::string line, format;

@@ -105,7 +105,11 @@ TEST(HostileInputs, GarbledPlyHeaderIsRefusedBeforeAssimpReadsIt) {
   test::TempDir dir("ply-header");
   const std::string finding = std::string(PERCLOD_SOURCE_DIR) + "/tests/fuzz/findings/fuzz_assimp/timeout-ply-header-hang-2.ply";
   std::string m = load_error(finding);
-  EXPECT_TRUE(has(m, finding + ": PLY header line 3: 'esectionlement' is not a PLY header keyword")) << m;
+  EXPECT_TRUE(has(m, finding + ": PLY file without an 'end_header' line")) << m;  // its end_header follows binary bytes
+  // The garbled line itself, in a header that does end:
+  std::string garbled = dir.file("garbled.ply", "ply\nformat ascii 1.0\nesectionlement vertex 3\nend_header\n");
+  m = load_error(garbled);
+  EXPECT_TRUE(has(m, garbled + ": PLY header line 3: 'esectionlement' is not a PLY header keyword")) << m;
   const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\n";
   const std::string tail = "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
@@ -129,7 +133,11 @@ TEST(HostileInputs, GarbledPlyHeaderIsRefusedBeforeAssimpReadsIt) {
   // The same run's second finding: "ply?" on the first line, picked by its extension.
   const std::string magic = std::string(PERCLOD_SOURCE_DIR) + "/tests/fuzz/findings/fuzz_assimp/timeout-ply-magic-hang.ply";
   m = load_error(magic);
-  EXPECT_TRUE(has(m, magic + ": PLY file without 'end_header'")) << m;
+  EXPECT_TRUE(has(m, magic + ": PLY file without an 'end_header' line")) << m;
+  // The third: "end_header" inside the format line, never as a line of its own.
+  const std::string inline_end = std::string(PERCLOD_SOURCE_DIR) + "/tests/fuzz/findings/fuzz_assimp/timeout-ply-end-header-hang.ply";
+  m = load_error(inline_end);
+  EXPECT_TRUE(has(m, inline_end + ": PLY file without an 'end_header' line")) << m;
   m = load_error(dir.file("q.ply", "ply?\nformat ascii 1.0\nelement vertex 0\nend_header\n"));
   EXPECT_TRUE(has(m, "PLY header line 1: expected 'ply'")) << m;
   m = load_error(dir.file("fmt.ply", "ply\nformat text 1.0\n" + std::string("element vertex 0\nend_header\n")));
