@@ -9,8 +9,8 @@
 int main(int argc, char** argv) {
   CLI::App app{
       "perclod: perceptual levels of detail for detailed building models.\n"
-      "Renders facades at viewing distances, finds the triangles a viewer can see,\n"
-      "and simplifies everything else away, one LOD per distance."};
+      "Renders a model from a set of views at each viewing distance, finds the triangles\n"
+      "a viewer can see, and simplifies everything else away, one LOD per distance."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "perclod 0.1.0");
   app.footer("Run 'perclod COMMAND --help' for the options of one command.");

@@ -119,7 +119,7 @@ void label_view(Renderer& renderer, const Scene& scene, const Tracer& tracer, co
   const double t_perceive = since(t0);
 
   const size_t pixels = size_t(out.image.width) * out.image.height;
-  std::vector<uint32_t> rays(pixels), first;
+  std::vector<uint32_t> rays(pixels);
   TriangleCounts counts;
   counts.traced.assign(nt, 0);
   counts.imperceptible.assign(nt, 0);
@@ -133,7 +133,6 @@ void label_view(Renderer& renderer, const Scene& scene, const Tracer& tracer, co
       for (uint32_t& id : rays)
         if (id && (*owner)[id - 1] != building) id = 0;
     add_counts(counts, rays.data(), out.perception.mask.data(), pixels);
-    if (first.empty()) first = rays;
   }
   const double t_trace = since(t0);
 
@@ -161,7 +160,7 @@ void label_view(Renderer& renderer, const Scene& scene, const Tracer& tracer, co
     // the centres once more, and without verify the comparison is left out.
     std::vector<uint32_t> centre;
     if (job.samples == 1) {
-      centre = std::move(first);
+      centre = std::move(rays);  // the one sample is the centre
     } else if (reference) {
       centre.resize(pixels);
       tracer.trace(cam, centre.data());

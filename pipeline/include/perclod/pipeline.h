@@ -50,7 +50,7 @@ struct RenderViewsJob {
   ColorBy color_by = ColorBy::Material;
 };
 
-// out.view(facade, d, ".png"), plus "_ids.tif" (uint32, triangle index + 1)
+// out.view(view, d, ".png") per view and tile, plus "_ids.tif" (uint32, triangle index + 1)
 // and "_depth.tif" (float eye depth, metres) on request. `progress` (may be
 // empty) is called after each view.
 std::vector<ViewFiles> render_views(const Scene& scene, const RenderViewsJob& job,
