@@ -40,7 +40,7 @@ TEST(Cli, BadInputFailsWithAMessageOnStderr) {
   EXPECT_TRUE(missing.out.empty());
   auto facade = run_cli("render " + kBuilding + " --up z -d 56 -f +z -o /tmp/perclod-never");
   EXPECT_EQ(facade.exit_code, 1);
-  EXPECT_NE(facade.err.find("facade '+z'"), std::string::npos) << facade.err;
+  EXPECT_NE(facade.err.find("view '+z'"), std::string::npos) << facade.err;
   EXPECT_FALSE(fs::exists("/tmp/perclod-never"));
   auto distance = run_cli("render " + kBuilding + " -d -5");
   EXPECT_NE(distance.exit_code, 0);
