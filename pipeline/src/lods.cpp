@@ -115,6 +115,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
   OutputDirectoryLock lock(out.dir);
   auto t_all = Clock::now();
 
+  check_framing(scene, job.label, job.distances);  // every distance, before any work
   std::unique_ptr<Tracer> tracer = make_tracer(scene, job.tracer);
   Renderer renderer;
   if (progress) progress(tracer_summary(*tracer));

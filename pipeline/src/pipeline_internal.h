@@ -26,6 +26,14 @@ inline void background_of(const RenderOutput& img, std::vector<uint8_t>& backgro
   for (size_t i = 0; i < img.ids.size(); ++i) background[i] = img.ids[i] == 0;
 }
 
+// Frames every view of `job` at every distance (frame_view), so a view that
+// cannot be framed (too many tiles) fails before any rendering starts.
+inline void check_framing(const Scene& scene, const LabelJob& job, const std::vector<double>& distances) {
+  const Bounds b = scene_bounds(scene);
+  for (double d : distances)
+    for (const auto& v : job.views) frame_view(b, job.up, v, d, job.display);
+}
+
 // "octree built in 120 ms, 4096 KiB": the progress line after a tracer build.
 std::string tracer_summary(const Tracer& tracer);
 

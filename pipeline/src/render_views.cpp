@@ -8,8 +8,6 @@ namespace perclod {
 std::vector<ViewFiles> render_views(const Scene& scene, const RenderViewsJob& job,
                                     const std::function<void(const ViewFiles&, size_t, size_t)>& progress) {
   OutputDirectoryLock lock(job.out.dir);
-  Renderer renderer;
-  renderer.set_scene(scene);
   Bounds b = scene_bounds(scene);
   std::vector<ViewFiles> done;
   std::vector<std::vector<ViewTile>> tiles;
@@ -19,6 +17,8 @@ std::vector<ViewFiles> render_views(const Scene& scene, const RenderViewsJob& jo
       tiles.push_back(frame_view(b, job.up, v, d, job.display));
       total += tiles.back().size();
     }
+  Renderer renderer;  // after framing: a view that cannot be framed fails before any rendering
+  renderer.set_scene(scene);
   size_t next = 0;
   for (double d : job.distances)
     for (size_t vi = 0; vi < job.views.size(); ++vi)
