@@ -3,7 +3,7 @@
 
   scripts/make_figures.py perception  -> docs/perception_56m_427m.png
       render, vision-simulated and difference images of the demo building's
-      +x facade at 56 m and 427 m (runs `perclod label`).
+      +x facade at 56 m and 427 m (runs `perclod label` with the paper's one sample per pixel).
   scripts/make_figures.py marking     -> docs/marking_56m.png
       the marking-colour renders at 56 m and from d/4.
 
@@ -28,7 +28,7 @@ FACADE = "+x"
 
 
 def label(out, distance):
-    subprocess.run([CLI, "label", MODEL, "--up", "z", "-d", str(distance), "-f", FACADE, "-o", out],
+    subprocess.run([CLI, "label", MODEL, "--up", "z", "-d", str(distance), "--views", FACADE, "--samples", "1", "-o", out],
                    check=True, stdout=subprocess.DEVNULL)
     return os.path.join(out, f"bldg_4018215_{FACADE}_{distance}m")
 
