@@ -89,10 +89,12 @@ Buildings find_buildings(const Scene& scene) {
 
 namespace {
 
-// Per-triangle state over the views of one distance.
+// Per-triangle state over the views of one distance: the labels combined so
+// far (combine_labels) and whether any view's frustum held the triangle.
 struct Accumulator {
-  std::vector<uint8_t> perceptible, displayed, in_frustum;
-  explicit Accumulator(size_t nt) : perceptible(nt), displayed(nt), in_frustum(nt) {}
+  std::vector<Label> combined;
+  std::vector<uint8_t> in_frustum;
+  explicit Accumulator(size_t nt) : combined(nt, Label::Undisplayable), in_frustum(nt) {}
 };
 
 struct ViewOutcome {
@@ -137,15 +139,20 @@ void label_view(Renderer& renderer, const Scene& scene, const Tracer& tracer, co
   const double t_trace = since(t0);
 
   const std::vector<Label> labels = label_triangles(counts, job.ratio);
-  std::vector<uint8_t> seen(nt, 0);
-  mark_in_frustum(scene, cam, seen);
+  // The frustum marks a building's view may set are its own triangles'.
+  std::vector<uint8_t> seen;
+  if (owner) {
+    seen.assign(nt, 0);
+    mark_in_frustum(scene, cam, seen);
+  } else {
+    mark_in_frustum(scene, cam, acc.in_frustum);
+  }
   for (size_t t = 0; t < nt; ++t) {
     if (owner && (*owner)[t] != building) continue;
     res.totals.traced[t] += counts.traced[t];
     res.totals.imperceptible[t] += counts.imperceptible[t];
-    acc.perceptible[t] |= labels[t] == Label::Perceptible;
-    acc.displayed[t] |= labels[t] != Label::Undisplayable;
-    acc.in_frustum[t] |= seen[t];
+    acc.combined[t] = combine_labels(acc.combined[t], labels[t]);
+    if (owner) acc.in_frustum[t] |= seen[t];
   }
   out.report = {{"view", name},
                 {"covered_pixels", out.perception.counted_pixels},
@@ -274,13 +281,9 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
     res.report["per_building"] = per;
   }
 
-  res.labels.assign(nt, Label::Undisplayable);
+  res.labels = std::move(acc.combined);
   for (size_t t = 0; t < nt; ++t) {
-    if (acc.perceptible[t])
-      res.labels[t] = Label::Perceptible;
-    else if (acc.displayed[t])
-      res.labels[t] = Label::Imperceptible;
-    else if (!acc.in_frustum[t]) {
+    if (res.labels[t] == Label::Undisplayable && !acc.in_frustum[t]) {
       res.labels[t] = Label::Imperceptible;  // no view could have seen it: the view set was incomplete
       ++res.outside_views;
     }

@@ -436,22 +436,22 @@ size_t ply_type_size(std::string_view t) {
 void check_ply(const std::string& path, const std::string& data) {
   // The header is every line up to the first that is exactly "end_header"
   // (assimp took "2.0atend_header" for the end and then never returned).
-  size_t body = std::string::npos;
+  size_t end = std::string::npos, body = 0;  // where the end_header line starts, and the data after it
   for (size_t at = 0; at < data.size();) {
     size_t nl = data.find('\n', at);
     size_t stop = nl == std::string::npos ? data.size() : nl;
     std::string_view l(data.data() + at, stop - at);
     if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
     if (l == "end_header") {
+      end = at;
       body = nl == std::string::npos ? data.size() : nl + 1;
       break;
     }
     if (nl == std::string::npos) break;
     at = nl + 1;
   }
-  if (body == std::string::npos)
+  if (end == std::string::npos)
     fail(path, "PLY file without an 'end_header' line (truncated or not a PLY file)");
-  const size_t end = data.rfind("end_header", body);
   const double available = double(data.size() - body);
   std::istringstream header(data.substr(0, end));
   std::string line, format;

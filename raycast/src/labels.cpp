@@ -100,14 +100,8 @@ std::vector<Label> combine_views(const std::vector<std::vector<Label>>& views) {
                                   std::to_string(views[v].size()) + " labels, view 0 has " +
                                   std::to_string(n));
   std::vector<Label> out(n, Label::Undisplayable);
-  for (size_t i = 0; i < n; ++i) {
-    bool perceptible = false, displayed = false;
-    for (const auto& view : views) {
-      perceptible |= view[i] == Label::Perceptible;
-      displayed |= view[i] != Label::Undisplayable;
-    }
-    out[i] = perceptible ? Label::Perceptible : displayed ? Label::Imperceptible : Label::Undisplayable;
-  }
+  for (const auto& view : views)
+    for (size_t i = 0; i < n; ++i) out[i] = combine_labels(out[i], view[i]);
   return out;
 }
 

@@ -226,9 +226,17 @@ void add_counts(TriangleCounts& c, const uint32_t* tri_plus_one, const uint8_t* 
 // or a ratio outside [0, 1] (or NaN).
 std::vector<Label> label_triangles(const TriangleCounts& counts, double ratio = 0.5);
 
-// Per triangle over views: Perceptible in any view wins; Undisplayable only
-// when undisplayable in every view; else Imperceptible. Throws on an empty
-// list or views of different sizes.
+// The combination rule, one view at a time: Perceptible in any view wins;
+// Undisplayable only when undisplayable in every view; else Imperceptible.
+// Start from Undisplayable (no view yet) and fold each view's label in.
+inline Label combine_labels(Label so_far, Label view) {
+  if (so_far == Label::Perceptible || view == Label::Perceptible) return Label::Perceptible;
+  if (so_far == Label::Imperceptible || view == Label::Imperceptible) return Label::Imperceptible;
+  return Label::Undisplayable;
+}
+
+// combine_labels over whole views. Throws on an empty list or views of
+// different sizes.
 std::vector<Label> combine_views(const std::vector<std::vector<Label>>& views);
 
 struct LabelCounts {
