@@ -10,6 +10,10 @@
 // v0, so it neither moves nor disappears and every perceptible triangle keeps
 // its vertices, connectivity and orientation; any collapse taken therefore
 // only removes imperceptible or undisplayable triangles.
+// Bounds (Bounded, Fidelity): each vertex carries a tolerance in scene units
+// (Bounded: one for all; Fidelity: the tightest of its faces' labels, and of
+// every vertex merged into it); a collapse whose error bound exceeds the
+// tolerance of either end is refused.
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include <algorithm>
@@ -17,6 +21,7 @@
 #include <cstring>
 #include <numeric>
 #include <queue>
+#include <string>
 
 #include "quadric.h"
 #include "simplify_internal.h"
@@ -57,7 +62,8 @@ struct Model {
   std::vector<uint8_t> locked;         // vertex may not be v0
   std::vector<uint8_t> feature_edge;   // constraint line: never collapsed
   std::vector<Quadric> qa;             // area-weighted: the priority
-  std::vector<Quadric> qd;             // unit-weight: the distance bound (Bounded mode only)
+  std::vector<Quadric> qd;             // unit-weight: the distance bound (Bounded, Fidelity)
+  std::vector<double> tol;             // per vertex: largest error allowed (empty: no bound)
   std::vector<uint32_t> merged_into;   // v0 -> v1 of its collapse
   size_t faces_alive = 0;
 };
@@ -243,7 +249,6 @@ struct Limits {
   double cos_normal;
   double min_quality;
   int max_valence;
-  double tolerance;  // < 0: none
   double tie;        // edge-length tie-break factor
 };
 
@@ -315,9 +320,9 @@ bool evaluate(const Model& m, HH h, const Limits& lim, Candidate& c) {
   double l2 = (to_d(q1) - to_d(mesh.point(v0))).sqrnorm();
   c.h = h;
   c.cost = (m.qa[v0.idx()] + m.qa[v1.idx()]).eval(x, y, z) + lim.tie * l2 * l2;
-  if (lim.tolerance < 0) return true;
+  if (m.tol.empty()) return true;
   c.error = collapse_error(m, v0, v1);
-  return c.error <= lim.tolerance;
+  return c.error <= std::min(m.tol[v0.idx()], m.tol[v1.idx()]);
 }
 
 // Everything that depends on the neighbourhood: fan size, link condition,
@@ -431,10 +436,52 @@ class Collapser {
         if (evaluate(m_, h, lim_, c)) initial.push_back({c.cost, uint32_t(h.idx())});
       }
     heap_.build(initial);
-    for (int pass = 0; pass < max_passes && m_.faces_alive > target_; ++pass) {
+    int pass = 0;
+    for (; pass < max_passes && m_.faces_alive > target_; ++pass) {
       if (pass > 0) requeue_refused();
       if (drain(stats) == 0) break;
     }
+    if (target_ > 0 && m_.faces_alive > target_) {
+      stats.target_reached = false;
+      stats.stop_reason = pass == max_passes ? "the pass limit (" + std::to_string(max_passes) + ") was reached; "
+                                             : std::string();
+      stats.stop_reason += explain_refusals();
+    }
+  }
+
+  // Why nothing more collapses: every live half-edge, by the first rule that
+  // refuses it.
+  std::string explain_refusals() {
+    const Mesh& mesh = m_.mesh;
+    size_t fixed = 0, valence = 0, topology = 0, shape = 0, open = 0;
+    for (auto e : mesh.edges()) {
+      if (mesh.status(e).deleted()) continue;
+      for (int side = 0; side < 2; ++side) {
+        HH h = mesh.halfedge_handle(e, side);
+        VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
+        Candidate c;
+        if (!evaluate(m_, h, lim_, c)) {
+          ++fixed;
+          continue;
+        }
+        ring_.clear();
+        for (VH n : mesh.vv_range(v1)) ring_.push_back(n);
+        if (int(mesh.valence(v0)) + int(ring_.size()) - 4 > lim_.max_valence)
+          ++valence;
+        else if (!link_ok(mesh, h, ring_))
+          ++topology;
+        else if (!geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim_))
+          ++shape;
+        else
+          ++open;
+      }
+    }
+    std::string why = "every remaining collapse is refused: " + std::to_string(topology) +
+                      " half-edges by topology (link condition, boundary ears), " + std::to_string(shape) +
+                      " by the normal-change or sliver limits, " + std::to_string(valence) +
+                      " by the valence cap, " + std::to_string(fixed) + " are locked or over the error bound";
+    if (open) why += ", " + std::to_string(open) + " became legal only at the end";
+    return why;
   }
 
  private:
@@ -505,6 +552,7 @@ class Collapser {
     m_.faces_alive -= removed;
     m_.qa[v1.idx()] += m_.qa[v0.idx()];
     if (!m_.qd.empty()) m_.qd[v1.idx()] += m_.qd[v0.idx()];
+    if (!m_.tol.empty()) m_.tol[v1.idx()] = std::min(m_.tol[v1.idx()], m_.tol[v0.idx()]);
     m_.merged_into[v0.idx()] = uint32_t(v1.idx());
     stats.collapses++;
     stats.max_error = std::max(stats.max_error, c.error);
@@ -546,8 +594,8 @@ struct Piece {
       hi[a] = std::max(hi[a], p[a]);
     }
   }
-  // No perceptible face, and: Paper mode, or all undisplayable, or (Bounded)
-  // a bounding-box diagonal within the tolerance.
+  // No perceptible face, and: Paper mode, or all undisplayable, or (Bounded,
+  // Fidelity) a bounding-box diagonal within the tolerance.
   bool removable(SimplifyMode mode, double tolerance) const {
     if (!used || perceptible) return false;
     if (mode == SimplifyMode::Paper || all_undisplayable) return true;
@@ -686,18 +734,42 @@ void displacement_stats(Model& m, const Work& w, SimplifyStats& stats) {
 
 }  // namespace
 
+// Per-vertex tolerances: Bounded one for all, Fidelity the tightest bound
+// of each vertex's faces (labels -> pixels -> scene units).
+void init_tolerances(Model& m, const Work& w, const SimplifyOptions& opt) {
+  if (opt.mode == SimplifyMode::Bounded) {
+    m.tol.assign(m.mesh.n_vertices(), opt.k * opt.pixel_footprint);
+    return;
+  }
+  const double bound[3] = {opt.bound_perceptible_px * opt.pixel_footprint,
+                           opt.bound_imperceptible_px * opt.pixel_footprint,
+                           opt.bound_undisplayable_px * opt.pixel_footprint};
+  m.tol.assign(m.mesh.n_vertices(), INFINITY);
+  for (FH f : m.mesh.faces()) {
+    const double b = bound[size_t((*w.labels)[m.face_source[f.idx()]])];
+    for (VH v : m.mesh.fv_range(f)) m.tol[v.idx()] = std::min(m.tol[v.idx()], b);
+  }
+}
+
 void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats& stats,
                        Result& out) {
-  const bool labelled = simplify_mode_uses_labels(opt.mode);  // collapse modes: paper, bounded, qem
-  double tolerance = -1;
+  const bool labelled = simplify_mode_uses_labels(opt.mode);  // collapse modes: paper, bounded, fidelity, qem
+  const bool keep_perceptible = simplify_mode_keeps_perceptible(opt.mode);
+  const bool bounded = opt.mode == SimplifyMode::Bounded || opt.mode == SimplifyMode::Fidelity;
+  double tolerance = -1;  // pieces without a perceptible face within this are removed
   if (opt.mode == SimplifyMode::Bounded) tolerance = stats.tolerance = opt.k * opt.pixel_footprint;
+  if (opt.mode == SimplifyMode::Fidelity) {
+    tolerance = stats.tolerance = opt.bound_imperceptible_px * opt.pixel_footprint;
+    stats.tolerance_perceptible = opt.bound_perceptible_px * opt.pixel_footprint;
+  }
   std::vector<uint32_t> faces = w.faces;
   // Paper: undisplayable triangles go outright (no pixel centre of any
   // labelling view reaches them, so those views render the same without
   // them). Collapsing them instead would move the vertices they share with
   // imperceptible triangles, which the views do show, and would still leave
   // every one whose corners all sit on perceptible triangles.
-  if (opt.mode == SimplifyMode::Paper && opt.delete_undisplayable) {
+  // Fidelity does the same: the held-out views judge whether that was safe.
+  if ((opt.mode == SimplifyMode::Paper || opt.mode == SimplifyMode::Fidelity) && opt.delete_undisplayable) {
     std::erase_if(faces, [&](uint32_t t) { return (*w.labels)[t] == Label::Undisplayable; });
     stats.undisplayable_faces_deleted = w.faces.size() - faces.size();
   }
@@ -707,22 +779,22 @@ void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats&
   build_mesh(m, w, faces, stats);
   stats.vertices_before = m.mesh.n_vertices();
   m.locked.assign(m.mesh.n_vertices(), 0);
-  init_quadrics(m, opt, opt.mode == SimplifyMode::Bounded);
-  if (labelled) lock_perceptible(m, w);
+  init_quadrics(m, opt, bounded);
+  if (bounded) init_tolerances(m, w, opt);
+  if (keep_perceptible) lock_perceptible(m, w);
   // Non-manifold faces were added as pieces of their own: drop those too.
   if (labelled) remove_pieces(m, w, opt.mode, tolerance, stats);
   Limits lim;
   lim.cos_normal = std::cos(opt.max_normal_change_deg * M_PI / 180.0);
   lim.min_quality = opt.min_triangle_quality;
   lim.max_valence = opt.max_valence;
-  lim.tolerance = tolerance;
   lim.tie = 1e-8;
   size_t target = opt.mode == SimplifyMode::Qem ? opt.target_triangles : 0;
   Collapser(m, lim, target).run(stats);
 
   if (labelled) remove_pieces(m, w, opt.mode, tolerance, stats);
   displacement_stats(m, w, stats);
-  write_result(m, w, labelled, stats, out);
+  write_result(m, w, keep_perceptible, stats, out);
 }
 
 }  // namespace perclod::detail

@@ -19,19 +19,26 @@ const char* simplify_mode_name(SimplifyMode m) {
     case SimplifyMode::Bounded: return "bounded";
     case SimplifyMode::Qem: return "qem";
     case SimplifyMode::Cluster: return "cluster";
+    case SimplifyMode::Fidelity: return "fidelity";
   }
   return "?";
 }
 
 SimplifyMode parse_simplify_mode(const char* name) {
   for (SimplifyMode m : {SimplifyMode::Paper, SimplifyMode::Bounded, SimplifyMode::Qem,
-                         SimplifyMode::Cluster})
+                         SimplifyMode::Cluster, SimplifyMode::Fidelity})
     if (std::strcmp(name, simplify_mode_name(m)) == 0) return m;
   throw std::invalid_argument(std::string("simplify: unknown mode '") + name +
-                              "' (expected paper, bounded, qem or cluster)");
+                              "' (expected fidelity, paper, bounded, qem or cluster)");
 }
 
-bool simplify_mode_uses_labels(SimplifyMode m) { return m == SimplifyMode::Paper || m == SimplifyMode::Bounded; }
+bool simplify_mode_uses_labels(SimplifyMode m) {
+  return m == SimplifyMode::Paper || m == SimplifyMode::Bounded || m == SimplifyMode::Fidelity;
+}
+
+bool simplify_mode_keeps_perceptible(SimplifyMode m) {
+  return m == SimplifyMode::Paper || m == SimplifyMode::Bounded;
+}
 
 std::vector<uint32_t> weld_exact(const Scene& scene) {
   detail::Work work;
@@ -72,9 +79,18 @@ void check_input(const Scene& s, const std::vector<Label>& labels, const Simplif
     fail(std::to_string(labels.size()) + " labels for " + std::to_string(nt) + " triangles");
   for (size_t t = 0; t < nt; ++t)
     if (uint8_t(labels[t]) > 2) fail("triangle " + std::to_string(t) + " has an invalid label");
-  const bool needs_footprint = opt.mode == SimplifyMode::Bounded || opt.mode == SimplifyMode::Cluster;
+  const bool needs_footprint =
+      opt.mode == SimplifyMode::Bounded || opt.mode == SimplifyMode::Cluster || opt.mode == SimplifyMode::Fidelity;
   if (needs_footprint && !(opt.pixel_footprint > 0 && opt.k > 0 && std::isfinite(opt.pixel_footprint * opt.k)))
     fail(std::string(simplify_mode_name(opt.mode)) + " mode needs a positive pixel footprint and k");
+  if (opt.mode == SimplifyMode::Fidelity) {
+    auto bound_ok = [](double b) { return b >= 0 && !std::isnan(b); };
+    if (!bound_ok(opt.bound_perceptible_px) || !bound_ok(opt.bound_imperceptible_px) ||
+        !bound_ok(opt.bound_undisplayable_px))
+      fail("fidelity mode needs error bounds >= 0 pixels");
+    if (!std::isfinite(opt.bound_perceptible_px) || !std::isfinite(opt.bound_imperceptible_px))
+      fail("fidelity mode needs finite bounds for perceptible and imperceptible triangles");
+  }
   if (opt.mode == SimplifyMode::Qem && opt.target_triangles == 0)
     fail("qem mode needs a positive target triangle count");
   if (!(opt.weld_tolerance_rel >= 0)) fail("weld tolerance must be >= 0");

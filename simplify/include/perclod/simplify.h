@@ -5,6 +5,19 @@
 // component and material of the input triangle it came from.
 //
 // Modes (docs/method.md sections 5 and 6):
+//   Fidelity the default of `perclod run`: quadric half-edge collapses of any
+//            triangle, each bounded by the labels of the faces it touches.
+//            A vertex takes the tightest bound of its faces (perceptible
+//            e_perceptible, imperceptible e_imperceptible, undisplayable
+//            e_undisplayable pixels, times p(d)) and keeps the tightest bound
+//            of every vertex merged into it; a collapse is refused when its
+//            error (as in Bounded) exceeds the bound of either end.
+//            Undisplayable triangles are deleted first, as in Paper (with
+//            delete_undisplayable = false they are collapsed, unbounded). Flat
+//            perceptible walls are re-tessellated (error 0); nothing moves
+//            further than its label allows. Leftover pieces without a
+//            perceptible face are removed when all undisplayable or when their
+//            bounding-box diagonal is within e_imperceptible * p(d).
 //   Paper    undisplayable triangles are deleted outright, then quadric
 //            half-edge collapses (v0 removed, v1 kept where it is) remove
 //            imperceptible triangles until none is removable, then every
@@ -28,7 +41,7 @@
 //   Cluster  Rossignac-Borrel vertex clustering on a grid of cell size
 //            k * pixel_footprint; labels ignored.
 //
-// In Paper and Bounded: no vertex of a perceptible triangle moves or is removed,
+// In Paper and Bounded (not Fidelity): no vertex of a perceptible triangle moves or is removed,
 // so perceptible triangles come out bit-identical (positions, and vertex order
 // up to rotation). Components whose triangles are all undisplayable are
 // removed before simplification. In every mode an output triangle keeps the
@@ -37,21 +50,30 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "perclod/scene.h"
 
 namespace perclod {
 
-enum class SimplifyMode { Paper, Bounded, Qem, Cluster };
+enum class SimplifyMode { Paper, Bounded, Qem, Cluster, Fidelity };
 
 const char* simplify_mode_name(SimplifyMode m);
-// "paper", "bounded", "qem", "cluster"; throws std::invalid_argument otherwise.
+// "paper", "bounded", "qem", "cluster", "fidelity"; throws std::invalid_argument otherwise.
 SimplifyMode parse_simplify_mode(const char* name);
-// Paper and Bounded read the labels; Qem and Cluster ignore them.
+// Paper, Bounded and Fidelity read the labels; Qem and Cluster ignore them.
 bool simplify_mode_uses_labels(SimplifyMode m);
+// Paper and Bounded keep perceptible triangles bit-identical.
+bool simplify_mode_keeps_perceptible(SimplifyMode m);
+
+// Fidelity's default bounds in pixels at the LOD's distance (README,
+// "Fidelity mode", gives the measurements that chose them).
+constexpr double kDefaultBoundPerceptiblePx = 0.5;
+constexpr double kDefaultBoundImperceptiblePx = 1.0;
 
 // Mesh topology the loader and scene statistics share with the simplifier.
 // Corners at exactly equal positions (+0 and -0 equal) weld: the result holds
@@ -67,6 +89,11 @@ struct SimplifyOptions {
   double pixel_footprint = 0.0;   // p(d) in scene units at the LOD's distance (Bounded, Cluster)
   double k = 1.0;                 // tolerance / cell size = k * pixel_footprint
   size_t target_triangles = 0;    // Qem: stop at this many triangles
+  // Fidelity: how far, in pixels at the distance, a collapse may move the
+  // surface of a triangle of each label (infinity = unbounded).
+  double bound_perceptible_px = kDefaultBoundPerceptiblePx;
+  double bound_imperceptible_px = kDefaultBoundImperceptiblePx;
+  double bound_undisplayable_px = INFINITY;
 
   // Constraint lines (Shi, Yang, Li): edges whose dihedral angle exceeds
   // feature_angle_deg never collapse, nor move (their vertices are kept).
@@ -84,7 +111,7 @@ struct SimplifyOptions {
   int max_valence = 24;                 // refuse collapses that make bigger fans
   double boundary_weight = 1.0;         // weight of boundary/crease quadrics (x edge length^2)
 
-  // Paper: delete undisplayable triangles instead of collapsing them (no pixel
+  // Paper, Fidelity: delete undisplayable triangles instead of collapsing them (no pixel
   // centre of any labelling view reaches them, and their collapses would move
   // imperceptible triangles the views do show). false collapses them as the
   // paper does and keeps those collapses cannot reach, so closed surfaces
@@ -114,8 +141,13 @@ struct SimplifyStats {
   size_t collapses = 0;
   size_t cluster_dangling_edges = 0;   // Cluster: edges bounding no kept triangle (not in the Scene)
   size_t cluster_isolated_points = 0;  // Cluster: points bounding nothing (not in the Scene)
-  double tolerance = 0.0;              // Bounded: k * p(d); Cluster: cell size
-  double max_error = 0.0;              // Bounded: largest error bound of a collapse taken (0 otherwise)
+  double tolerance = 0.0;              // Bounded: k * p(d); Cluster: cell size; Fidelity: e_imperceptible * p(d)
+  double tolerance_perceptible = 0.0;  // Fidelity: e_perceptible * p(d)
+  double max_error = 0.0;              // Bounded, Fidelity: largest error bound of a collapse taken (0 otherwise)
+  // Qem: whether target_triangles was reached, and if not why the collapses
+  // stopped (empty when reached or when the mode has no target).
+  bool target_reached = true;
+  std::string stop_reason;
   // Belblidia's measures: displacement of each input vertex to the vertex that
   // represents it in the output, relative to the bounding-box diagonal.
   double max_displacement_rel = 0.0;

@@ -1,0 +1,176 @@
+// Fidelity mode: every collapse bounded by the labels of the faces it moves,
+// and qem's report of a target it cannot reach.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "fixtures.h"
+#include "perclod/simplify.h"
+
+using namespace perclod;
+using namespace perclod::test;
+
+namespace {
+
+SimplifyOptions fidelity(double p, double e_p, double e_i) {
+  SimplifyOptions o;
+  o.mode = SimplifyMode::Fidelity;
+  o.pixel_footprint = p;
+  o.bound_perceptible_px = e_p;
+  o.bound_imperceptible_px = e_i;
+  return o;
+}
+
+double total_area(const Scene& s) {
+  double sum = 0;
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    double a = 0;
+    normal_of(s, t, &a);
+    sum += a;
+  }
+  return sum;
+}
+
+}  // namespace
+
+TEST(SimplifyFidelity, ParsesItsName) {
+  EXPECT_EQ(parse_simplify_mode("fidelity"), SimplifyMode::Fidelity);
+  EXPECT_TRUE(simplify_mode_uses_labels(SimplifyMode::Fidelity));
+  EXPECT_FALSE(simplify_mode_keeps_perceptible(SimplifyMode::Fidelity));
+  EXPECT_THROW(parse_simplify_mode("fidelty"), std::invalid_argument);
+}
+
+TEST(SimplifyFidelity, FlatPerceptibleWallIsRetessellatedWithoutMovingIt) {
+  Scene in;
+  add_grid(in, 30, 6.0, 0);  // 1800 perceptible triangles in the plane z = 0
+  std::vector<Label> labels(in.triangle_count(), Label::Perceptible);
+  SimplifyStats st;
+  Scene out = simplify(in, labels, fidelity(0.01, 0.5, 2.0), &st);
+  EXPECT_LT(out.triangle_count(), in.triangle_count() / 20);
+  EXPECT_NEAR(total_area(out), 36.0, 1e-3);  // the same square, no hole, no overlap
+  for (size_t i = 0; i < out.vertex_count(); ++i) EXPECT_EQ(out.positions[3 * i + 2], 0.0f);
+  EXPECT_LE(test::one_sided_hausdorff(in, out, 1), 1e-5);
+  // Paper keeps every one of them.
+  SimplifyOptions paper;
+  paper.mode = SimplifyMode::Paper;
+  EXPECT_EQ(simplify(in, labels, paper).triangle_count(), in.triangle_count());
+}
+
+TEST(SimplifyFidelity, EachLabelKeepsItsOwnBound) {
+  // A bumpy grid: perceptible in one band, imperceptible elsewhere. Every
+  // output point stays within e_I * p of the input, and the perceptible band
+  // within e_P * p.
+  Scene in;
+  add_grid(in, 40, 6.0, 0, [](double x, double y) { return 0.3 * std::sin(1.3 * x) * std::cos(0.9 * y); });
+  std::vector<Label> labels(in.triangle_count(), Label::Imperceptible);
+  for (size_t t = 0; t < in.triangle_count(); ++t)
+    if (vertex(in, in.indices[3 * t])[0] > 2.5 && vertex(in, in.indices[3 * t])[0] < 3.5)
+      labels[t] = Label::Perceptible;
+  const double p = 0.01, e_p = 0.5, e_i = 4.0;
+  SimplifyStats st;
+  std::vector<uint32_t> src;
+  Scene out = simplify(in, labels, fidelity(p, e_p, e_i), &st, &src);
+  EXPECT_NEAR(st.tolerance, e_i * p, 1e-12);
+  EXPECT_NEAR(st.tolerance_perceptible, e_p * p, 1e-12);
+  EXPECT_LE(st.max_error, e_i * p);
+  EXPECT_LT(out.triangle_count(), in.triangle_count() / 2);
+  EXPECT_LE(test::one_sided_hausdorff(out, in, 3), e_i * p * 1.0001);
+  EXPECT_LE(test::one_sided_hausdorff(in, out, 1), e_i * p * 1.0001);
+  // Output triangles from the perceptible band: each corner within e_P * p of the input.
+  size_t from_band = 0;
+  for (size_t t = 0; t < out.triangle_count(); ++t) {
+    if (labels[src[t]] != Label::Perceptible) continue;
+    ++from_band;
+    for (int k = 0; k < 3; ++k)
+      EXPECT_LE(distance_to_surface(vertex(out, out.indices[3 * t + k]), in), e_p * p * 1.0001);
+  }
+  EXPECT_GT(from_band, 0u);
+  // A looser perceptible bound removes more; zero bounds remove only what is exactly flat.
+  Scene tighter = simplify(in, labels, fidelity(p, 0.0, 0.0));
+  EXPECT_GT(tighter.triangle_count(), out.triangle_count());
+}
+
+TEST(SimplifyFidelity, SmallImperceptiblePiecesGoLargeOnesStay) {
+  // A perceptible wall with two imperceptible boxes: one smaller than
+  // e_I * p (removed), one larger (kept, within its bound).
+  Scene in;
+  add_grid(in, 4, 4.0, 0);
+  const size_t wall = in.triangle_count();
+  add_box(in, {1, 1, 0}, {1.01, 1.01, 0.01}, 1);  // diagonal 0.017
+  add_box(in, {2, 2, 0}, {2.5, 2.5, 0.5}, 2, 3);  // diagonal 0.87
+  std::vector<Label> labels(in.triangle_count(), Label::Imperceptible);
+  for (size_t t = 0; t < wall; ++t) labels[t] = Label::Perceptible;
+  SimplifyStats st;
+  Scene out = simplify(in, labels, fidelity(0.01, 0.5, 4.0), &st);  // e_I * p = 0.04
+  EXPECT_EQ(st.pieces_removed, 1u);
+  EXPECT_EQ(st.pieces_triangles_removed, 12u);
+  EXPECT_GE(st.triangles_after[1], 12u);  // the big box keeps its shape: at least its 6 faces
+  EXPECT_LE(test::one_sided_hausdorff(in, out, 1), 0.017 + 1e-6);  // only the small box is missing
+}
+
+TEST(SimplifyFidelity, DeletesUndisplayableTrianglesAndKeepsTheVisibleOnesInPlace) {
+  // A closed box seen from +z only: its top is perceptible, the rest is
+  // undisplayable and deleted; the top does not move.
+  Scene in;
+  add_box(in, {0, 0, 0}, {1, 1, 1}, 0, 4);
+  std::vector<Label> labels(in.triangle_count(), Label::Undisplayable);
+  for (size_t t = 0; t < in.triangle_count(); ++t)
+    if (normal_of(in, t)[2] > 0.5) labels[t] = Label::Perceptible;
+  SimplifyStats st;
+  Scene out = simplify(in, labels, fidelity(0.01, 0.5, 2.0), &st);
+  EXPECT_EQ(st.undisplayable_faces_deleted, st.triangles_before[2]);
+  EXPECT_EQ(st.triangles_after[2], 0u);
+  EXPECT_NEAR(total_area(out), 1.0, 1e-5);
+  for (size_t i = 0; i < out.vertex_count(); ++i) EXPECT_EQ(out.positions[3 * i + 2], 1.0f);
+  // Kept and collapsed instead when asked (unbounded: they may all go).
+  SimplifyOptions keep = fidelity(0.01, 0.5, 2.0);
+  keep.delete_undisplayable = false;
+  SimplifyStats kst;
+  std::vector<uint32_t> src;
+  Scene kept = simplify(in, labels, keep, &kst, &src);
+  EXPECT_EQ(kst.undisplayable_faces_deleted, 0u);
+  EXPECT_LT(kst.triangles_after[2], kst.triangles_before[2] / 2);
+  EXPECT_GT(kst.triangles_after[0], 0u);
+  for (size_t t = 0; t < kept.triangle_count(); ++t)
+    if (labels[src[t]] == Label::Perceptible)
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(kept.positions[3 * size_t(kept.indices[3 * t + k]) + 2], 1.0f);
+}
+
+TEST(SimplifyFidelity, RefusesBadBounds) {
+  Scene in;
+  add_grid(in, 2, 1.0, 0);
+  std::vector<Label> labels(in.triangle_count(), Label::Perceptible);
+  EXPECT_THROW(simplify(in, labels, fidelity(0.01, -1, 2)), std::invalid_argument);
+  EXPECT_THROW(simplify(in, labels, fidelity(0.01, 0.5, NAN)), std::invalid_argument);
+  EXPECT_THROW(simplify(in, labels, fidelity(0.01, 0.5, INFINITY)), std::invalid_argument);
+  EXPECT_THROW(simplify(in, labels, fidelity(0.0, 0.5, 2)), std::invalid_argument);
+}
+
+TEST(SimplifyQem, ReportsATargetItCannotReach) {
+  // 50 separate triangles: no edge can collapse, so a target of 10 is missed.
+  Scene in;
+  for (int i = 0; i < 50; ++i) {
+    uint32_t a = add_vertex(in, 2 * i, 0, 0), b = add_vertex(in, 2 * i + 1, 0, 0), c = add_vertex(in, 2 * i, 1, 0);
+    add_tri(in, a, b, c, 0);
+  }
+  std::vector<Label> labels(in.triangle_count(), Label::Perceptible);
+  SimplifyOptions o;
+  o.mode = SimplifyMode::Qem;
+  o.target_triangles = 10;
+  SimplifyStats st;
+  Scene out = simplify(in, labels, o, &st);
+  EXPECT_EQ(out.triangle_count(), 50u);
+  EXPECT_FALSE(st.target_reached);
+  EXPECT_NE(st.stop_reason.find("every remaining collapse is refused"), std::string::npos) << st.stop_reason;
+  EXPECT_NE(st.stop_reason.find("by topology"), std::string::npos) << st.stop_reason;
+  // A reachable target is reported as reached.
+  Scene grid;
+  add_grid(grid, 10, 1.0, 0);
+  std::vector<Label> gl(grid.triangle_count(), Label::Perceptible);
+  o.target_triangles = 20;
+  SimplifyStats gs;
+  Scene g = simplify(grid, gl, o, &gs);
+  EXPECT_LE(g.triangle_count(), 20u);
+  EXPECT_TRUE(gs.target_reached);
+  EXPECT_TRUE(gs.stop_reason.empty());
+}
