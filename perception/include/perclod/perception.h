@@ -157,4 +157,14 @@ std::vector<uint8_t> mask_view(const PerceptionResult& r);
 // Simulated luminance rounded and clamped to 8-bit grey.
 std::vector<uint8_t> simulated_view(const PerceptionResult& r);
 
+// ---- comparing two images -----------------------------------------------------
+
+// Mean structural similarity (SSIM, Wang, Bovik, Sheikh and Simoncelli 2004)
+// of luminance images a and b (w*h, 0..255 scale) over the pixels where
+// region[i] != 0 (all pixels when region is null): 1 = identical. Local
+// statistics under a Gaussian window (sigma 1.5 px, 11 x 11 taps), weights
+// renormalised where the window leaves the image; C1 = (0.01 * 255)^2,
+// C2 = (0.03 * 255)^2. Returns 1 for an empty region.
+double ssim_mean(const float* a, const float* b, int w, int h, const uint8_t* region);
+
 }  // namespace perclod
