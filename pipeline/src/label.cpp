@@ -104,6 +104,25 @@ struct ViewOutcome {
   nlohmann::json report;
 };
 
+// The samples of a pixel sit off its centre (sample_offsets), where the
+// rasteriser decides what it draws: a sliver can cover a centre and no
+// sample. Such a triangle is drawn, so it is not undisplayable: it takes the
+// decision of each pixel it was drawn on (imperceptible where the mask is set)
+// with one sample's weight there. ids: the render's ID buffer (triangle + 1).
+void add_drawn_but_missed(const uint32_t* ids, const uint8_t* mask, size_t pixels, const std::vector<uint32_t>* owner,
+                          uint32_t building, TriangleCounts& counts) {
+  std::vector<uint8_t> missed(counts.traced.size(), 0);
+  for (size_t i = 0; i < pixels; ++i)
+    if (ids[i] && counts.traced[ids[i] - 1] == 0) missed[ids[i] - 1] = 1;
+  for (size_t i = 0; i < pixels; ++i) {
+    if (!ids[i] || !missed[ids[i] - 1]) continue;
+    const uint32_t t = ids[i] - 1;
+    if (owner && (*owner)[t] != building) continue;
+    counts.traced[t] += 1;
+    counts.imperceptible[t] += mask[i] != 0;
+  }
+}
+
 // Render, perceive and trace one camera at job.samples samples per pixel;
 // adds its counts and labels for the triangles `counts_for` accepts (all when
 // `owner` is null, else those whose owner[t] == building).
@@ -136,6 +155,7 @@ void label_view(Renderer& renderer, const Scene& scene, const Tracer& tracer, co
         if (id && (*owner)[id - 1] != building) id = 0;
     add_counts(counts, rays.data(), out.perception.mask.data(), pixels);
   }
+  if (job.samples > 1) add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
   const double t_trace = since(t0);
 
   const std::vector<Label> labels = label_triangles(counts, job.ratio);
@@ -222,7 +242,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   for (const auto& view : job.views)
     for (const ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) {
       label_view(renderer, scene, tracer, reference.get(), job, ps, tile.name, tile.camera, nullptr, 0, res, acc, o);
-      res.views.push_back({tile.name, tile.camera, o.perception.simulated, o.background});
+      res.views.push_back(view_record(tile.name, tile.camera, o.perception, o.background, "labelling"));
       if (write_files) {
         auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
         const RenderOutput& img = o.image;
