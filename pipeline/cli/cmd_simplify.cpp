@@ -13,7 +13,7 @@ namespace {
 struct SimplifyArgs {
   ModelArgs model;
   DisplayArgs display;
-  std::string mode = "paper", out = "out";
+  std::string mode = "fidelity", out = "out";
   size_t target = 0;
   bool json = false;
   bool keep_undisplayable = false;
@@ -24,7 +24,9 @@ void print_table(const SimplifyArgs& a, const SimplifyRun& r) {
   const SimplifyStats& st = r.stats;
   std::printf("output       %s\n", r.lod_file.c_str());
   std::printf("mode         %s at %.1f m (p(d) = %.4f m", a.mode.c_str(), a.job.distance, r.pixel_footprint);
-  if (st.tolerance > 0)
+  if (a.job.options.mode == SimplifyMode::Fidelity)
+    std::printf(", bounds %.4f m perceptible, %.4f m imperceptible", st.tolerance_perceptible, st.tolerance);
+  else if (st.tolerance > 0)
     std::printf(", %s %.4f m", a.job.options.mode == SimplifyMode::Cluster ? "cell" : "tolerance", st.tolerance);
   std::printf(")\n");
   std::printf("             %12s %12s %12s %12s\n", "perceptible", "impercept.", "undisplay.", "total");
@@ -68,6 +70,9 @@ void run_simplify(SimplifyArgs a) {
   Scene scene = a.model.load(nullptr, a.json);
   SimplifyRun r = simplify_model(scene, a.job);
   const bool empty = r.stats.total_after() == 0;
+  if (!r.stats.target_reached)
+    std::fprintf(stderr, "perclod: warning: %s: qem stopped at %zu triangles, not the target %zu: %s\n",
+                 r.lod_file.c_str(), r.stats.total_after(), a.target, r.stats.stop_reason.c_str());
   if (empty)
     std::fprintf(stderr, "perclod: warning: %s: the LOD is empty (no triangle is displayable at %g m)\n",
                  r.lod_file.c_str(), a.job.distance);
@@ -91,7 +96,10 @@ void run_simplify(SimplifyArgs a) {
 void register_simplify(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "simplify",
-      "Simplify a model for one viewing distance. paper: undisplayable triangles are deleted,\n"
+      "Simplify a model for one viewing distance. fidelity (default): quadric half-edge collapses\n"
+      "of any triangle, each vertex bounded by its faces' labels: no surface moves more than\n"
+      "--e-perceptible (perceptible) or --e-imperceptible (imperceptible) pixels at the distance;\n"
+      "undisplayable triangles are unbounded. paper: undisplayable triangles are deleted,\n"
       "then quadric half-edge collapses remove imperceptible triangles until none can go;\n"
       "perceptible triangles stay bit-identical. bounded: collapses of imperceptible and\n"
       "undisplayable triangles, refusing those whose error exceeds k x p(d) (p(d): one\n"
@@ -101,15 +109,25 @@ void register_simplify(CLI::App& app) {
   auto a = std::make_shared<SimplifyArgs>();
   a->model.add(cmd);
   a->display.add(cmd);
-  cmd->add_option("--labels", a->job.labels_file, "Labels file written by 'perclod label' (needed by paper and bounded)")
+  cmd->add_option("--labels", a->job.labels_file,
+                  "Labels file written by 'perclod label' (needed by fidelity, paper and bounded)")
       ->check(kNotEmpty);
   cmd->add_option("--distance,-d", a->job.distance, "Viewing distance of this LOD in metres")
       ->required()
       ->check(kPositive);
-  cmd->add_option("--mode", a->mode, "paper, bounded, qem or cluster")
-      ->check(CLI::IsMember({"paper", "bounded", "qem", "cluster"}))
+  cmd->add_option("--mode", a->mode, "fidelity, paper, bounded, qem or cluster")
+      ->check(CLI::IsMember({"fidelity", "paper", "bounded", "qem", "cluster"}))
       ->capture_default_str();
-  cmd->add_option("--target", a->target, "qem: triangles to keep");
+  cmd->add_option("--target", a->target,
+                  "qem: triangles to keep (when it cannot get there, a warning and the JSON's stop_reason say why)");
+  cmd->add_option("--e-perceptible", a->job.options.bound_perceptible_px,
+                  "fidelity: how far a collapse may move a perceptible triangle, pixels at the distance")
+      ->check(kNonNegative)
+      ->capture_default_str();
+  cmd->add_option("--e-imperceptible", a->job.options.bound_imperceptible_px,
+                  "fidelity: the same for imperceptible triangles (and pieces without a perceptible face)")
+      ->check(kNonNegative)
+      ->capture_default_str();
   cmd->add_option("-k,--k", a->job.options.k, "bounded: tolerance, cluster: cell size, in pixels at the distance")
       ->check(kPositive)
       ->capture_default_str();

@@ -114,7 +114,9 @@ BatchConfig load_batch_config(const std::string& path) {
   YAML::Node n = load_yaml(path);
   check_keys(n, path,
              {"model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins", "per_building", "out",
-              "tracer", "verify", "ratio", "simplify", "k", "target", "keep_undisplayable", "format"});
+              "tracer", "verify", "ratio", "simplify", "k", "target", "keep_undisplayable", "format",
+              "e_perceptible", "e_imperceptible", "judge_views", "max_changed", "max_silhouette", "strict",
+              "fidelity_target"});
   namespace fs = std::filesystem;
   fs::path dir = fs::path(path).parent_path();
   auto rel = [&](const std::string& p) { return p.empty() || fs::path(p).is_absolute() ? p : (dir / p).string(); };
@@ -134,25 +136,35 @@ BatchConfig load_batch_config(const std::string& path) {
   }
   if (n["views"] && n["facades"]) throw config_error(path, "give 'views' or its old name 'facades', not both");
   const char* views_key = n["facades"] ? "facades" : "views";
-  if (const YAML::Node v = n[views_key]) {
-    c.views.clear();
+  // A view set: one string ("facades,top") or a list of items, checked.
+  auto view_set = [&](const char* key, std::vector<std::string>& items) {
+    const YAML::Node v = n[key];
+    if (!v) return;
+    items.clear();
     if (v.IsSequence()) {
       for (const auto& item : v) {
         if (!item.IsScalar())
-          throw config_error(path, std::string("'") + views_key + "' must be a list of view names or presets");
-        c.views.push_back(item.Scalar());
+          throw config_error(path, std::string("'") + key + "' must be a list of view names or presets");
+        items.push_back(item.Scalar());
       }
     } else if (v.IsScalar()) {
-      c.views.push_back(v.Scalar());
+      items.push_back(v.Scalar());
     } else {
-      throw config_error(path, std::string("'") + views_key + "' must be a view set such as \"facades,top\" or a list");
+      throw config_error(path, std::string("'") + key + "' must be a view set such as \"facades,top\" or a list");
     }
-  }
+  };
+  view_set(views_key, c.views);
   try {
     parse_views(c.views, c.up);
   } catch (const std::invalid_argument& e) {
     throw config_error(path, std::string("'") + views_key + "': " + e.what());
   }
+  view_set("judge_views", c.judge_views);
+  if (!(c.judge_views.size() == 1 && c.judge_views[0] == "none")) try {
+      parse_views(c.judge_views, c.up);
+    } catch (const std::invalid_argument& e) {
+      throw config_error(path, std::string("'judge_views': ") + e.what() + " (or 'none')");
+    }
   c.samples = get<int>(n, path, "samples", c.samples);
   try {
     sample_offsets(c.samples);
@@ -178,8 +190,34 @@ BatchConfig load_batch_config(const std::string& path) {
   c.ratio = get<double>(n, path, "ratio", c.ratio);
   if (!(c.ratio >= 0 && c.ratio <= 1)) throw config_error(path, "'ratio' must be within [0, 1]");
   c.simplify = get<std::string>(n, path, "simplify", c.simplify);
-  if (c.simplify != "paper" && c.simplify != "bounded" && c.simplify != "qem" && c.simplify != "cluster")
-    throw config_error(path, "'simplify' must be paper, bounded, qem or cluster");
+  if (c.simplify != "fidelity" && c.simplify != "paper" && c.simplify != "bounded" && c.simplify != "qem" &&
+      c.simplify != "cluster")
+    throw config_error(path, "'simplify' must be fidelity, paper, bounded, qem or cluster");
+  c.e_perceptible = get<double>(n, path, "e_perceptible", c.e_perceptible);
+  c.e_imperceptible = get<double>(n, path, "e_imperceptible", c.e_imperceptible);
+  for (const char* key : {"e_perceptible", "e_imperceptible"}) {
+    const double v = std::string(key) == "e_perceptible" ? c.e_perceptible : c.e_imperceptible;
+    if (!(v >= 0 && v <= 1000)) throw config_error(path, std::string("'") + key + "' must be 0..1000 pixels");
+    if (n[key] && c.simplify != "fidelity")
+      throw config_error(path, std::string("'") + key + "' applies only to 'simplify: fidelity'");
+  }
+  c.max_changed = get<double>(n, path, "max_changed", c.max_changed);
+  c.max_silhouette = get<double>(n, path, "max_silhouette", c.max_silhouette);
+  if (!(c.max_changed >= 0 && c.max_changed <= 1)) throw config_error(path, "'max_changed' must be a fraction in [0, 1]");
+  if (!(c.max_silhouette >= 0 && c.max_silhouette <= 1))
+    throw config_error(path, "'max_silhouette' must be a fraction in [0, 1]");
+  c.strict = get<bool>(n, path, "strict", c.strict);
+  if (const YAML::Node t = n["fidelity_target"]) {
+    if (!t.IsMap()) throw config_error(path, "'fidelity_target' must be a mapping such as {max_changed: 0.02}");
+    if (c.simplify != "fidelity") throw config_error(path, "'fidelity_target' applies only to 'simplify: fidelity'");
+    check_keys(t, path, {"max_changed", "max_silhouette"});
+    c.fidelity_target = true;
+    c.target_max_changed = get<double>(t, path, "max_changed", c.max_changed);
+    c.target_max_silhouette = get<double>(t, path, "max_silhouette", c.max_silhouette);
+    if (!(c.target_max_changed >= 0 && c.target_max_changed <= 1) ||
+        !(c.target_max_silhouette >= 0 && c.target_max_silhouette <= 1))
+      throw config_error(path, "'fidelity_target': max_changed and max_silhouette must be fractions in [0, 1]");
+  }
   c.k = get<double>(n, path, "k", c.k);
   require_positive(path, "k", c.k);
   if (n["target"]) {
@@ -238,6 +276,14 @@ LodJob lod_job(const BatchConfig& c) {
   job.simplify.k = c.k;
   job.simplify.target_triangles = c.target;
   job.simplify.delete_undisplayable = !c.keep_undisplayable;
+  job.simplify.bound_perceptible_px = c.e_perceptible;
+  job.simplify.bound_imperceptible_px = c.e_imperceptible;
+  if (!(c.judge_views.size() == 1 && c.judge_views[0] == "none")) job.judge_views = parse_views(c.judge_views, c.up);
+  job.limits.max_changed = c.max_changed;
+  job.limits.max_silhouette = c.max_silhouette;
+  job.fidelity_target = c.fidelity_target;
+  job.target.max_changed = c.target_max_changed;
+  job.target.max_silhouette = c.target_max_silhouette;
   job.lod_format = c.format;
   return job;
 }

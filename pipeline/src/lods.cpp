@@ -1,7 +1,9 @@
 // LODs (the method's section 5 and the judging of its result): one LOD from
 // a labels file, and the whole job of `perclod run`, which labels, simplifies,
 // exports and compares each LOD with the original, one distance at a time.
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
@@ -32,6 +34,9 @@ nlohmann::json simplify_stats_json(const SimplifyStats& s) {
           {"degenerate_faces", s.degenerate_faces},
           {"collapses", s.collapses},
           {"tolerance", s.tolerance},
+          {"tolerance_perceptible", s.tolerance_perceptible},
+          {"target_reached", s.target_reached},
+          {"stop_reason", s.stop_reason},
           {"max_error", s.max_error},
           {"cluster_dangling_edges", s.cluster_dangling_edges},
           {"cluster_isolated_points", s.cluster_isolated_points},
@@ -78,33 +83,93 @@ SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
   return run;
 }
 
-nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
+std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
+                                     const LabelJob& job, const std::string& set) {
+  const PerceptionSettings ps = perception_for(job);
+  const Bounds bounds = scene_bounds(scene);
+  renderer.set_scene(scene);
+  std::vector<ViewRecord> records;
+  PerceptionResult pr;
+  std::vector<uint8_t> background;
+  for (const auto& view : views)
+    for (const ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) {
+      RenderOutput img = renderer.render(tile.camera);
+      background_of(img, background);
+      perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
+      records.push_back(view_record(tile.name, tile.camera, pr, background, set));
+    }
+  return records;
+}
+
+nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
                                  const LabelJob& job) {
   const PerceptionSettings ps = perception_for(job);
   renderer.set_scene(lod);
   nlohmann::json views = nlohmann::json::array();
   PerceptionResult pr;
-  std::vector<uint8_t> background;
-  for (const ViewRecord& v : original.views) {
+  std::vector<uint8_t> background, drawn_mask;
+  std::vector<float> luminance_original;
+  for (const ViewRecord& v : original) {
     RenderOutput img = renderer.render(v.camera);
     background_of(img, background);
     perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
-    if (pr.simulated.size() != v.simulated.size())
-      throw std::logic_error("compare_lod_views: view size changed between labelling and comparison");
-    size_t drawn = 0, changed = 0, coverage_changed = 0;
-    for (size_t i = 0; i < background.size(); ++i) {
+    if (pr.simulated.size() != v.simulated.size() || v.luminance.size() != v.simulated.size())
+      throw std::logic_error("compare_lod_views: view size changed between recording and comparison");
+    const size_t n = background.size();
+    size_t drawn = 0, changed = 0, coverage_changed = 0, covered_original = 0;
+    drawn_mask.assign(n, 0);
+    luminance_original.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      luminance_original[i] = float(v.luminance[i]);
+      covered_original += !v.background[i];
       if (background[i] && v.background[i]) continue;
+      drawn_mask[i] = 1;
       ++drawn;
       changed += std::abs(pr.simulated[i] - v.simulated[i]) > ps.threshold;
       coverage_changed += background[i] != v.background[i];
     }
+    // Both luminances on the same 8-bit grid, so an unchanged LOD scores 1.
+    for (float& l : pr.luminance) l = std::round(std::clamp(l, 0.f, 255.f));
+    const double ssim = ssim_mean(luminance_original.data(), pr.luminance.data(), img.width, img.height,
+                                  drawn_mask.data());
     views.push_back({{"view", v.view},
+                     {"set", v.set},
                      {"drawn_pixels", drawn},
                      {"changed_pixels", changed},
                      {"changed_fraction", drawn ? double(changed) / double(drawn) : 0.0},
-                     {"coverage_changed_pixels", coverage_changed}});
+                     {"ssim_covered", ssim},
+                     {"covered_pixels_original", covered_original},
+                     {"coverage_changed_pixels", coverage_changed},
+                     {"silhouette_mismatch", covered_original ? double(coverage_changed) / double(covered_original)
+                                                              : (coverage_changed ? 1.0 : 0.0)}});
   }
   return views;
+}
+
+nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
+                                 const LabelJob& job) {
+  return compare_lod_views(renderer, lod, original.views, job);
+}
+
+nlohmann::json judge_views(const nlohmann::json& views, const FidelityLimits& limits) {
+  double changed = 0, silhouette = 0, ssim = 1;
+  nlohmann::json over = nlohmann::json::array();
+  for (const auto& v : views) {
+    const double c = v.at("changed_fraction").get<double>(), s = v.at("silhouette_mismatch").get<double>();
+    changed = std::max(changed, c);
+    silhouette = std::max(silhouette, s);
+    ssim = std::min(ssim, v.at("ssim_covered").get<double>());
+    auto flag = [&](const char* measure, double value, double limit) {
+      if (value > limit)
+        over.push_back({{"view", v.at("view")}, {"set", v.at("set")}, {"measure", measure}, {"value", value},
+                        {"limit", limit}});
+    };
+    flag("changed_fraction", c, limits.max_changed);
+    flag("silhouette_mismatch", s, limits.max_silhouette);
+  }
+  return {{"worst", {{"changed_fraction", changed}, {"ssim_covered", ssim}, {"silhouette_mismatch", silhouette}}},
+          {"limits", {{"max_changed", limits.max_changed}, {"max_silhouette", limits.max_silhouette}}},
+          {"over_limits", over}};
 }
 
 nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress) {
@@ -128,7 +193,13 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
                            {"tracer", {{"name", tracer->name()}, {"build_seconds", tracer->build_seconds()},
                                        {"memory_bytes", tracer->memory_bytes()}}},
                            {"simplify_mode", simplify_mode_name(job.simplify.mode)},
+                           {"judge_views", job.judge_views},
+                           {"over_limits", 0},
                            {"lods", nlohmann::json::array()}};
+  auto warn = [&report](const std::string& what) {
+    if (!report.contains("warnings")) report["warnings"] = nlohmann::json::array();
+    report["warnings"].push_back(what);
+  };
   for (double d : job.distances) {
     if (progress) {
       std::ostringstream ss;
@@ -141,36 +212,86 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     LabelResult lr = label_scene(renderer, scene, *tracer, lj, progress);
 
     write_label_outputs(renderer, scene, lr, lj);
+    std::vector<ViewRecord> judged = std::move(lr.views);
+    lr.views.clear();
+    if (!job.judge_views.empty()) {
+      std::vector<ViewRecord> held = record_views(renderer, scene, job.judge_views, lj, "held_out");
+      std::move(held.begin(), held.end(), std::back_inserter(judged));
+    }
 
     SimplifyOptions so = job.simplify;
     so.pixel_footprint = display_pixel_footprint(lj.display, d);
     SimplifyStats st;
-    Scene lod = simplify(scene, lr.labels, so, &st);
+    Scene lod;
+    nlohmann::json views, search = nlohmann::json::array();
+    auto t_cmp = Clock::now();
+    double seconds_compare = 0;
+    const bool searching = job.fidelity_target && so.mode == SimplifyMode::Fidelity;
+    std::vector<double> bounds = {so.bound_imperceptible_px};
+    if (searching) bounds.assign(std::begin(kFidelitySearchBounds), std::end(kFidelitySearchBounds));
+    for (double e : bounds) {
+      so.bound_imperceptible_px = e;
+      lod = simplify(scene, lr.labels, so, &st);
+      t_cmp = Clock::now();
+      views = compare_lod_views(renderer, lod, judged, lj);
+      seconds_compare += since(t_cmp);
+      if (!searching) break;
+      const nlohmann::json f = judge_views(views, job.target);
+      const bool met = f["over_limits"].empty();
+      search.push_back({{"e_imperceptible", e}, {"triangles", st.total_after()}, {"worst", f["worst"]}, {"met", met}});
+      if (progress) {
+        std::ostringstream ss;
+        ss << "  fidelity target at " << d << " m: e_imperceptible " << e << " px -> " << st.total_after()
+           << " triangles, worst " << 100 * f["worst"]["changed_fraction"].get<double>() << "% changed, silhouette "
+           << 100 * f["worst"]["silhouette_mismatch"].get<double>() << "%" << (met ? " (met)" : "");
+        progress(ss.str());
+      }
+      if (met) break;
+    }
     std::string lod_path = out.lod(d, job.lod_format);
     export_scene(lod, lod_path);
     nlohmann::json entry = lr.report;
     entry["pixel_footprint"] = so.pixel_footprint;
     entry["lod_file"] = lod_path;
     entry["simplify"] = simplify_stats_json(st);
+    if (so.mode == SimplifyMode::Fidelity)
+      entry["bounds_px"] = {{"perceptible", so.bound_perceptible_px}, {"imperceptible", so.bound_imperceptible_px}};
+    if (searching) {
+      entry["fidelity_search"] = search;
+      if (!search.back()["met"].get<bool>()) {
+        std::ostringstream ss;
+        ss << lod_path << ": no e_imperceptible meets the fidelity target at " << d
+           << " m; kept the tightest (0 px)";
+        warn(ss.str());
+      }
+    }
     if (st.total_after() == 0) {
       // Nothing displayable at this distance: the LOD file holds no triangle.
       entry["empty"] = true;
-      if (!report.contains("warnings")) report["warnings"] = nlohmann::json::array();
       std::ostringstream ss;
       ss << lod_path << ": the LOD at " << d << " m is empty (no triangle of the model is displayable there)";
-      report["warnings"].push_back(ss.str());
+      warn(ss.str());
     }
-    auto t_cmp = Clock::now();
-    entry["lod_vs_original"] = compare_lod_views(renderer, lod, lr, lj);
-    entry["seconds_compare"] = since(t_cmp);
+    entry["lod_vs_original"] = std::move(views);
+    entry["fidelity"] = judge_views(entry["lod_vs_original"], job.limits);
+    entry["seconds_compare"] = seconds_compare;
+    for (const auto& o : entry["fidelity"]["over_limits"]) {
+      std::ostringstream ss;
+      ss << lod_path << ": from view " << o["view"].get<std::string>() << " (" << o["set"].get<std::string>()
+         << ") " << o["measure"].get<std::string>() << " is " << 100 * o["value"].get<double>() << "% (limit "
+         << 100 * o["limit"].get<double>() << "%)";
+      warn(ss.str());
+      report["over_limits"] = report["over_limits"].get<size_t>() + 1;
+    }
     if (progress) {
-      double worst = 0;
-      for (const auto& v : entry["lod_vs_original"]) worst = std::max(worst, v["changed_fraction"].get<double>());
+      const auto& w = entry["fidelity"]["worst"];
       std::ostringstream ss;
       ss << "  LOD " << d << " m: " << st.total_before() << " -> " << st.total_after() << " triangles ("
          << (st.total_before() ? 100.0 * double(st.total_after()) / double(st.total_before()) : 0.0)
-         << "%); per view at most " << 100 * worst
-         << "% of drawn pixels differ after vision simulation; " << lod_path;
+         << "%); worst of " << entry["lod_vs_original"].size() << " views: "
+         << 100 * w["changed_fraction"].get<double>() << "% changed, SSIM "
+         << w["ssim_covered"].get<double>() << ", silhouette " << 100 * w["silhouette_mismatch"].get<double>()
+         << "%; " << lod_path;
       progress(ss.str());
     }
     entry["seconds"] = since(t_d);

@@ -1,7 +1,9 @@
 // Small helpers shared by the pipeline's orchestration files (private).
 #pragma once
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -24,6 +26,21 @@ inline PerceptionSettings perception_for(const LabelJob& job) {
 inline void background_of(const RenderOutput& img, std::vector<uint8_t>& background) {
   background.resize(img.ids.size());
   for (size_t i = 0; i < img.ids.size(); ++i) background[i] = img.ids[i] == 0;
+}
+
+// A ViewRecord of the original from one view's perception result.
+inline ViewRecord view_record(const std::string& name, const Camera& camera, const PerceptionResult& pr,
+                              const std::vector<uint8_t>& background, const std::string& set) {
+  ViewRecord r;
+  r.view = name;
+  r.camera = camera;
+  r.simulated = pr.simulated;
+  r.luminance.resize(pr.luminance.size());
+  for (size_t i = 0; i < pr.luminance.size(); ++i)
+    r.luminance[i] = uint8_t(std::lround(std::clamp(pr.luminance[i], 0.f, 255.f)));
+  r.background = background;
+  r.set = set;
+  return r;
 }
 
 // Frames every view of `job` at every distance (frame_view), so a view that

@@ -108,6 +108,11 @@ std::vector<std::string> parse_views(const std::vector<std::string>& list, UpAxi
       for (int a : {45, 135, 225, 315}) add("az" + std::to_string(a) + "el0");
     } else if (f == "top") {
       add("top");
+    } else if (f == "held_out") {
+      // Between the default set's azimuths (half its 45-degree step), low and
+      // high in turn, and one steep view: none is a view of facades,ring8el30.
+      for (int i = 0; i < 8; ++i) add("az" + fmt_deg(22.5 + 45.0 * i) + "el" + (i % 2 ? "45" : "15"));
+      add("az0el75");
     } else if (parse_ring(f, n, elevations)) {
       for (double e : elevations)
         for (int i = 0; i < n; ++i) add("az" + fmt_deg(360.0 * i / n) + "el" + fmt_deg(e));
@@ -115,7 +120,7 @@ std::vector<std::string> parse_views(const std::vector<std::string>& list, UpAxi
                (parse_free_view(f, az, el) && std::fabs(el) < 89.9)) {
       add(f);
     } else {
-      throw std::invalid_argument("view '" + f + "' is not a preset (facades obliques top ring<N>[el<E>/...]), a facade (+x -x +" +
+      throw std::invalid_argument("view '" + f + "' is not a preset (facades obliques top held_out ring<N>[el<E>/...]), a facade (+x -x +" +
                                   std::string(1, h2) + " -" + std::string(1, h2) +
                                   ") nor a view az<A>el<E> with |E| < 89.9, such as az30el15 (the up axis is " +
                                   (up == UpAxis::Z ? "z" : "y") + ")");

@@ -1,4 +1,5 @@
 // label and run through the CLI, on the demo building.
+#include <algorithm>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -101,17 +102,32 @@ TEST(CliPipeline, RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput) {
     perclod::Scene s = perclod::load_scene(path);
     EXPECT_EQ(s.triangle_count(), lod["simplify"]["total_after"].get<size_t>());
     EXPECT_LT(s.triangle_count(), 12456u);
-    // Every perceptible triangle survives.
-    EXPECT_EQ(lod["simplify"]["triangles_after"]["perceptible"], lod["labels"]["perceptible"]);
     EXPECT_LE(s.triangle_count(), previous);  // farther never needs more
     previous = s.triangle_count();
-    // The LOD was judged from each of its four views.
-    ASSERT_EQ(lod["lod_vs_original"].size(), 4u);
+    // The default mode bounds what it moves: the perceptible triangles are
+    // re-tessellated, not deleted.
+    EXPECT_EQ(j["simplify_mode"], "fidelity");
+    EXPECT_GT(lod["simplify"]["triangles_after"]["perceptible"].get<size_t>(), 0u);
+    // Judged from its four labelling views and the nine held-out views.
+    ASSERT_EQ(lod["lod_vs_original"].size(), 13u);
+    size_t held_out = 0;
+    double worst_changed = 0, worst_silhouette = 0, lowest_ssim = 1;
     for (const auto& v : lod["lod_vs_original"]) {
       EXPECT_GT(v["drawn_pixels"].get<size_t>(), 1000u);
       EXPECT_LE(v["changed_pixels"].get<size_t>(), v["drawn_pixels"].get<size_t>());
+      held_out += v["set"] == "held_out";
+      worst_changed = std::max(worst_changed, v["changed_fraction"].get<double>());
+      worst_silhouette = std::max(worst_silhouette, v["silhouette_mismatch"].get<double>());
+      lowest_ssim = std::min(lowest_ssim, v["ssim_covered"].get<double>());
     }
+    EXPECT_EQ(held_out, 9u);
+    EXPECT_EQ(lod["fidelity"]["worst"]["changed_fraction"].get<double>(), worst_changed);
+    EXPECT_EQ(lod["fidelity"]["worst"]["silhouette_mismatch"].get<double>(), worst_silhouette);
+    EXPECT_EQ(lod["fidelity"]["worst"]["ssim_covered"].get<double>(), lowest_ssim);
+    EXPECT_GT(lowest_ssim, 0.5);
   }
+  // Every figure over a limit is a warning on stderr.
+  EXPECT_EQ(j["over_limits"].get<size_t>(), j.contains("warnings") ? j["warnings"].size() : 0u);
   EXPECT_TRUE(fs::exists(out / "result" / "bldg_4018215_report.json"));
   // A bad config value names the file and the key, and writes nothing.
   std::ofstream(out / "bad.yaml") << "model: " << kBuilding << "\ndistances: [56, -1]\nout: " << (out / "bad").string() << "\n";
@@ -120,5 +136,53 @@ TEST(CliPipeline, RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput) {
   EXPECT_NE(bad.err.find("bad.yaml"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("'distances'"), std::string::npos) << bad.err;
   EXPECT_FALSE(fs::exists(out / "bad"));
+  fs::remove_all(out);
+}
+
+// fidelity_target: the run searches e_imperceptible for the fewest triangles
+// within the target in every judged view, and says what it tried; --strict
+// turns figures over the limits into a failure after every output is written.
+TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
+  fs::path out = fresh_dir("run-target");
+  fs::create_directories(out);
+  std::ofstream(out / "job.yaml") << "model: " << kBuilding
+                                  << "\nup: z\ndistances: [132]\nsamples: 1\njudge_views: az22.5el15\n"
+                                     "fidelity_target: {max_changed: 0.02, max_silhouette: 0.01}\nout: "
+                                  << (out / "result").string() << "\n";
+  auto r = run_cli("run " + (out / "job.yaml").string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  const auto& lod = j["lods"][0];
+  ASSERT_TRUE(lod.contains("fidelity_search"));
+  const auto& search = lod["fidelity_search"];
+  ASSERT_GE(search.size(), 1u);
+  EXPECT_TRUE(search.back()["met"].get<bool>());
+  for (size_t i = 0; i + 1 < search.size(); ++i) EXPECT_FALSE(search[i]["met"].get<bool>());
+  EXPECT_EQ(lod["bounds_px"]["imperceptible"], search.back()["e_imperceptible"]);
+  EXPECT_EQ(lod["simplify"]["total_after"], search.back()["triangles"]);
+  for (const auto& v : lod["lod_vs_original"]) {
+    EXPECT_LE(v["changed_fraction"].get<double>(), 0.02) << v["view"];
+    EXPECT_LE(v["silhouette_mismatch"].get<double>(), 0.01) << v["view"];
+  }
+  EXPECT_NE(r.err.find("fidelity target at 132 m"), std::string::npos) << r.err;
+
+  // Limits nobody meets: warnings name the view, and --strict fails.
+  std::ofstream(out / "tight.yaml") << "model: " << kBuilding
+                                    << "\nup: z\ndistances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
+                                       "max_changed: 0\nmax_silhouette: 0\nsimplify: paper\nout: "
+                                    << (out / "tight").string() << "\n";
+  auto t = run_cli("run " + (out / "tight.yaml").string() + " --strict");
+  EXPECT_EQ(t.exit_code, 1) << t.err;
+  EXPECT_NE(t.err.find("warning:"), std::string::npos) << t.err;
+  EXPECT_NE(t.err.find("from view +x (labelling) changed_fraction"), std::string::npos) << t.err;
+  EXPECT_NE(t.err.find("strict"), std::string::npos) << t.err;
+  EXPECT_TRUE(fs::exists(out / "tight" / "bldg_4018215_report.json"));  // every output written
+  EXPECT_TRUE(fs::exists(out / "tight" / "bldg_4018215_lod_427m.obj"));
+  // A fidelity target needs fidelity mode.
+  std::ofstream(out / "bad.yaml") << "model: " << kBuilding
+                                  << "\ndistances: [56]\nsimplify: paper\nfidelity_target: {max_changed: 0.02}\n";
+  auto b = run_cli("run " + (out / "bad.yaml").string());
+  EXPECT_EQ(b.exit_code, 1);
+  EXPECT_NE(b.err.find("'fidelity_target' applies only to 'simplify: fidelity'"), std::string::npos) << b.err;
   fs::remove_all(out);
 }

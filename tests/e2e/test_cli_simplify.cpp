@@ -2,6 +2,7 @@
 // CLI. Labels by a fixed rule on the triangle index: t % 5 == 0 perceptible,
 // 1 or 2 imperceptible, 3 or 4 undisplayable.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <filesystem>
@@ -36,7 +37,7 @@ TEST(SimplifyCli, PaperKeepsEveryPerceptibleTriangleOfARealBuilding) {
   fs::path dir = fs::temp_directory_path() / "perclod_simplify_cli";
   fs::create_directories(dir);
   write_labels(dir / "labels.txt", 12456);
-  auto r = run_cli("simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
+  auto r = run_cli("simplify " + std::string(kModel) + " --up z --distance 56 --mode paper --labels " +
                    (dir / "labels.txt").string() + " --out " + dir.string() + " --json");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const std::string& json = r.out;
@@ -63,6 +64,23 @@ TEST(SimplifyCli, RefusesLabelsOfAnotherModel) {
   r = run_cli("simplify " + std::string(kModel) + " -d 56 --mode bounded --out " + dir.string());
   EXPECT_EQ(r.exit_code, 1);  // bounded without labels
   EXPECT_FALSE(fs::exists(dir / "bldg_4018215_lod_56m.obj"));
+  fs::remove_all(dir);
+}
+
+// qem says when it cannot reach its target, on stderr and in the JSON.
+TEST(SimplifyCli, QemReportsATargetItCannotReach) {
+  fs::path dir = fs::temp_directory_path() / "perclod_simplify_qem";
+  fs::create_directories(dir);
+  auto r = run_cli("simplify " + std::string(kModel) + " --up z --distance 56 --mode qem --target 100 --out " +
+                   dir.string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(j["target_reached"].get<bool>());
+  EXPECT_GT(j["total_after"].get<size_t>(), 100u);
+  const std::string why = j["stop_reason"];
+  EXPECT_NE(why.find("every remaining collapse is refused"), std::string::npos) << why;
+  EXPECT_NE(r.err.find("warning:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not the target 100"), std::string::npos) << r.err;
   fs::remove_all(dir);
 }
 

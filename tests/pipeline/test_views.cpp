@@ -202,6 +202,19 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   expect_error(load_batch_config, write("spp.yaml", base + "samples: 3\n"), "'samples'");
   expect_error(load_batch_config, write("pb.yaml", base + "per_building: maybe\n"), "'per_building'");
   expect_error(load_batch_config, write("out.yaml", base + "out: \"\"\n"), "'out'");
+  expect_error(load_batch_config, write("mode.yaml", base + "simplify: fidel\n"), "'simplify' must be fidelity");
+  expect_error(load_batch_config, write("ep.yaml", base + "e_perceptible: -1\n"), "'e_perceptible' must be");
+  expect_error(load_batch_config, write("ei.yaml", base + "simplify: paper\ne_imperceptible: 2\n"),
+               "'e_imperceptible' applies only to 'simplify: fidelity'");
+  expect_error(load_batch_config, write("judge.yaml", base + "judge_views: az30\n"), "'judge_views': view 'az30'");
+  expect_error(load_batch_config, write("maxc.yaml", base + "max_changed: 2\n"), "'max_changed' must be a fraction");
+  expect_error(load_batch_config, write("maxs.yaml", base + "max_silhouette: -0.1\n"), "'max_silhouette'");
+  expect_error(load_batch_config, write("strict.yaml", base + "strict: maybe\n"), "'strict'");
+  expect_error(load_batch_config, write("ft.yaml", base + "fidelity_target: 0.02\n"), "'fidelity_target' must be a mapping");
+  expect_error(load_batch_config, write("ft2.yaml", base + "fidelity_target: {max_chnged: 0.02}\n"),
+               "unknown key 'max_chnged'");
+  expect_error(load_batch_config, write("ft3.yaml", base + "fidelity_target: {max_changed: 1.5}\n"),
+               "'fidelity_target': max_changed");
   expect_error(load_batch_config, write("nomodel-file.yaml", "model: gone.obj\ndistances: [56]\n"), "no such file");
   const std::string missing_display = (dir / "gone.yaml").string();
   expect_error(load_batch_config, write("nodisplay.yaml", base + "display: gone.yaml\n"), "no such file",
@@ -220,6 +233,23 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   }
   expect_error(load_display_profile, write("dpl.yaml", "width: 64\nheight: 48\ndpi: 90\nviewer_distance_m: 0.5\ndip: 3\n"),
                "unknown key 'dip'");
+
+  // The default job: fidelity mode with its bounds, held-out judging, the limits.
+  LodJob d = lod_job(load_batch_config(write("default.yaml", base + "display: ok-display.yaml\n")));
+  EXPECT_EQ(d.simplify.mode, SimplifyMode::Fidelity);
+  EXPECT_EQ(d.simplify.bound_perceptible_px, kDefaultBoundPerceptiblePx);
+  EXPECT_EQ(d.simplify.bound_imperceptible_px, kDefaultBoundImperceptiblePx);
+  EXPECT_EQ(d.judge_views, parse_views(kDefaultJudgeViews, UpAxis::Y));
+  EXPECT_EQ(d.limits.max_changed, 0.02);
+  EXPECT_FALSE(d.fidelity_target);
+  LodJob t = lod_job(load_batch_config(write(
+      "target.yaml", base + "display: ok-display.yaml\njudge_views: none\ne_imperceptible: 3\n"
+                            "fidelity_target: {max_silhouette: 0.005}\n")));
+  EXPECT_TRUE(t.judge_views.empty());
+  EXPECT_EQ(t.simplify.bound_imperceptible_px, 3.0);
+  EXPECT_TRUE(t.fidelity_target);
+  EXPECT_EQ(t.target.max_silhouette, 0.005);
+  EXPECT_EQ(t.target.max_changed, 0.02);  // from max_changed's default
 
   // A correct qem config maps its target onto the job.
   BatchConfig c = load_batch_config(write("qem-ok.yaml", base + "simplify: qem\ntarget: 500\ndisplay: ok-display.yaml\n"));

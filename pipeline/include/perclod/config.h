@@ -30,11 +30,21 @@ struct BatchConfig {
   std::string tracer = "octree";     // octree | embree
   bool verify = false;               // also trace with Embree and report agreement
   double ratio = 0.5;                // label rule: imperceptible / traced >= ratio
-  std::string simplify = "paper";    // paper | bounded | qem | cluster
+  std::string simplify = "fidelity"; // fidelity | paper | bounded | qem | cluster
+  double e_perceptible = kDefaultBoundPerceptiblePx;      // fidelity: bound of perceptible triangles, pixels
+  double e_imperceptible = kDefaultBoundImperceptiblePx;  // fidelity: bound of imperceptible triangles, pixels
   double k = 1.0;                    // bounded tolerance / cluster cell in pixels
   size_t target = 0;                 // qem: triangles to keep (required by qem, refused otherwise)
   bool keep_undisplayable = false;   // paper: collapse undisplayable triangles instead of deleting them
   std::string format = "obj";        // LOD file format: obj | glb
+  std::vector<std::string> judge_views = {kDefaultJudgeViews};  // held-out views; {"none"} = none
+  double max_changed = 0.02;         // limits every judged view is held to
+  double max_silhouette = 0.01;
+  bool strict = false;               // a LOD over a limit fails the run (after every output is written)
+  // fidelity_target: {max_changed, max_silhouette}: search e_imperceptible per
+  // distance for the fewest triangles within these (LodJob::fidelity_target).
+  bool fidelity_target = false;
+  double target_max_changed = 0.02, target_max_silhouette = 0.01;
 };
 // Checks the whole config before any work: unknown or repeated keys, every
 // value's type and range, each mode's requirements (qem needs target), that

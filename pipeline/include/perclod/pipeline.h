@@ -98,12 +98,15 @@ struct LabelJob {
   bool write_perception_images = true;
 };
 
-// What one labelling view saw, kept to judge a LOD from the same view.
+// What the original looked like from one view, kept to judge a LOD from the
+// same view: a labelling view, or a held-out view (record_views).
 struct ViewRecord {
   std::string view;  // view name (with "_t<i>" for a tile)
   Camera camera;
   std::vector<float> simulated;            // vision-simulated luminance of the render
+  std::vector<uint8_t> luminance;          // luminance of the render, rounded to 0..255
   std::vector<uint8_t> background;         // 1 where no triangle was drawn
+  std::string set = "labelling";           // "labelling" or "held_out"
 };
 
 struct LabelResult {
@@ -172,28 +175,72 @@ nlohmann::json simplify_stats_json(const SimplifyStats& stats);
 
 // ---- perclod run ----------------------------------------------------------
 
-// How a LOD looks from the views it was labelled from: each view is rendered
-// from `lod` and run through the same vision simulation as the original; a
-// pixel (drawn in either render) has changed when the two simulated images
-// differ there by more than the perception threshold. Per view: drawn pixels,
-// changed pixels and their fraction, pixels drawn in only one of the two.
+// The views `perclod run` judges every LOD from besides its labelling views
+// (the "held_out" preset of perclod/views.h: none of them is a labelling view
+// of the default set).
+constexpr const char* kDefaultJudgeViews = "held_out";
+
+// Renders `scene` from `views` (framed like labelling views, cameras from the
+// scene's own bounding box, at job.distance) and records each for
+// compare_lod_views, marked with `set`. Uploads `scene` to `renderer`.
+std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
+                                     const LabelJob& job, const std::string& set = "held_out");
+
+// How a LOD looks from recorded views of the original: each view is rendered
+// from `lod`. Per view:
+//  * changed_fraction: pixels (drawn in either render) whose vision-simulated
+//    luminance differs by more than the perception threshold, over those
+//    drawn pixels;
+//  * ssim_covered: mean SSIM (ssim_mean) of the two renders' luminance over
+//    the pixels drawn in either;
+//  * silhouette_mismatch: pixels drawn in exactly one of the two, over the
+//    pixels the original draws (coverage_changed_pixels counts them).
 // Uploads `lod` to `renderer`.
+nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
+                                 const LabelJob& job);
+// The same from the labelling views of a LabelResult.
 nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
                                  const LabelJob& job);
+
+// Limits a LOD is held to in every judged view (README, "Judging a LOD").
+struct FidelityLimits {
+  double max_changed = 0.02;      // changed_fraction
+  double max_silhouette = 0.01;   // silhouette_mismatch
+};
+
+// The worst figures of compare_lod_views' views and the views over a limit:
+// {"worst": {"changed_fraction", "ssim_covered" (lowest), "silhouette_mismatch"},
+//  "over_limits": [{"view", "set", "measure", "value", "limit"}, ...]}.
+nlohmann::json judge_views(const nlohmann::json& views, const FidelityLimits& limits);
 
 struct LodJob {
   LabelJob label;                      // views, samples, display, perception, ratio, output names
   std::vector<double> distances;
   TracerKind tracer = TracerKind::Octree;
-  SimplifyOptions simplify;            // mode, k, ...; pixel_footprint is set per distance
+  SimplifyOptions simplify;            // mode, bounds, k, ...; pixel_footprint is set per distance
   std::string lod_format = "obj";      // "obj" or "glb"
+  // Held-out views every LOD is also judged from (empty: labelling views only).
+  std::vector<std::string> judge_views;
+  FidelityLimits limits;
+  // Fidelity mode: search e_imperceptible (kFidelitySearchBounds, loosest
+  // first) for the fewest triangles whose LOD meets these limits in every
+  // judged view; the tightest is kept when none does (and warned about).
+  bool fidelity_target = false;
+  FidelityLimits target;
 };
 
+// The e_imperceptible values (pixels) a fidelity_target search tries, in order.
+constexpr double kFidelitySearchBounds[] = {16, 8, 4, 2, 1, 0.5, 0.25, 0};
+
 // One LOD per distance: out.lod(d), out.labels(d), renders and marking
-// renders, and out.report() (returned too).
+// renders, and out.report() (returned too). Each LOD is judged from its
+// labelling views and job.judge_views (entry "lod_vs_original", per view, and
+// "fidelity", judge_views' summary against job.limits).
 // A LOD without triangles (nothing displayable at its distance) is still
 // written; its entry gets "empty": true and the report a "warnings" list
-// (absent when there is nothing to warn about) for the caller to print.
+// (absent when there is nothing to warn about) for the caller to print; a
+// LOD over a limit in some view adds a warning per view and measure, and
+// the report's "over_limits" counts them (0 when every LOD is within).
 nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress = {});
 
 }  // namespace perclod

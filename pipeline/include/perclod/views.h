@@ -15,6 +15,9 @@
 //   facades        the four facades (the paper's set; "all" is the old name)
 //   obliques       az45el0 az135el0 az225el0 az315el0 (between the facades)
 //   top            the view from above
+//   held_out       az22.5el15 az67.5el45 az112.5el15 ... az337.5el45 az0el75:
+//                  the views `perclod run` judges LODs from (between the
+//                  default labelling azimuths, 15 and 45 degrees up, and steep)
 //   ring<N>        N azimuths (from 0, every 360/N degrees) at elevations 0, 30, 60
 //   ring<N>el<E>[/<E>...]  the same at the elevations given, e.g. ring8el15/45
 //   az<A>el<E>, +x, ...    single views
