@@ -64,6 +64,8 @@ struct Model {
   std::vector<Quadric> qa;             // area-weighted: the priority
   std::vector<Quadric> qd;             // unit-weight: the distance bound (Bounded, Fidelity)
   std::vector<double> tol;             // per vertex: largest error allowed (empty: no bound)
+  std::vector<double> area_budget;     // Fidelity, per vertex: surface area its collapses may change
+  std::vector<double> area_used;       // Fidelity, per vertex: area changed by collapses merged into it
   std::vector<uint32_t> merged_into;   // v0 -> v1 of its collapse
   size_t faces_alive = 0;
 };
@@ -242,7 +244,8 @@ double collapse_error(const Model& m, VH v0, VH v1) {
 struct Candidate {
   HH h;
   double cost = 0;
-  double error = 0;  // distance bound: sqrt of the unit-weight quadric at v1
+  double error = 0;        // distance bound: sqrt of the unit-weight quadric at v1
+  double area_change = 0;  // surface area the collapse adds (or removes, < 0)
 };
 
 struct Limits {
@@ -253,24 +256,43 @@ struct Limits {
 };
 
 // Would moving v0 onto p1 turn a surviving face too far or make a sliver?
-bool geometry_ok(const Mesh& mesh, VH v0, VH v1, const Vec& p1, const Limits& lim) {
+// `area_change` (may be null) receives the change in surface area of v0's
+// faces: 0 where a flat region is re-tessellated, minus the area of a thin
+// part that collapses away.
+bool geometry_ok(const Mesh& mesh, VH v0, VH v1, const Vec& p1, const Limits& lim, double* area_change = nullptr) {
+  double twice_change = 0;
   for (HH h : mesh.voh_range(v0)) {
     FH f = mesh.face_handle(h);
     if (!f.is_valid()) continue;
     VH a = mesh.to_vertex_handle(h);
     VH b = mesh.to_vertex_handle(mesh.next_halfedge_handle(h));
-    if (a == v1 || b == v1) continue;  // removed by the collapse
     Vec p0 = to_d(mesh.point(v0)), pa = to_d(mesh.point(a)), pb = to_d(mesh.point(b));
     Vec n_old = (pa - p0) % (pb - p0);
+    if (a == v1 || b == v1) {  // removed by the collapse
+      twice_change -= n_old.norm();
+      continue;
+    }
     Vec n_new = (pa - p1) % (pb - p1);
     double lo = n_old.norm(), ln = n_new.norm();
+    twice_change += ln - lo;
     if (lo > 0) {
       if (ln <= 0 || (n_old | n_new) < lim.cos_normal * lo * ln) return false;
     }
     double q_new = quality(p1, pa, pb);
     if (q_new < lim.min_quality && q_new < quality(p0, pa, pb)) return false;
   }
+  if (area_change) *area_change = 0.5 * twice_change;
   return true;
+}
+
+// Fidelity's area rule: the area changed by this collapse, added to what
+// both ends already changed, must stay within both ends' budgets. A distance
+// bound alone lets a long part thinner than the bound (a mullion, a column
+// seen edge-on) collapse to nothing, one sub-pixel move at a time.
+bool area_ok(const Model& m, VH v0, VH v1, double area_change) {
+  if (m.area_budget.empty()) return true;
+  const double used = m.area_used[v0.idx()] + m.area_used[v1.idx()] + std::fabs(area_change);
+  return used <= std::min(m.area_budget[v0.idx()], m.area_budget[v1.idx()]);
 }
 
 // Topological legality of collapsing h (v0 -> v1), OpenMesh's rules without
@@ -327,13 +349,14 @@ bool evaluate(const Model& m, HH h, const Limits& lim, Candidate& c) {
 
 // Everything that depends on the neighbourhood: fan size, link condition,
 // flips and slivers. Checked when a collapse comes off the queue.
-bool legal(const Mesh& mesh, HH h, const Limits& lim, std::vector<VH>& ring1) {
+bool legal(const Model& m, HH h, const Limits& lim, std::vector<VH>& ring1, double& area_change) {
+  const Mesh& mesh = m.mesh;
   VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
   ring1.clear();
   for (VH n : mesh.vv_range(v1)) ring1.push_back(n);
   if (int(mesh.valence(v0)) + int(ring1.size()) - 4 > lim.max_valence) return false;
   if (!link_ok(mesh, h, ring1)) return false;
-  return geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim);
+  return geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim, &area_change) && area_ok(m, v0, v1, area_change);
 }
 
 // ---- the collapse loop ------------------------------------------------------
@@ -470,7 +493,8 @@ class Collapser {
           ++valence;
         else if (!link_ok(mesh, h, ring_))
           ++topology;
-        else if (!geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim_))
+        else if (double change = 0; !geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim_, &change) ||
+                                    !area_ok(m_, v0, v1, change))
           ++shape;
         else
           ++open;
@@ -512,7 +536,7 @@ class Collapser {
       heap_.remove(uint32_t(h.idx()));
       Candidate c;
       if (!evaluate(m_, h, lim_, c)) continue;
-      if (!legal(mesh, h, lim_, ring_)) {
+      if (!legal(m_, h, lim_, ring_, c.area_change)) {
         refused_.push_back({uint32_t(h.idx()), clock_});
         continue;
       }
@@ -553,6 +577,10 @@ class Collapser {
     m_.qa[v1.idx()] += m_.qa[v0.idx()];
     if (!m_.qd.empty()) m_.qd[v1.idx()] += m_.qd[v0.idx()];
     if (!m_.tol.empty()) m_.tol[v1.idx()] = std::min(m_.tol[v1.idx()], m_.tol[v0.idx()]);
+    if (!m_.area_budget.empty()) {
+      m_.area_used[v1.idx()] += m_.area_used[v0.idx()] + std::fabs(c.area_change);
+      m_.area_budget[v1.idx()] = std::min(m_.area_budget[v1.idx()], m_.area_budget[v0.idx()]);
+    }
     m_.merged_into[v0.idx()] = uint32_t(v1.idx());
     stats.collapses++;
     stats.max_error = std::max(stats.max_error, c.error);
@@ -744,10 +772,17 @@ void init_tolerances(Model& m, const Work& w, const SimplifyOptions& opt) {
   const double bound[3] = {opt.bound_perceptible_px * opt.pixel_footprint,
                            opt.bound_imperceptible_px * opt.pixel_footprint,
                            opt.bound_undisplayable_px * opt.pixel_footprint};
+  const double px2 = opt.pixel_footprint * opt.pixel_footprint;
+  const double area[3] = {opt.bound_area_px2 * px2, opt.bound_area_px2 * px2, INFINITY};
   m.tol.assign(m.mesh.n_vertices(), INFINITY);
+  m.area_budget.assign(m.mesh.n_vertices(), INFINITY);
+  m.area_used.assign(m.mesh.n_vertices(), 0.0);
   for (FH f : m.mesh.faces()) {
-    const double b = bound[size_t((*w.labels)[m.face_source[f.idx()]])];
-    for (VH v : m.mesh.fv_range(f)) m.tol[v.idx()] = std::min(m.tol[v.idx()], b);
+    const size_t l = size_t((*w.labels)[m.face_source[f.idx()]]);
+    for (VH v : m.mesh.fv_range(f)) {
+      m.tol[v.idx()] = std::min(m.tol[v.idx()], bound[l]);
+      m.area_budget[v.idx()] = std::min(m.area_budget[v.idx()], area[l]);
+    }
   }
 }
 

@@ -86,7 +86,7 @@ void check_input(const Scene& s, const std::vector<Label>& labels, const Simplif
   if (opt.mode == SimplifyMode::Fidelity) {
     auto bound_ok = [](double b) { return b >= 0 && !std::isnan(b); };
     if (!bound_ok(opt.bound_perceptible_px) || !bound_ok(opt.bound_imperceptible_px) ||
-        !bound_ok(opt.bound_undisplayable_px))
+        !bound_ok(opt.bound_undisplayable_px) || !bound_ok(opt.bound_area_px2))
       fail("fidelity mode needs error bounds >= 0 pixels");
     if (!std::isfinite(opt.bound_perceptible_px) || !std::isfinite(opt.bound_imperceptible_px))
       fail("fidelity mode needs finite bounds for perceptible and imperceptible triangles");

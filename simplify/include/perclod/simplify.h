@@ -73,7 +73,8 @@ bool simplify_mode_keeps_perceptible(SimplifyMode m);
 // Fidelity's default bounds in pixels at the LOD's distance (README,
 // "Fidelity mode", gives the measurements that chose them).
 constexpr double kDefaultBoundPerceptiblePx = 0.5;
-constexpr double kDefaultBoundImperceptiblePx = 1.0;
+constexpr double kDefaultBoundImperceptiblePx = 0.5;
+constexpr double kDefaultBoundAreaPx2 = 1.0;
 
 // Mesh topology the loader and scene statistics share with the simplifier.
 // Corners at exactly equal positions (+0 and -0 equal) weld: the result holds
@@ -94,6 +95,10 @@ struct SimplifyOptions {
   double bound_perceptible_px = kDefaultBoundPerceptiblePx;
   double bound_imperceptible_px = kDefaultBoundImperceptiblePx;
   double bound_undisplayable_px = INFINITY;
+  // Fidelity: surface area (pixels squared at the distance) the collapses
+  // merged into a vertex of a perceptible or imperceptible face may add or
+  // remove in all (infinity = no area rule).
+  double bound_area_px2 = kDefaultBoundAreaPx2;
 
   // Constraint lines (Shi, Yang, Li): edges whose dihedral angle exceeds
   // feature_angle_deg never collapse, nor move (their vertices are kept).
