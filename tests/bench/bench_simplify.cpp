@@ -13,11 +13,13 @@
 // Rows:
 //   perclod paper       label-constrained collapses until nothing is removable (the count N)
 //   perclod bounded     same, error bounded by 1 x p(d)
+//   perclod fidelity    the default mode: each label bounds its collapses (0.5 / 1 px)
 //   decimater+locks     the alternative design: OpenMesh Decimater with perceptible
 //                       vertices locked, ModQuadric + ModAspectRatio + ModNormalFlipping
 //   perclod qem         plain quadric to N, labels ignored
 //   meshoptimizer       meshopt_simplify to N (welding by meshopt_generateVertexRemap included)
 //   meshopt @bounded    the same, to perclod bounded's count
+//   meshopt @fidelity   the same, to perclod fidelity's count
 //   decimater stock     ModQuadric + ModAspectRatio(10) to N faces
 //
 // Also: a flat 80,000-triangle wall (the stock Decimater's zero-cost trap,
@@ -266,16 +268,22 @@ void bench_model(const std::string& title, const Scene& scene, int runs, bool wi
   bounded.mode = SimplifyMode::Bounded;
   bounded.pixel_footprint = p;
   Row ours_b = measure("perclod bounded", runs, [&] { return simplify(scene, labels, bounded).triangle_count(); });
+  SimplifyOptions fidelity;  // the default: e_P = 0.5 px, e_I = 1 px
+  fidelity.mode = SimplifyMode::Fidelity;
+  fidelity.pixel_footprint = p;
+  Row ours_f = measure("perclod fidelity", runs, [&] { return simplify(scene, labels, fidelity).triangle_count(); });
   const size_t target = ours.triangles;
   SimplifyOptions qem;
   qem.mode = SimplifyMode::Qem;
   qem.target_triangles = target;
   Row ours_q = measure("perclod qem", runs, [&] { return simplify(scene, labels, qem).triangle_count(); });
-  std::vector<Row> rows = {ours, ours_b, ours_q};
+  std::vector<Row> rows = {ours, ours_b, ours_f, ours_q};
 #ifdef PERCLOD_HAVE_MESHOPTIMIZER
   rows.push_back(measure("meshoptimizer", runs, [&] { return meshopt_to(scene, target); }));
   const size_t target_b = ours_b.triangles;
   rows.push_back(measure("meshopt @bounded", runs, [&] { return meshopt_to(scene, target_b); }));
+  const size_t target_f = ours_f.triangles;
+  rows.push_back(measure("meshopt @fidelity", runs, [&] { return meshopt_to(scene, target_f); }));
 #endif
   if (with_decimater) {
     rows.push_back(measure("decimater+locks", std::min(runs, 3), [&] { return decimater_locked(scene, labels); }));

@@ -1,0 +1,410 @@
+// bench_fidelity: what a LOD looks like from views its labels never saw, for
+// perclod's simplify modes beside meshoptimizer at the same triangle count.
+//
+// Per model and distance: labels from the default view set (facades +
+// ring8el30, 4 samples per pixel, per building where the file holds several);
+// the original is recorded from those labelling views and from 17 held-out
+// views (every labelling azimuth of ring8 offset by 22.5 degrees, at 15 and
+// 45 degrees up, and az0el75). Each LOD is rendered from all of them and
+// judged with compare_lod_views: changed fraction (after vision simulation),
+// SSIM over the covered region, silhouette mismatch; the table prints the
+// worst view of each set.
+//
+// Rows: fidelity at e_P = 0.5 px and several e_I, paper, bounded (k = 1);
+// meshoptimizer (meshopt_simplify, meshopt_simplifySloppy when it stalls
+// above 1.1x the count) at each fidelity row's count; and "meshopt for the
+// same SSIM": a sweep of meshoptimizer's target count, interpolated to the
+// fewest triangles whose worst-view SSIM (over both sets) matches the
+// fidelity row's, with the ratio fidelity / meshopt (< 1: perclod needs fewer).
+//
+// meshoptimizer welds corners of the same component and material only, so
+// every output triangle keeps its colour and the renders compare like with
+// like.
+//
+// Usage: bench_fidelity [--models demo,han,block,facade] [--distances 56,132,427]
+//                       [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]
+//                       [--no-meshopt] [--keep-undisplayable] [--dump DIR] [--facade-triangles N] [--e-area A]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifdef PERCLOD_HAVE_MESHOPTIMIZER
+#include <meshoptimizer.h>
+#endif
+
+#include "perclod/facade.h"
+#include "perclod/image_io.h"
+#include "perclod/load.h"
+#include "perclod/pipeline.h"
+#include "perclod/simplify.h"
+
+using namespace perclod;
+
+namespace {
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, sep))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+std::vector<double> numbers(const std::string& s) {
+  std::vector<double> v;
+  for (const auto& x : split(s, ',')) v.push_back(std::atof(x.c_str()));
+  return v;
+}
+
+std::vector<std::string> held_out_views() {
+  std::vector<std::string> v;
+  for (double el : {15.0, 45.0})
+    for (int i = 0; i < 8; ++i) {
+      std::ostringstream ss;
+      ss << "az" << 22.5 + 45.0 * i << "el" << el;
+      v.push_back(ss.str());
+    }
+  v.push_back("az0el75");
+  return v;
+}
+
+std::string g_dump;  // --dump DIR: original | LOD | difference of each LOD's worst held-out view
+
+// Worst figures of one set of views.
+struct Worst {
+  double changed = 0, ssim = 1, silhouette = 0;
+};
+
+struct Judged {
+  size_t triangles = 0;
+  double seconds = 0;  // simplification
+  Worst labelling, held_out;
+  double ssim_all() const { return std::min(labelling.ssim, held_out.ssim); }
+};
+
+// Writes DIR/<name>.png: the original, the LOD and their difference (x4)
+// side by side, from `cam`, cropped to what either draws.
+void dump(Renderer& renderer, const Scene& original, const Scene& lod, const Camera& cam, const std::string& name) {
+  renderer.set_scene(original);
+  RenderOutput a = renderer.render(cam);
+  renderer.set_scene(lod);
+  RenderOutput b = renderer.render(cam);
+  const int w = a.width, h = a.height;
+  int x0 = w, x1 = -1, y0 = h, y1 = -1;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (a.ids[size_t(y) * w + x] || b.ids[size_t(y) * w + x])
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  if (x1 < 0) return;
+  const int cw = x1 - x0 + 1, ch = y1 - y0 + 1;
+  std::vector<uint8_t> out(size_t(3) * cw * 3 * ch);
+  for (int y = 0; y < ch; ++y)
+    for (int x = 0; x < cw; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const size_t src = (size_t(y + y0) * w + (x + x0)) * 3 + c;
+        const int diff = std::min(255, 4 * std::abs(int(a.rgb[src]) - int(b.rgb[src])));
+        uint8_t* row = &out[size_t(y) * 3 * cw * 3];
+        row[3 * x + c] = a.rgb[src];
+        row[3 * (cw + x) + c] = b.rgb[src];
+        row[3 * (2 * cw + x) + c] = uint8_t(diff);
+      }
+  write_png(g_dump + "/" + name + ".png", 3 * cw, ch, 3, out.data());
+}
+
+Judged judge(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& records, const LabelJob& job,
+             const Scene* original = nullptr, const std::string& dump_name = "") {
+  Judged j;
+  j.triangles = lod.triangle_count();
+  const nlohmann::json views = compare_lod_views(renderer, lod, records, job);
+  if (!g_dump.empty() && original) {
+    size_t worst = 0;
+    double worst_changed = -1;
+    for (size_t i = 0; i < views.size(); ++i)
+      if (views[i]["set"] == "held_out" && views[i]["changed_fraction"].get<double>() > worst_changed)
+        worst = i, worst_changed = views[i]["changed_fraction"].get<double>();
+    dump(renderer, *original, lod, records[worst].camera, dump_name + "_" + records[worst].view);
+  }
+  for (const auto& v : views) {
+    Worst& w = v["set"] == "labelling" ? j.labelling : j.held_out;
+    w.changed = std::max(w.changed, v["changed_fraction"].get<double>());
+    w.ssim = std::min(w.ssim, v["ssim_covered"].get<double>());
+    w.silhouette = std::max(w.silhouette, v["silhouette_mismatch"].get<double>());
+  }
+  return j;
+}
+
+#ifdef PERCLOD_HAVE_MESHOPTIMIZER
+// meshoptimizer on the scene, corners welded per (component, material), so
+// each output triangle knows its component and material.
+struct MeshoptInput {
+  std::vector<float> positions;
+  std::vector<uint32_t> key;  // per welded vertex: component and material of its corners
+  std::vector<unsigned> indices;
+};
+
+MeshoptInput meshopt_input(const Scene& s) {
+  const size_t nc = 3 * s.triangle_count();
+  std::vector<float> pos(3 * nc);
+  std::vector<uint32_t> key(nc);
+  const uint32_t nm = uint32_t(std::max<size_t>(1, s.materials.size()));
+  for (size_t c = 0; c < nc; ++c) {
+    const size_t t = c / 3;
+    std::memcpy(&pos[3 * c], &s.positions[3 * size_t(s.indices[c])], 3 * sizeof(float));
+    key[c] = uint32_t(s.component_of(t)) * nm + (s.material.empty() ? 0 : s.material[t]);
+  }
+  std::vector<unsigned> corners(nc);
+  for (size_t c = 0; c < nc; ++c) corners[c] = unsigned(c);
+  meshopt_Stream streams[2] = {{pos.data(), 3 * sizeof(float), 3 * sizeof(float)},
+                               {key.data(), sizeof(uint32_t), sizeof(uint32_t)}};
+  std::vector<unsigned> remap(nc);
+  const size_t nv = meshopt_generateVertexRemapMulti(remap.data(), nullptr, nc, nc, streams, 2);
+  MeshoptInput in;
+  in.indices.resize(nc);
+  meshopt_remapIndexBuffer(in.indices.data(), static_cast<const unsigned*>(nullptr), nc, remap.data());
+  in.positions.resize(3 * nv);
+  meshopt_remapVertexBuffer(in.positions.data(), pos.data(), nc, 3 * sizeof(float), remap.data());
+  in.key.resize(nv);
+  meshopt_remapVertexBuffer(in.key.data(), key.data(), nc, sizeof(uint32_t), remap.data());
+  return in;
+}
+
+Scene meshopt_lod(const Scene& s, const MeshoptInput& in, size_t target, bool sloppy, double& seconds) {
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<unsigned> out(in.indices.size());
+  const size_t nv = in.positions.size() / 3;
+  size_t n = sloppy ? meshopt_simplifySloppy(out.data(), in.indices.data(), in.indices.size(), in.positions.data(),
+                                             nv, 3 * sizeof(float), 3 * target, 1.0f, nullptr)
+                    : meshopt_simplify(out.data(), in.indices.data(), in.indices.size(), in.positions.data(), nv,
+                                       3 * sizeof(float), 3 * target, 1.0f, 0, nullptr);
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  Scene lod;
+  lod.offset = s.offset;
+  lod.component_names = s.component_names;
+  lod.materials = s.materials;
+  lod.positions = in.positions;
+  lod.indices.assign(out.begin(), out.begin() + n);
+  const uint32_t nm = uint32_t(std::max<size_t>(1, s.materials.size()));
+  for (size_t t = 0; t < n / 3; ++t) {
+    const uint32_t k = in.key[out[3 * t]];
+    if (!s.component.empty()) lod.component.push_back(k / nm);
+    if (!s.material.empty()) lod.material.push_back(k % nm);
+  }
+  return lod;
+}
+#endif
+
+struct Model {
+  std::string key;
+  Scene scene;
+  UpAxis up;
+  PerBuilding per_building;
+};
+
+FILE* g_csv = nullptr;
+bool g_meshopt = true;        // --no-meshopt: perclod rows only
+bool g_keep_undisplayable = false;
+double g_area = kDefaultBoundAreaPx2;  // --e-area: fidelity's area budget, px^2 (inf = none)
+  // --keep-undisplayable: fidelity collapses them instead
+
+void row(const Model& m, double d, const std::string& method, const Judged& j, const std::string& note = "") {
+  std::printf("%-6s %4.0f  %-26s %8zu  %7.3f  | %6.2f%% %6.4f %6.2f%% | %6.2f%% %6.4f %6.2f%%  %s\n", m.key.c_str(), d,
+              method.c_str(), j.triangles, j.seconds, 100 * j.labelling.changed, j.labelling.ssim,
+              100 * j.labelling.silhouette, 100 * j.held_out.changed, j.held_out.ssim, 100 * j.held_out.silhouette,
+              note.c_str());
+  std::fflush(stdout);
+  if (g_csv) {
+    std::fprintf(g_csv, "%s,%g,%s,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%s\n", m.key.c_str(), d, method.c_str(),
+                 j.triangles, j.seconds, j.labelling.changed, j.labelling.ssim, j.labelling.silhouette,
+                 j.held_out.changed, j.held_out.ssim, j.held_out.silhouette, note.c_str());
+    std::fflush(g_csv);
+  }
+}
+
+void run_model(const Model& m, const std::vector<double>& distances, const std::vector<double>& e_i, double e_p) {
+  const Scene& scene = m.scene;
+  OctreeTracer tracer(scene);
+  Renderer renderer;
+  for (double d : distances) {
+    LabelJob job;
+    job.up = m.up;
+    job.display = DisplayProfile{};
+    job.perception = perception_settings_for(job.display);
+    job.views = parse_views(kDefaultViews, m.up);
+    job.samples = kDefaultSamples;
+    job.per_building = m.per_building;
+    job.distance = d;
+    job.write_perception_images = false;
+    LabelResult lr = label_scene(renderer, scene, tracer, job);
+    std::vector<ViewRecord> records = std::move(lr.views);
+    for (auto& r : record_views(renderer, scene, held_out_views(), job, "held_out")) records.push_back(std::move(r));
+    const double p = display_pixel_footprint(job.display, d);
+    LabelCounts lc = count_labels(lr.labels);
+    std::printf("\n%s at %.0f m: %zu triangles (P %zu, I %zu, U %zu), p(d) = %.4f m, %zu labelling + %zu held-out "
+                "views\n",
+                m.key.c_str(), d, scene.triangle_count(), lc.perceptible, lc.imperceptible, lc.undisplayable, p,
+                records.size() - held_out_views().size(), held_out_views().size());
+    std::printf("%-6s %4s  %-26s %8s  %7s  | %-23s | %-23s\n", "model", "d", "method", "tris", "simp s",
+                "labelling: chg  SSIM  sil", "held-out: chg  SSIM  sil");
+
+    auto simplified = [&](SimplifyOptions so) {
+      so.pixel_footprint = p;
+      SimplifyStats st;
+      Scene lod = simplify(scene, lr.labels, so, &st);
+      std::ostringstream name;
+      name << m.key << "_" << d << "m_" << simplify_mode_name(so.mode);
+      if (so.mode == SimplifyMode::Fidelity) name << "_eI" << so.bound_imperceptible_px;
+      Judged j = judge(renderer, lod, records, job, &scene, name.str());
+      j.seconds = st.seconds;
+      return j;
+    };
+    std::vector<Judged> fidelity;
+    for (double ei : e_i) {
+      SimplifyOptions so;
+      so.mode = SimplifyMode::Fidelity;
+      so.bound_perceptible_px = e_p;
+      so.bound_imperceptible_px = ei;
+      so.delete_undisplayable = !g_keep_undisplayable;
+      so.bound_area_px2 = g_area;
+      fidelity.push_back(simplified(so));
+      std::ostringstream name;
+      name << "fidelity e_I=" << ei;
+      row(m, d, name.str(), fidelity.back());
+    }
+    {
+      SimplifyOptions so;
+      so.mode = SimplifyMode::Paper;
+      row(m, d, "paper", simplified(so));
+      so.mode = SimplifyMode::Bounded;
+      so.k = 1;
+      row(m, d, "bounded k=1", simplified(so));
+    }
+#ifdef PERCLOD_HAVE_MESHOPTIMIZER
+    if (!g_meshopt) continue;
+    const MeshoptInput in = meshopt_input(scene);
+    // meshopt_simplify, and sloppy too when simplify stalls above 1.1x the target.
+    auto mesh_opt = [&](size_t target, const std::string& name, std::vector<std::pair<size_t, double>>* sweep) {
+      for (bool sloppy : {false, true}) {
+        double sec = 0;
+        Scene lod = meshopt_lod(scene, in, std::max<size_t>(1, target), sloppy, sec);
+        const bool stalled = lod.triangle_count() > target + target / 10 + 1;
+        Judged j = judge(renderer, lod, records, job);
+        j.seconds = sec;
+        row(m, d, name, j, sloppy ? "sloppy" : (stalled ? "stalled" : ""));
+        if (sweep) sweep->push_back({j.triangles, j.ssim_all()});
+        if (!stalled) break;  // sloppy only where simplify stalls
+      }
+    };
+    for (size_t i = 0; i < fidelity.size(); ++i) {
+      std::ostringstream name;
+      name << "meshopt @e_I=" << e_i[i];
+      mesh_opt(fidelity[i].triangles, name.str(), nullptr);
+    }
+    // The sweep: worst-view SSIM (both sets) against meshoptimizer's count.
+    std::vector<std::pair<size_t, double>> sweep;
+    const size_t nt = scene.triangle_count();
+    for (double f : {0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 0.85}) {
+      std::ostringstream name;
+      name << "meshopt sweep " << f;
+      mesh_opt(size_t(f * double(nt)), name.str(), &sweep);
+    }
+    sweep.push_back({nt, 1.0});
+    // Lower envelope: the fewest triangles reaching each SSIM, from any point.
+    std::sort(sweep.begin(), sweep.end());
+    for (size_t i = 1; i < sweep.size(); ++i) sweep[i].second = std::max(sweep[i].second, sweep[i - 1].second);
+    for (size_t i = 0; i < fidelity.size(); ++i) {
+      const double goal = fidelity[i].ssim_all();
+      // The fewest triangles at which the envelope reaches `goal` (linear between points).
+      double need = double(nt);
+      for (size_t k = 0; k < sweep.size(); ++k) {
+        if (sweep[k].second < goal) continue;
+        if (k == 0) {
+          need = double(sweep[0].first);
+        } else {
+          const auto& a = sweep[k - 1];
+          const auto& b = sweep[k];
+          const double t = b.second > a.second ? (goal - a.second) / (b.second - a.second) : 1.0;
+          need = double(a.first) + std::clamp(t, 0.0, 1.0) * double(b.first - a.first);
+        }
+        break;
+      }
+      std::printf("%-6s %4.0f  same SSIM %.4f: fidelity e_I=%g %zu triangles, meshopt about %.0f; ratio %.2f\n",
+                  m.key.c_str(), d, goal, e_i[i], fidelity[i].triangles, need,
+                  need > 0 ? double(fidelity[i].triangles) / need : 0.0);
+      if (g_csv)
+        std::fprintf(g_csv, "%s,%g,same_ssim e_I=%g,%zu,,%.5f,,,,,,meshopt %.0f ratio %.3f\n", m.key.c_str(), d,
+                     e_i[i], fidelity[i].triangles, goal, need, need > 0 ? double(fidelity[i].triangles) / need : 0.0);
+    }
+#endif
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string models_arg = "demo,han", csv;
+  std::vector<double> distances = {56, 132, 427}, e_i = {1, 2, 4};
+  size_t facade_triangles = 1000000;
+  double e_p = kDefaultBoundPerceptiblePx;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "--models" && i + 1 < argc) models_arg = argv[++i];
+    else if (a == "--distances" && i + 1 < argc) distances = numbers(argv[++i]);
+    else if (a == "--e-imperceptible" && i + 1 < argc) e_i = numbers(argv[++i]);
+    else if (a == "--e-perceptible" && i + 1 < argc) e_p = std::atof(argv[++i]);
+    else if (a == "--csv" && i + 1 < argc) csv = argv[++i];
+    else if (a == "--no-meshopt") g_meshopt = false;
+    else if (a == "--e-area" && i + 1 < argc) g_area = std::atof(argv[++i]);
+    else if (a == "--facade-triangles" && i + 1 < argc) facade_triangles = std::strtoull(argv[++i], nullptr, 10);
+    else if (a == "--dump" && i + 1 < argc) g_dump = argv[++i];
+    else if (a == "--keep-undisplayable") g_keep_undisplayable = true;
+    else {
+      std::fprintf(stderr, "usage: bench_fidelity [--models demo,han,block,facade] [--distances 56,132,427]\n"
+                           "                      [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]\n"
+                           "                      [--no-meshopt] [--keep-undisplayable] [--dump DIR] [--facade-triangles N] [--e-area A]\n");
+      return 2;
+    }
+  }
+  if (!csv.empty()) {
+    g_csv = std::fopen(csv.c_str(), "w");
+    if (!g_csv) {
+      std::perror(csv.c_str());
+      return 1;
+    }
+    std::fprintf(g_csv, "model,distance,method,triangles,seconds,lab_changed,lab_ssim,lab_silhouette,"
+                        "held_changed,held_ssim,held_silhouette,note\n");
+  }
+#ifndef PERCLOD_HAVE_MESHOPTIMIZER
+  std::fprintf(stderr, "bench_fidelity: built without meshoptimizer: perclod rows only\n");
+#endif
+  const std::string data = PERCLOD_SHARED_DATA;
+  for (const auto& key : split(models_arg, ',')) {
+    Model m;
+    m.key = key;
+    if (key == "demo") {
+      m.scene = load_scene(data + "/ingolstadt/bldg_4018215.obj");
+      m.up = UpAxis::Z, m.per_building = PerBuilding::Off;
+    } else if (key == "han") {
+      m.scene = load_scene(data + "/han/han_ministry.obj");
+      m.up = UpAxis::Y, m.per_building = PerBuilding::Off;
+    } else if (key == "block") {
+      m.scene = load_scene(data + "/ingolstadt/ingolstadt_lod3_all53.obj");
+      m.up = UpAxis::Z, m.per_building = PerBuilding::On;
+    } else if (key == "facade") {
+      m.scene = generate_facade(facade_params_for_triangles(facade_triangles));
+      m.up = UpAxis::Z, m.per_building = PerBuilding::Off;
+    } else {
+      std::fprintf(stderr, "bench_fidelity: unknown model '%s' (demo, han, block, facade)\n", key.c_str());
+      return 2;
+    }
+    run_model(m, distances, e_i, e_p);
+  }
+  if (g_csv) std::fclose(g_csv);
+  return 0;
+}
