@@ -277,6 +277,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     entry["seconds_compare"] = seconds_compare;
     for (const auto& o : entry["fidelity"]["over_limits"]) {
       std::ostringstream ss;
+      ss.precision(3);
       ss << lod_path << ": from view " << o["view"].get<std::string>() << " (" << o["set"].get<std::string>()
          << ") " << o["measure"].get<std::string>() << " is " << 100 * o["value"].get<double>() << "% (limit "
          << 100 * o["limit"].get<double>() << "%)";

@@ -13,9 +13,11 @@
 // Rows: fidelity at e_P = 0.5 px and several e_I, paper, bounded (k = 1);
 // meshoptimizer (meshopt_simplify, meshopt_simplifySloppy when it stalls
 // above 1.1x the count) at each fidelity row's count; and "meshopt for the
-// same SSIM": a sweep of meshoptimizer's target count, interpolated to the
-// fewest triangles whose worst-view SSIM (over both sets) matches the
-// fidelity row's, with the ratio fidelity / meshopt (< 1: perclod needs fewer).
+// same SSIM": meshoptimizer swept over target counts (error limit 1, i.e.
+// none) and over error limits (1e-4 .. 1e-2 of the mesh extent, no count),
+// the lower envelope of all those points interpolated to the fewest
+// triangles whose worst-view SSIM (over both sets) matches the fidelity
+// row's, with the ratio fidelity / meshopt (< 1: perclod needs fewer).
 //
 // meshoptimizer welds corners of the same component and material only, so
 // every output triangle keeps its colour and the renders compare like with
@@ -38,6 +40,7 @@
 #include <meshoptimizer.h>
 #endif
 
+#include "bench_common.h"
 #include "perclod/facade.h"
 #include "perclod/image_io.h"
 #include "perclod/load.h"
@@ -48,14 +51,7 @@ using namespace perclod;
 
 namespace {
 
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, sep))
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
+using bench::split;
 
 std::vector<double> numbers(const std::string& s) {
   std::vector<double> v;
@@ -63,17 +59,7 @@ std::vector<double> numbers(const std::string& s) {
   return v;
 }
 
-std::vector<std::string> held_out_views() {
-  std::vector<std::string> v;
-  for (double el : {15.0, 45.0})
-    for (int i = 0; i < 8; ++i) {
-      std::ostringstream ss;
-      ss << "az" << 22.5 + 45.0 * i << "el" << el;
-      v.push_back(ss.str());
-    }
-  v.push_back("az0el75");
-  return v;
-}
+using bench::held_out_views;
 
 std::string g_dump;  // --dump DIR: original | LOD | difference of each LOD's worst held-out view
 
@@ -175,14 +161,17 @@ MeshoptInput meshopt_input(const Scene& s) {
   return in;
 }
 
-Scene meshopt_lod(const Scene& s, const MeshoptInput& in, size_t target, bool sloppy, double& seconds) {
+// target_error: meshoptimizer's error limit relative to the mesh extent
+// (1 = none: simplify to the count).
+Scene meshopt_lod(const Scene& s, const MeshoptInput& in, size_t target, bool sloppy, double& seconds,
+                  float target_error = 1.0f) {
   auto t0 = std::chrono::steady_clock::now();
   std::vector<unsigned> out(in.indices.size());
   const size_t nv = in.positions.size() / 3;
   size_t n = sloppy ? meshopt_simplifySloppy(out.data(), in.indices.data(), in.indices.size(), in.positions.data(),
-                                             nv, 3 * sizeof(float), 3 * target, 1.0f, nullptr)
+                                             nv, 3 * sizeof(float), 3 * target, target_error, nullptr)
                     : meshopt_simplify(out.data(), in.indices.data(), in.indices.size(), in.positions.data(), nv,
-                                       3 * sizeof(float), 3 * target, 1.0f, 0, nullptr);
+                                       3 * sizeof(float), 3 * target, target_error, 0, nullptr);
   seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   Scene lod;
   lod.offset = s.offset;
@@ -313,6 +302,17 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       std::ostringstream name;
       name << "meshopt sweep " << f;
       mesh_opt(size_t(f * double(nt)), name.str(), &sweep);
+    }
+    // And by error limit (no count): meshoptimizer's own notion of quality.
+    for (float err : {1e-4f, 3e-4f, 1e-3f, 3e-3f, 1e-2f}) {
+      double sec = 0;
+      Scene lod = meshopt_lod(scene, in, 1, false, sec, err);
+      Judged j = judge(renderer, lod, records, job);
+      j.seconds = sec;
+      std::ostringstream name;
+      name << "meshopt error " << err;
+      row(m, d, name.str(), j);
+      sweep.push_back({j.triangles, j.ssim_all()});
     }
     sweep.push_back({nt, 1.0});
     // Lower envelope: the fewest triangles reaching each SSIM, from any point.

@@ -39,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_common.h"
 #include "perclod/facade.h"
 #include "perclod/load.h"
 #include "perclod/pipeline.h"
@@ -58,14 +59,7 @@ struct Model {
   PerBuilding per_building;
 };
 
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, sep))
-    if (!item.empty()) out.push_back(item);
-  return out;
-}
+using bench::split;
 
 LabelJob make_job(UpAxis up, const std::string& views, int samples, double d, PerBuilding pb) {
   LabelJob job;
@@ -82,19 +76,7 @@ LabelJob make_job(UpAxis up, const std::string& views, int samples, double d, Pe
   return job;
 }
 
-// Held-out views: every labelling azimuth of ring8 offset by half a step, at
-// 15 and 45 degrees, and one steep view.
-std::vector<std::string> held_out_views() {
-  std::vector<std::string> v;
-  for (double el : {15.0, 45.0})
-    for (int i = 0; i < 8; ++i) {
-      std::ostringstream ss;
-      ss << "az" << 22.5 + 45.0 * i << "el" << el;
-      v.push_back(ss.str());
-    }
-  v.push_back("az0el75");
-  return v;
-}
+using bench::held_out_views;
 
 void coverage(const Model& m, const Scene& scene, const std::vector<double>& distances,
               const std::vector<std::string>& view_sets, int samples) {

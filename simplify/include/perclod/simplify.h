@@ -11,7 +11,9 @@
 //            e_perceptible, imperceptible e_imperceptible, undisplayable
 //            e_undisplayable pixels, times p(d)) and keeps the tightest bound
 //            of every vertex merged into it; a collapse is refused when its
-//            error (as in Bounded) exceeds the bound of either end.
+//            error (as in Bounded) exceeds the bound of either end, or when
+//            the surface area it changes, added to what the collapses merged
+//            into either end changed, exceeds bound_area_px2 * p(d)^2.
 //            Undisplayable triangles are deleted first, as in Paper (with
 //            delete_undisplayable = false they are collapsed, unbounded). Flat
 //            perceptible walls are re-tessellated (error 0); nothing moves
