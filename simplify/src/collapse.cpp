@@ -530,7 +530,6 @@ class Collapser {
 
   size_t drain(SimplifyStats& stats) {
     size_t done = 0;
-    Mesh& mesh = m_.mesh;
     while (!heap_.empty() && m_.faces_alive > target_) {
       HH h(int(heap_.top()));
       heap_.remove(uint32_t(h.idx()));
