@@ -3,8 +3,8 @@
 // exports and compares each LOD with the original, one distance at a time.
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <cstdio>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 
@@ -181,6 +181,11 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
   auto t_all = Clock::now();
 
   check_framing(scene, job.label, job.distances);  // every distance, before any work
+  if (!job.judge_views.empty()) {
+    LabelJob judged = job.label;
+    judged.views = job.judge_views;
+    check_framing(scene, judged, job.distances);
+  }
   std::unique_ptr<Tracer> tracer = make_tracer(scene, job.tracer);
   Renderer renderer;
   if (progress) progress(tracer_summary(*tracer));
@@ -224,7 +229,6 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     SimplifyStats st;
     Scene lod;
     nlohmann::json views, search = nlohmann::json::array();
-    auto t_cmp = Clock::now();
     double seconds_compare = 0;
     const bool searching = job.fidelity_target && so.mode == SimplifyMode::Fidelity;
     std::vector<double> bounds = {so.bound_imperceptible_px};
@@ -232,7 +236,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     for (double e : bounds) {
       so.bound_imperceptible_px = e;
       lod = simplify(scene, lr.labels, so, &st);
-      t_cmp = Clock::now();
+      const auto t_cmp = Clock::now();
       views = compare_lod_views(renderer, lod, judged, lj);
       seconds_compare += since(t_cmp);
       if (!searching) break;

@@ -502,7 +502,7 @@ class Collapser {
     }
     std::string why = "every remaining collapse is refused: " + std::to_string(topology) +
                       " half-edges by topology (link condition, boundary ears), " + std::to_string(shape) +
-                      " by the normal-change or sliver limits, " + std::to_string(valence) +
+                      " by the normal-change, sliver or area limits, " + std::to_string(valence) +
                       " by the valence cap, " + std::to_string(fixed) + " are locked or over the error bound";
     if (open) why += ", " + std::to_string(open) + " became legal only at the end";
     return why;
