@@ -98,8 +98,9 @@ void register_simplify(CLI::App& app) {
       "simplify",
       "Simplify a model for one viewing distance. fidelity (default): quadric half-edge collapses\n"
       "of any triangle, each vertex bounded by its faces' labels: no surface moves more than\n"
-      "--e-perceptible (perceptible) or --e-imperceptible (imperceptible) pixels at the distance;\n"
-      "undisplayable triangles are unbounded. paper: undisplayable triangles are deleted,\n"
+      "--e-perceptible (perceptible) or --e-imperceptible (imperceptible) pixels at the distance,\n"
+      "nor changes more than a square pixel of area; undisplayable triangles are deleted.\n"
+      "paper: undisplayable triangles are deleted,\n"
       "then quadric half-edge collapses remove imperceptible triangles until none can go;\n"
       "perceptible triangles stay bit-identical. bounded: collapses of imperceptible and\n"
       "undisplayable triangles, refusing those whose error exceeds k x p(d) (p(d): one\n"
@@ -137,7 +138,7 @@ void register_simplify(CLI::App& app) {
       ->check(in_range(0, 180))
       ->capture_default_str();
   cmd->add_flag("--keep-undisplayable", a->keep_undisplayable,
-                "paper: collapse undisplayable triangles as the paper does and keep those collapses\n"
+                "paper, fidelity: collapse undisplayable triangles (as the paper does) and keep those collapses\n"
                 "cannot reach, so closed surfaces stay closed (default: delete them; no pixel of any\n"
                 "labelling view reaches them)");
   cmd->add_flag("--preserve-bbox", a->job.options.preserve_bbox,
