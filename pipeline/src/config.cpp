@@ -160,7 +160,8 @@ BatchConfig load_batch_config(const std::string& path) {
     throw config_error(path, std::string("'") + views_key + "': " + e.what());
   }
   view_set("judge_views", c.judge_views);
-  if (!(c.judge_views.size() == 1 && c.judge_views[0] == "none")) try {
+  if (c.judge_views == std::vector<std::string>{"none"}) c.judge_views.clear();
+  if (!c.judge_views.empty()) try {
       parse_views(c.judge_views, c.up);
     } catch (const std::invalid_argument& e) {
       throw config_error(path, std::string("'judge_views': ") + e.what() + " (or 'none')");
@@ -195,12 +196,13 @@ BatchConfig load_batch_config(const std::string& path) {
     throw config_error(path, "'simplify' must be fidelity, paper, bounded, qem or cluster");
   c.e_perceptible = get<double>(n, path, "e_perceptible", c.e_perceptible);
   c.e_imperceptible = get<double>(n, path, "e_imperceptible", c.e_imperceptible);
-  for (const char* key : {"e_perceptible", "e_imperceptible"}) {
-    const double v = std::string(key) == "e_perceptible" ? c.e_perceptible : c.e_imperceptible;
+  auto check_bound = [&](const char* key, double v) {
     if (!(v >= 0 && v <= 1000)) throw config_error(path, std::string("'") + key + "' must be 0..1000 pixels");
     if (n[key] && c.simplify != "fidelity")
       throw config_error(path, std::string("'") + key + "' applies only to 'simplify: fidelity'");
-  }
+  };
+  check_bound("e_perceptible", c.e_perceptible);
+  check_bound("e_imperceptible", c.e_imperceptible);
   c.max_changed = get<double>(n, path, "max_changed", c.max_changed);
   c.max_silhouette = get<double>(n, path, "max_silhouette", c.max_silhouette);
   if (!(c.max_changed >= 0 && c.max_changed <= 1)) throw config_error(path, "'max_changed' must be a fraction in [0, 1]");
@@ -278,7 +280,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.simplify.delete_undisplayable = !c.keep_undisplayable;
   job.simplify.bound_perceptible_px = c.e_perceptible;
   job.simplify.bound_imperceptible_px = c.e_imperceptible;
-  if (!(c.judge_views.size() == 1 && c.judge_views[0] == "none")) job.judge_views = parse_views(c.judge_views, c.up);
+  if (!c.judge_views.empty()) job.judge_views = parse_views(c.judge_views, c.up);
   job.limits.max_changed = c.max_changed;
   job.limits.max_silhouette = c.max_silhouette;
   job.fidelity_target = c.fidelity_target;

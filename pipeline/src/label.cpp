@@ -111,15 +111,17 @@ struct ViewOutcome {
 // with one sample's weight there. ids: the render's ID buffer (triangle + 1).
 void add_drawn_but_missed(const uint32_t* ids, const uint8_t* mask, size_t pixels, const std::vector<uint32_t>* owner,
                           uint32_t building, TriangleCounts& counts) {
+  // Which triangles (of this building) were drawn but missed, decided before
+  // any is counted.
   std::vector<uint8_t> missed(counts.traced.size(), 0);
-  for (size_t i = 0; i < pixels; ++i)
-    if (ids[i] && counts.traced[ids[i] - 1] == 0) missed[ids[i] - 1] = 1;
+  for (size_t i = 0; i < pixels; ++i) {
+    const uint32_t id = ids[i];
+    if (id && counts.traced[id - 1] == 0 && (!owner || (*owner)[id - 1] == building)) missed[id - 1] = 1;
+  }
   for (size_t i = 0; i < pixels; ++i) {
     if (!ids[i] || !missed[ids[i] - 1]) continue;
-    const uint32_t t = ids[i] - 1;
-    if (owner && (*owner)[t] != building) continue;
-    counts.traced[t] += 1;
-    counts.imperceptible[t] += mask[i] != 0;
+    counts.traced[ids[i] - 1] += 1;
+    counts.imperceptible[ids[i] - 1] += mask[i] != 0;
   }
 }
 
@@ -329,7 +331,7 @@ void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& re
 nlohmann::json label_model(const Scene& scene, const LabelJob& job, TracerKind kind, const Progress& progress) {
   std::optional<OutputDirectoryLock> lock;
   if (!job.out.dir.empty()) lock.emplace(job.out.dir);
-  check_framing(scene, job, {job.distance});  // before any work
+  check_framing(scene, job, job.views, {job.distance});  // before any work
   std::unique_ptr<Tracer> tracer = make_tracer(scene, kind);
   if (progress) progress(tracer_summary(*tracer));
   Renderer renderer;

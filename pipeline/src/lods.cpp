@@ -180,12 +180,9 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
   OutputDirectoryLock lock(out.dir);
   auto t_all = Clock::now();
 
-  check_framing(scene, job.label, job.distances);  // every distance, before any work
-  if (!job.judge_views.empty()) {
-    LabelJob judged = job.label;
-    judged.views = job.judge_views;
-    check_framing(scene, judged, job.distances);
-  }
+  // Labelling and held-out views at every distance, before any work.
+  check_framing(scene, job.label, job.label.views, job.distances);
+  check_framing(scene, job.label, job.judge_views, job.distances);
   std::unique_ptr<Tracer> tracer = make_tracer(scene, job.tracer);
   Renderer renderer;
   if (progress) progress(tracer_summary(*tracer));

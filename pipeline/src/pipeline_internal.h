@@ -43,12 +43,14 @@ inline ViewRecord view_record(const std::string& name, const Camera& camera, con
   return r;
 }
 
-// Frames every view of `job` at every distance (frame_view), so a view that
-// cannot be framed (too many tiles) fails before any rendering starts.
-inline void check_framing(const Scene& scene, const LabelJob& job, const std::vector<double>& distances) {
+// Frames each of `views` at every distance (frame_view) on job's display and
+// up axis, so a view that cannot be framed (too many tiles) fails before any
+// rendering starts.
+inline void check_framing(const Scene& scene, const LabelJob& job, const std::vector<std::string>& views,
+                          const std::vector<double>& distances) {
   const Bounds b = scene_bounds(scene);
   for (double d : distances)
-    for (const auto& v : job.views) frame_view(b, job.up, v, d, job.display);
+    for (const auto& v : views) frame_view(b, job.up, v, d, job.display);
 }
 
 // "octree built in 120 ms, 4096 KiB": the progress line after a tracer build.

@@ -348,15 +348,20 @@ bool evaluate(const Model& m, HH h, const Limits& lim, Candidate& c) {
 }
 
 // Everything that depends on the neighbourhood: fan size, link condition,
-// flips and slivers. Checked when a collapse comes off the queue.
-bool legal(const Model& m, HH h, const Limits& lim, std::vector<VH>& ring1, double& area_change) {
+// flips, slivers and the area rule. Checked when a collapse comes off the
+// queue; returns the first rule that refuses it (Legal when none does).
+// `area_change` is set when the geometry is checked.
+enum class Legality { Legal, Valence, Topology, Shape };
+Legality legality(const Model& m, HH h, const Limits& lim, std::vector<VH>& ring1, double& area_change) {
   const Mesh& mesh = m.mesh;
   VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
   ring1.clear();
   for (VH n : mesh.vv_range(v1)) ring1.push_back(n);
-  if (int(mesh.valence(v0)) + int(ring1.size()) - 4 > lim.max_valence) return false;
-  if (!link_ok(mesh, h, ring1)) return false;
-  return geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim, &area_change) && area_ok(m, v0, v1, area_change);
+  if (int(mesh.valence(v0)) + int(ring1.size()) - 4 > lim.max_valence) return Legality::Valence;
+  if (!link_ok(mesh, h, ring1)) return Legality::Topology;
+  if (!geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim, &area_change) || !area_ok(m, v0, v1, area_change))
+    return Legality::Shape;
+  return Legality::Legal;
 }
 
 // ---- the collapse loop ------------------------------------------------------
@@ -481,23 +486,17 @@ class Collapser {
       if (mesh.status(e).deleted()) continue;
       for (int side = 0; side < 2; ++side) {
         HH h = mesh.halfedge_handle(e, side);
-        VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
         Candidate c;
         if (!evaluate(m_, h, lim_, c)) {
           ++fixed;
           continue;
         }
-        ring_.clear();
-        for (VH n : mesh.vv_range(v1)) ring_.push_back(n);
-        if (int(mesh.valence(v0)) + int(ring_.size()) - 4 > lim_.max_valence)
-          ++valence;
-        else if (!link_ok(mesh, h, ring_))
-          ++topology;
-        else if (double change = 0; !geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim_, &change) ||
-                                    !area_ok(m_, v0, v1, change))
-          ++shape;
-        else
-          ++open;
+        switch (legality(m_, h, lim_, ring_, c.area_change)) {
+          case Legality::Valence: ++valence; break;
+          case Legality::Topology: ++topology; break;
+          case Legality::Shape: ++shape; break;
+          case Legality::Legal: ++open; break;
+        }
       }
     }
     std::string why = "every remaining collapse is refused: " + std::to_string(topology) +
@@ -535,7 +534,7 @@ class Collapser {
       heap_.remove(uint32_t(h.idx()));
       Candidate c;
       if (!evaluate(m_, h, lim_, c)) continue;
-      if (!legal(m_, h, lim_, ring_, c.area_change)) {
+      if (legality(m_, h, lim_, ring_, c.area_change) != Legality::Legal) {
         refused_.push_back({uint32_t(h.idx()), clock_});
         continue;
       }

@@ -37,7 +37,7 @@ struct BatchConfig {
   size_t target = 0;                 // qem: triangles to keep (required by qem, refused otherwise)
   bool keep_undisplayable = false;   // paper: collapse undisplayable triangles instead of deleting them
   std::string format = "obj";        // LOD file format: obj | glb
-  std::vector<std::string> judge_views = {kDefaultJudgeViews};  // held-out views; {"none"} = none
+  std::vector<std::string> judge_views = {kDefaultJudgeViews};  // held-out views; empty = none ('none' in the file)
   double max_changed = 0.02;         // limits every judged view is held to
   double max_silhouette = 0.01;
   bool strict = false;               // a LOD over a limit fails the run (after every output is written)
