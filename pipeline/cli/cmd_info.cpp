@@ -33,7 +33,7 @@ void register_info(CLI::App& app) {
                           {"size", {info.bounds.hi[0] - info.bounds.lo[0], info.bounds.hi[1] - info.bounds.lo[1],
                                     info.bounds.hi[2] - info.bounds.lo[2]}},
                           {"offset", info.offset},
-                          {"load", to_json(rep)}};
+                          {"load", load_report_json(rep)}};
       print_json(j);
       return;
     }

@@ -1,56 +1,134 @@
-// perclod run CONFIG: the whole method as a batch job (configs/demo.yaml).
+// perclod run CONFIG: the whole method as a batch job (configs/demo.yaml), for
+// one model ('model:') or many ('models:', README "Batches").
+#include <unistd.h>
+
 #include <cstdio>
 #include <stdexcept>
 
 #include "commands.h"
 #include "common.h"
+#include "perclod/batch.h"
 #include "perclod/config.h"
 #include "perclod/pipeline.h"
 
 namespace perclod::cli {
+namespace {
+
+struct RunArgs {
+  std::string config, views, shard;
+  int samples = 0, jobs = 0;
+  double memory_budget_mb = -1;
+  bool json = false, strict = false, force = false;
+};
+
+void print_warnings(const nlohmann::json& report) {
+  if (report.contains("warnings"))
+    for (const auto& w : report["warnings"]) std::fprintf(stderr, "perclod: warning: %s\n", w.get<std::string>().c_str());
+}
+
+void run_one(const RunArgs& a, const ConfigFile& f) {
+  const BatchConfig& c = f.models.front().config;
+  if (!a.shard.empty() || a.force || a.jobs || a.memory_budget_mb >= 0)
+    throw OptionError("--shard, --force, --jobs and --memory-budget-mb apply to a batch config ('models:'); " +
+                      f.path + " names one model");
+  set_error_files({c.model, a.config});
+  ModelRun run;
+  run.name = f.models.front().name;
+  run.config_file = f.path;
+  run.input_hash = hash_file(c.model);
+  run.settings_hash = hash_text(settings_json(c).dump());
+  nlohmann::json report = run_model(c, run, c.out, print_progress);
+  print_warnings(report);
+  if (a.json) print_json(report);
+  const size_t over = report.value("over_limits", size_t(0));
+  if ((a.strict || c.strict) && over > 0)
+    throw std::runtime_error(c.model + ": " + std::to_string(over) +
+                             " view figures exceed the fidelity limits (the warnings above; strict mode)");
+}
+
+void run_many(const RunArgs& a, const ConfigFile& f) {
+  BatchOptions o;
+  o.force = a.force;
+  if (!a.shard.empty()) try {
+      std::tie(o.shard, o.shards) = parse_shard(a.shard);
+    } catch (const std::invalid_argument& e) {
+      throw OptionError(e.what());
+    }
+  o.jobs = a.jobs;
+  o.memory_budget_mb = a.memory_budget_mb;
+  set_error_files({a.config});
+  nlohmann::json summary = run_batch(f, o, print_progress, ::isatty(2) == 1);
+  size_t over = 0;
+  for (const auto& m : summary["models"]) {
+    print_warnings(m);
+    if (m.value("status", "") == "done" && (a.strict || f.models.front().config.strict))
+      over += m.value("over_limits", size_t(0));
+  }
+  std::fprintf(stderr, "perclod: batch %s: %d done, %d skipped, %d failed of %zu models in %.0f s\n",
+               summary["shard"].get<std::string>().c_str(), summary["done"].get<int>(), summary["skipped"].get<int>(),
+               summary["failed"].get<int>(), summary["models"].size(), summary["seconds"].get<double>());
+  if (a.json) print_json(summary);
+  if (summary["failed"].get<int>() > 0) {
+    std::string names;
+    for (const auto& m : summary["models"])
+      if (m["status"] == "failed") names += (names.empty() ? "" : ", ") + m["name"].get<std::string>();
+    throw std::runtime_error(std::to_string(summary["failed"].get<int>()) + " of " +
+                             std::to_string(summary["models"].size()) + " models failed (" + names +
+                             "); the others' outputs are complete");
+  }
+  if (over > 0)
+    throw std::runtime_error(std::to_string(over) +
+                             " view figures exceed the fidelity limits (the warnings above; strict mode)");
+}
+
+}  // namespace
 
 void register_run(CLI::App& app) {
   auto* cmd = app.add_subcommand(
-      "run", "Run the whole method from a YAML config (see configs/demo.yaml): one LOD per distance");
-  auto config = std::make_shared<std::string>();
-  auto json = std::make_shared<bool>(false);
-  auto views = std::make_shared<std::string>();
-  auto samples = std::make_shared<int>(0);
-  auto strict = std::make_shared<bool>(false);
-  cmd->add_option("CONFIG", *config, "Batch config YAML")->required()->check(kNotEmpty);
-  cmd->add_option("--views", *views, "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); overrides the config's views)");
-  cmd->add_option("--samples", *samples, "Samples per pixel: 1, 2, 4 or 8 (overrides the config's samples)")
+      "run", "Run the whole method from a YAML config (see configs/demo.yaml): one LOD per distance,\n"
+             "for one model or a batch of many ('models:' in the config; README, Batches)");
+  auto a = std::make_shared<RunArgs>();
+  cmd->add_option("CONFIG", a->config, "Batch config YAML")->required()->check(kNotEmpty);
+  cmd->add_option("--views", a->views, "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); overrides the config's views)");
+  cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4 or 8 (overrides the config's samples)")
       ->check(CLI::IsMember({1, 2, 4, 8}));
-  cmd->add_flag("--strict", *strict,
+  cmd->add_flag("--strict", a->strict,
                 "Fail (exit 1, after every output is written) when a LOD exceeds the config's max_changed or\n"
                 "max_silhouette in any judged view (also 'strict: true' in the config)");
-  cmd->add_flag("--json", *json, "Print the run report (also written to OUT/<model>_report.json) on stdout");
+  cmd->add_option("--shard", a->shard,
+                  "Batch: process only shard i of n (0-based, e.g. 2/8): models i, i+n, i+2n... of the list,\n"
+                  "so n machines or Slurm array tasks split a city (scripts/slurm/)");
+  cmd->add_flag("--force", a->force, "Batch: redo models whose outputs are up to date (same input, settings, version)");
+  cmd->add_option("--jobs", a->jobs, "Batch: models processed at once (overrides the config's jobs)")
+      ->check(CLI::Range(1, 64));
+  cmd->add_option("--memory-budget-mb", a->memory_budget_mb,
+                  "Batch: start a model only while the running ones' memory estimates and its own fit\n"
+                  "(MiB; 0 = no budget; overrides the config's memory_budget_mb)")
+      ->check(kNonNegative);
+  cmd->add_flag("--json", a->json,
+                "Print the run report (one model) or the batch summary (many) on stdout");
   cmd->footer(
-      "Writes to OUT: <model>_lod_<d>m.obj, <model>_labels_<d>m.txt, per view <model>_<view>_<d>m.png,\n"
-      "_simulated/_difference/_mask.png, _marking.png and _marking_near.png, and <model>_report.json.\n"
+      "One model: writes to OUT: <model>_lod_<d>m.obj, <model>_labels_<d>m.txt, per view <model>_<view>_<d>m.png,\n"
+      "_simulated/_difference/_mask.png, _marking.png and _marking_near.png, <model>_report.json, and for\n"
+      "viewers <model>_lod_<d>m.glb, <model>_lods.glb (MSFT_lod), <model>_tileset.json (3D Tiles 1.1) and\n"
+      "<model>_manifest.json (README, Manifest).\n"
+      "A batch writes each model to OUT/<name>/ (complete or absent: built in a partial folder, then renamed),\n"
+      "skips models whose manifest matches their input, settings and perclod version, goes on past a model\n"
+      "that fails (exit 1 at the end, naming it), and writes OUT/batch_<i>_of_<n>.json and OUT/tileset.json.\n"
       "Each LOD is judged from its labelling views and the config's judge_views (default held_out);\n"
       "figures over max_changed / max_silhouette are warned about on stderr.");
-  cmd->callback([=] {
-    set_error_files({*config});
-    BatchConfig c = load_batch_config(*config);  // the whole config, checked before any work
-    if (!views->empty()) views_option(*views, c.up);  // a bad --views fails before any work
-    if (!views->empty()) c.views = {*views};
-    if (*samples) c.samples = *samples;
-    LodJob job = lod_job(c);
-    set_error_files({c.model, *config});
-    LoadReport rep;
-    Scene s = load_model(c.model, LoadOptions{c.scale}, &rep);
-    nlohmann::json report = make_lods(s, job, print_progress);
-    report["model"] = c.model;
-    report["load"] = to_json(rep);
-    if (report.contains("warnings"))
-      for (const auto& w : report["warnings"])
-        std::fprintf(stderr, "perclod: warning: %s\n", w.get<std::string>().c_str());
-    if (*json) print_json(report);
-    const size_t over = report.value("over_limits", size_t(0));
-    if ((*strict || c.strict) && over > 0)
-      throw std::runtime_error(c.model + ": " + std::to_string(over) +
-                               " view figures exceed the fidelity limits (the warnings above; strict mode)");
+  cmd->callback([a] {
+    set_error_files({a->config});
+    ConfigFile f = load_config_file(a->config);  // the whole config, checked before any work
+    for (auto& m : f.models) {
+      if (!a->views.empty()) {
+        views_option(a->views, m.config.up);  // a bad --views fails before any work
+        m.config.views = {a->views};
+      }
+      if (a->samples) m.config.samples = a->samples;
+    }
+    if (f.batch) run_many(*a, f);
+    else run_one(*a, f);
   });
 }
 

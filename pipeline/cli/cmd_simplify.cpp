@@ -54,6 +54,7 @@ void run_simplify(SimplifyArgs a) {
   a.job.display = a.display.profile();
   a.job.out = output_names_for(a.out, a.model.path);
   a.job.model_file = a.model.path;
+  a.job.up = a.model.up_axis();
   if (a.job.options.mode == SimplifyMode::Qem && a.target == 0)
     throw OptionError("--mode qem needs --target N (the number of triangles to keep)");
   if (a.job.options.mode != SimplifyMode::Qem && a.target != 0)

@@ -134,16 +134,6 @@ void require_file(const std::string& path) {
 
 void print_progress(const std::string& message) { std::fprintf(stderr, "%s\n", message.c_str()); }
 
-nlohmann::json to_json(const LoadReport& r) {
-  nlohmann::json j = {{"polygons", r.polygons},
-                      {"polygons_triangulated", r.polygons_triangulated},
-                      {"degenerate_triangles", r.degenerate_triangles},
-                      {"components_from_connectivity", r.components_from_connectivity},
-                      {"seconds", r.seconds}};
-  if (r.polygons_fanned) j["polygons_fanned"] = r.polygons_fanned;  // only when it happened
-  return j;
-}
-
 void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
 
 }  // namespace perclod::cli

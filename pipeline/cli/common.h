@@ -68,7 +68,6 @@ void require_file(const std::string& path);
 
 // Progress lines to stderr.
 void print_progress(const std::string& message);
-nlohmann::json to_json(const LoadReport& r);
 void print_json(const nlohmann::json& j);
 
 }  // namespace perclod::cli

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glob.h>
+#include <map>
 #include <filesystem>
 #include <set>
 #include <stdexcept>
@@ -110,15 +112,23 @@ DisplayProfile load_display_profile(const std::string& path) {
   return d;
 }
 
-BatchConfig load_batch_config(const std::string& path) {
-  YAML::Node n = load_yaml(path);
-  check_keys(n, path,
-             {"model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins", "per_building", "out",
-              "tracer", "verify", "ratio", "simplify", "k", "target", "keep_undisplayable", "format",
-              "e_perceptible", "e_imperceptible", "judge_views", "max_changed", "max_silhouette", "strict",
-              "fidelity_target"});
+namespace {
+
+// Keys that set how one model is processed: a config's top level, and the
+// overrides of a `models:` entry.
+const std::set<std::string> kModelKeys = {
+    "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins", "per_building",
+    "tracer", "verify", "ratio", "simplify", "k", "target", "keep_undisplayable", "format",
+    "e_perceptible", "e_imperceptible", "judge_views", "max_changed", "max_silhouette", "strict",
+    "fidelity_target", "cityjson_lod", "crs_origin", "tileset"};
+// Keys of the batch itself (top level only).
+const std::set<std::string> kBatchKeys = {"models", "out", "jobs", "memory_budget_mb"};
+
+// The settings of one model from a mapping `n` holding kModelKeys (and, at
+// the top level, "out"). `path` names the place in errors ("cfg.yaml" or
+// "cfg.yaml: models[2]"); relative file names are taken from `dir`.
+BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std::filesystem::path& dir) {
   namespace fs = std::filesystem;
-  fs::path dir = fs::path(path).parent_path();
   auto rel = [&](const std::string& p) { return p.empty() || fs::path(p).is_absolute() ? p : (dir / p).string(); };
   BatchConfig c;
   c.model = rel(get<std::string>(n, path, "model", ""));
@@ -183,8 +193,6 @@ BatchConfig load_batch_config(const std::string& path) {
       throw config_error(path, std::string("'per_building': ") + e.what());
     }
   }
-  c.out = get<std::string>(n, path, "out", "out");
-  if (c.out.empty()) throw config_error(path, "'out' must name an output directory");
   c.tracer = get<std::string>(n, path, "tracer", c.tracer);
   if (c.tracer != "octree" && c.tracer != "embree") throw config_error(path, "'tracer' must be octree or embree");
   c.verify = get<bool>(n, path, "verify", c.verify);
@@ -253,11 +261,169 @@ BatchConfig load_batch_config(const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw config_error(path, std::string("'distances': ") + e.what());
   }
+  c.cityjson_lod = get<std::string>(n, path, "cityjson_lod", c.cityjson_lod);
+  c.tileset = get<bool>(n, path, "tileset", c.tileset);
+  if (const YAML::Node o = n["crs_origin"]) {
+    if (!o.IsMap()) throw config_error(path, "'crs_origin' must be a mapping {lat, lon, height}");
+    check_keys(o, path, {"lat", "lon", "height"});
+    if (!o["lat"] || !o["lon"]) throw config_error(path, "'crs_origin' needs lat and lon (degrees)");
+    c.crs_origin = true;
+    c.origin_lat = get<double>(o, path, "lat", 0.0);
+    c.origin_lon = get<double>(o, path, "lon", 0.0);
+    c.origin_height = get<double>(o, path, "height", 0.0);
+    if (!(std::abs(c.origin_lat) <= 90) || !(std::abs(c.origin_lon) <= 180) || !std::isfinite(c.origin_height))
+      throw config_error(path, "'crs_origin': lat must be within [-90, 90], lon within [-180, 180] degrees");
+  }
   // The files it names, last: every value above is checked without them.
   std::error_code ec;
   if (!fs::is_regular_file(c.model, ec)) throw config_error(path, "model '" + c.model + "': no such file");
   if (!c.display.empty()) load_display_profile(c.display);  // throws naming the profile
   return c;
+}
+
+bool is_glob(const std::string& s) { return s.find_first_of("*?[") != std::string::npos; }
+
+bool is_model_file(const std::filesystem::path& p) {
+  std::string e = p.extension().string();
+  for (auto& ch : e) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  static const std::set<std::string> kExt = {".obj", ".ply", ".glb", ".gltf", ".stl", ".dae",
+                                             ".fbx", ".ifc", ".json"};
+  return kExt.count(e) > 0;
+}
+
+// The files a `models:` item names: itself, the sorted matches of a glob, or
+// the sorted model files under a directory (recursively).
+// `shown` is the item as the config wrote it, for errors.
+std::vector<std::string> expand_models(const std::string& item, const std::string& shown, const std::string& where) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  std::error_code ec;
+  if (is_glob(item)) {
+    glob_t g{};
+    const int rc = ::glob(item.c_str(), 0, nullptr, &g);
+    if (rc == 0)
+      for (size_t i = 0; i < g.gl_pathc; ++i)
+        if (fs::is_regular_file(g.gl_pathv[i], ec)) files.push_back(g.gl_pathv[i]);
+    globfree(&g);
+    if (files.empty()) throw config_error(where, "'" + shown + "' matches no model file");
+  } else if (fs::is_directory(item, ec)) {
+    for (const auto& e : fs::recursive_directory_iterator(item, fs::directory_options::skip_permission_denied, ec))
+      if (e.is_regular_file(ec) && is_model_file(e.path())) files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) throw config_error(where, "folder '" + shown + "' holds no model file");
+  } else {
+    files.push_back(item);  // parse_model says if it does not exist
+  }
+  return files;
+}
+
+// Output folder names: file stems, made unique by the parent folder's name
+// and then by a number, in list order (so the same list always maps alike).
+void name_models(std::vector<ModelEntry>& models) {
+  namespace fs = std::filesystem;
+  std::map<std::string, int> stems;
+  for (const auto& m : models) ++stems[fs::path(m.config.model).stem().string()];
+  std::set<std::string> used;
+  for (auto& m : models) {
+    const fs::path p(m.config.model);
+    std::string name = p.stem().string();
+    if (stems[name] > 1 && p.has_parent_path()) name = p.parent_path().filename().string() + "_" + name;
+    std::string unique = name;
+    for (int k = 2; used.count(unique); ++k) unique = name + "_" + std::to_string(k);
+    used.insert(unique);
+    m.name = unique;
+  }
+}
+
+}  // namespace
+
+BatchConfig load_batch_config(const std::string& path) {
+  ConfigFile f = load_config_file(path);
+  if (f.batch)
+    throw config_error(path, "names several models ('models:'): run it with perclod run, one folder per model");
+  return f.models.front().config;
+}
+
+ConfigFile load_config_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  YAML::Node n = load_yaml(path);
+  std::set<std::string> known = kModelKeys;
+  known.insert(kBatchKeys.begin(), kBatchKeys.end());
+  check_keys(n, path, known);
+  const fs::path dir = fs::path(path).parent_path();
+  ConfigFile f;
+  f.path = path;
+  f.out = get<std::string>(n, path, "out", "out");
+  if (f.out.empty()) throw config_error(path, "'out' must name an output directory");
+  if (!n["models"]) {
+    if (n["jobs"] || n["memory_budget_mb"])
+      throw config_error(path, "'jobs' and 'memory_budget_mb' apply only to a batch ('models:')");
+    BatchConfig c = parse_model(n, path, dir);
+    c.out = f.out;
+    f.models.push_back({fs::path(c.model).stem().string(), c});
+    return f;
+  }
+  if (n["model"]) throw config_error(path, "give 'model' (one model) or 'models' (a batch), not both");
+  f.batch = true;
+  const long long jobs = get<long long>(n, path, "jobs", 1);
+  if (jobs < 1 || jobs > 64) throw config_error(path, "'jobs' must be 1..64 models at a time");
+  f.jobs = int(jobs);
+  f.memory_budget_mb = get<double>(n, path, "memory_budget_mb", 0.0);
+  if (!(f.memory_budget_mb >= 0) || !std::isfinite(f.memory_budget_mb))
+    throw config_error(path, "'memory_budget_mb' must be a non-negative number (0 = no budget)");
+  const YAML::Node list = n["models"];
+  if (!list.IsSequence() || list.size() == 0)
+    throw config_error(path, "'models' must be a non-empty list of model files, globs, folders or mappings");
+  // Each entry is parsed from the top-level settings with its own on top.
+  YAML::Node base = YAML::Clone(n);
+  for (const auto& k : kBatchKeys) base.remove(k);
+  auto rel = [&](const std::string& p) { return p.empty() || fs::path(p).is_absolute() ? p : (dir / p).string(); };
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string where = path + ": models[" + std::to_string(i) + "]";
+    const YAML::Node item = list[i];
+    YAML::Node merged = YAML::Clone(base);
+    std::string pattern;
+    if (item.IsScalar()) {
+      pattern = item.Scalar();
+    } else if (item.IsMap()) {
+      std::set<std::string> overridable = kModelKeys;
+      check_keys(item, where, overridable);
+      if (!item["model"]) throw config_error(where, "'model' is required in a models entry");
+      for (const auto& kv : item) merged[kv.first.as<std::string>()] = YAML::Clone(kv.second);
+      pattern = get<std::string>(item, where, "model", "");
+    } else {
+      throw config_error(where, "must be a model file, glob, folder, or a mapping with 'model'");
+    }
+    if (pattern.empty()) throw config_error(where, "names no model");
+    for (const std::string& file : expand_models(rel(pattern), pattern, where)) {
+      merged["model"] = fs::absolute(file).lexically_normal().string();  // already joined with `dir`
+      BatchConfig c = parse_model(merged, where, dir);
+      c.out = f.out;
+      f.models.push_back({"", c});
+    }
+  }
+  name_models(f.models);
+  return f;
+}
+
+nlohmann::json settings_json(const BatchConfig& c) {
+  DisplayProfile d = c.display.empty() ? default_display_profile() : load_display_profile(c.display);
+  return {{"up", c.up == UpAxis::Z ? "z" : "y"}, {"scale", c.scale},
+          {"display", {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"dpi", d.dpi},
+                       {"viewer_distance_m", d.viewer_distance}, {"fov_y_deg", d.fov_y_override_deg}}},
+          {"distances", c.distances}, {"views", c.views}, {"samples", c.samples}, {"spins", c.spins},
+          {"per_building", c.per_building}, {"tracer", c.tracer}, {"verify", c.verify}, {"ratio", c.ratio},
+          {"simplify", c.simplify}, {"e_perceptible", c.e_perceptible}, {"e_imperceptible", c.e_imperceptible},
+          {"k", c.k}, {"target", c.target}, {"keep_undisplayable", c.keep_undisplayable}, {"format", c.format},
+          {"judge_views", c.judge_views}, {"max_changed", c.max_changed}, {"max_silhouette", c.max_silhouette},
+          {"fidelity_target", c.fidelity_target
+                                  ? nlohmann::json{{"max_changed", c.target_max_changed},
+                                                   {"max_silhouette", c.target_max_silhouette}}
+                                  : nlohmann::json(nullptr)},
+          {"cityjson_lod", c.cityjson_lod}, {"tileset", c.tileset},
+          {"crs_origin", c.crs_origin ? nlohmann::json{{"lat", c.origin_lat}, {"lon", c.origin_lon},
+                                                       {"height", c.origin_height}}
+                                      : nlohmann::json(nullptr)}};
 }
 
 LodJob lod_job(const BatchConfig& c) {

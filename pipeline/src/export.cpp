@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <filesystem>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -94,88 +95,194 @@ void export_obj(const Scene& s, const std::string& path) {
   write_text_atomic(path, out);
 }
 
-// GLB: one primitive per material (one node per component would explode for
-// 100k-component cities). Components are kept only by OBJ export.
-void export_glb(const Scene& s, const std::string& path) {
-  tinygltf::Model model;
-  tinygltf::Buffer buffer;
-  auto push = [&](const void* data, size_t bytes) {
-    size_t off = buffer.data.size();
-    const auto* b = static_cast<const unsigned char*>(data);
-    buffer.data.insert(buffer.data.end(), b, b + bytes);
-    while (buffer.data.size() % 4) buffer.data.push_back(0);
-    return off;
-  };
-  Bounds bb = scene_bounds(s);
-  size_t pos_off = push(s.positions.data(), s.positions.size() * sizeof(float));
-  model.bufferViews.push_back({});
-  auto& pv = model.bufferViews.back();
-  pv.buffer = 0, pv.byteOffset = pos_off, pv.byteLength = s.positions.size() * sizeof(float);
-  pv.target = TINYGLTF_TARGET_ARRAY_BUFFER;
-  tinygltf::Accessor pa;
-  pa.bufferView = 0, pa.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT, pa.count = s.vertex_count();
-  pa.type = TINYGLTF_TYPE_VEC3;
-  pa.minValues = {bb.lo[0], bb.lo[1], bb.lo[2]};
-  pa.maxValues = {bb.hi[0], bb.hi[1], bb.hi[2]};
-  // Unreferenced vertices may lie outside the triangle bounds: widen to all vertices.
-  for (size_t v = 0; v < s.vertex_count(); ++v)
-    for (int a = 0; a < 3; ++a) {
-      pa.minValues[a] = std::min(pa.minValues[a], double(s.positions[3 * v + a]));
-      pa.maxValues[a] = std::max(pa.maxValues[a], double(s.positions[3 * v + a]));
-    }
-  model.accessors.push_back(pa);
-  tinygltf::Mesh mesh;
-  for (size_t m = 0; m < material_slots(s); ++m) {
-    std::vector<uint32_t> idx;
-    for (size_t t = 0; t < s.triangle_count(); ++t)
-      if (material_slot(s, t) == m) idx.insert(idx.end(), &s.indices[3 * t], &s.indices[3 * t] + 3);
-    if (idx.empty()) continue;
-    size_t off = push(idx.data(), idx.size() * 4);
-    tinygltf::BufferView iv;
-    iv.buffer = 0, iv.byteOffset = off, iv.byteLength = idx.size() * 4;
-    iv.target = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
-    model.bufferViews.push_back(iv);
-    tinygltf::Accessor ia;
-    ia.bufferView = int(model.bufferViews.size() - 1), ia.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-    ia.count = idx.size(), ia.type = TINYGLTF_TYPE_SCALAR;
-    model.accessors.push_back(ia);
-    const Material sm = material_in_slot(s, m);
-    tinygltf::Material mat;
-    mat.name = sm.name;
-    mat.pbrMetallicRoughness.baseColorFactor = {sm.color[0], sm.color[1], sm.color[2], 1.0};
-    mat.doubleSided = true;
-    model.materials.push_back(mat);
-    tinygltf::Primitive prim;
-    prim.attributes["POSITION"] = 0;
-    prim.indices = int(model.accessors.size() - 1);
-    prim.material = int(model.materials.size() - 1);
-    prim.mode = TINYGLTF_MODE_TRIANGLES;
-    mesh.primitives.push_back(prim);
+// GLB: glTF 2.0 binary. Positions are float (recentred) in one buffer; the
+// source offset is the translation of a root node, in double in the JSON.
+// glTF is +Y up: a Z-up source is turned (x, y, z) -> (x, z, -y), offset too.
+class GlbBuilder {
+ public:
+  explicit GlbBuilder(bool z_up) : z_up_(z_up) {}
+
+  // A root node holding the source offset; returns its index.
+  int add_root(const Scene& s, const std::string& name) {
+    tinygltf::Node root;
+    root.name = name;
+    const auto t = turn(s.offset);
+    root.translation = {t[0], t[1], t[2]};
+    model_.nodes.push_back(root);
+    return int(model_.nodes.size() - 1);
   }
-  model.meshes.push_back(mesh);
-  tinygltf::Node node;
-  node.mesh = 0;
-  node.translation = {s.offset[0], s.offset[1], s.offset[2]};  // double in the JSON: exact
-  model.nodes.push_back(node);
-  tinygltf::Scene scene;
-  scene.nodes = {0};
-  model.scenes.push_back(scene);
-  model.defaultScene = 0;
-  model.buffers.push_back(buffer);
-  model.asset.version = "2.0";
-  model.asset.generator = "perclod";
+
+  // One mesh for the triangles `order` lists (consecutive runs of one
+  // material become one primitive each), or -1 when it is empty.
+  int add_mesh(const Scene& s, int positions, const std::vector<uint32_t>& order, size_t begin, size_t end,
+               const std::string& name) {
+    tinygltf::Mesh mesh;
+    mesh.name = name;
+    for (size_t i = begin; i < end;) {
+      const uint32_t slot = material_slot(s, order[i]);
+      std::vector<uint32_t> idx;
+      for (; i < end && material_slot(s, order[i]) == slot; ++i)
+        idx.insert(idx.end(), &s.indices[3 * size_t(order[i])], &s.indices[3 * size_t(order[i])] + 3);
+      tinygltf::Primitive prim;
+      prim.attributes["POSITION"] = positions;
+      prim.indices = add_accessor(idx.data(), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
+                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, idx.size(), TINYGLTF_TYPE_SCALAR);
+      prim.material = material(s, slot);
+      prim.mode = TINYGLTF_MODE_TRIANGLES;
+      mesh.primitives.push_back(prim);
+    }
+    if (mesh.primitives.empty()) return -1;
+    model_.meshes.push_back(mesh);
+    return int(model_.meshes.size() - 1);
+  }
+
+  // The scene's positions as one accessor (bounds over every vertex).
+  int add_positions(const Scene& s) {
+    std::vector<float> p(s.positions.size());
+    for (size_t v = 0; v < s.vertex_count(); ++v) {
+      const auto t = turn(std::array<double, 3>{s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]});
+      for (int a = 0; a < 3; ++a) p[3 * v + a] = float(t[a]);
+    }
+    const int acc = add_accessor(p.data(), p.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER,
+                                 TINYGLTF_COMPONENT_TYPE_FLOAT, s.vertex_count(), TINYGLTF_TYPE_VEC3);
+    auto& a = model_.accessors[size_t(acc)];
+    a.minValues = {0, 0, 0}, a.maxValues = {0, 0, 0};
+    for (size_t v = 0; v < s.vertex_count(); ++v)
+      for (int k = 0; k < 3; ++k) {
+        a.minValues[k] = v ? std::min(a.minValues[k], double(p[3 * v + k])) : double(p[3 * v + k]);
+        a.maxValues[k] = v ? std::max(a.maxValues[k], double(p[3 * v + k])) : double(p[3 * v + k]);
+      }
+    return acc;
+  }
+
+  int add_node(const std::string& name, int mesh) {
+    tinygltf::Node n;
+    n.name = name;
+    n.mesh = mesh;
+    model_.nodes.push_back(n);
+    return int(model_.nodes.size() - 1);
+  }
+  tinygltf::Node& node(int i) { return model_.nodes[size_t(i)]; }
+  tinygltf::Model& model() { return model_; }
+
   // Serialised in memory, then written with checked syscalls: tinygltf's file
   // writer does not report a failed stream (a full disk gave a truncated GLB).
-  std::ostringstream glb;
-  tinygltf::TinyGLTF gltf;
-  if (!gltf.WriteGltfSceneToStream(&model, glb, false, true) || !glb)
-    throw std::runtime_error(path + ": cannot encode GLB");
-  write_bytes_atomic(path, glb.str());
+  void write(const std::vector<int>& scene_nodes, const std::string& path) {
+    tinygltf::Scene scene;
+    scene.nodes = scene_nodes;
+    model_.scenes.push_back(scene);
+    model_.defaultScene = 0;
+    model_.buffers.push_back(buffer_);
+    model_.asset.version = "2.0";
+    model_.asset.generator = "perclod";
+    std::ostringstream glb;
+    tinygltf::TinyGLTF gltf;
+    if (!gltf.WriteGltfSceneToStream(&model_, glb, false, true) || !glb)
+      throw std::runtime_error(path + ": cannot encode GLB");
+    write_bytes_atomic(path, glb.str());
+  }
+
+ private:
+  std::array<double, 3> turn(const std::array<double, 3>& v) const {
+    return z_up_ ? std::array<double, 3>{v[0], v[2], -v[1]} : v;
+  }
+
+  int add_accessor(const void* data, size_t bytes, int target, int component_type, size_t count, int type) {
+    const size_t off = buffer_.data.size();
+    const auto* b = static_cast<const unsigned char*>(data);
+    buffer_.data.insert(buffer_.data.end(), b, b + bytes);
+    while (buffer_.data.size() % 4) buffer_.data.push_back(0);
+    tinygltf::BufferView view;
+    view.buffer = 0, view.byteOffset = off, view.byteLength = bytes, view.target = target;
+    model_.bufferViews.push_back(view);
+    tinygltf::Accessor a;
+    a.bufferView = int(model_.bufferViews.size() - 1);
+    a.componentType = component_type, a.count = count, a.type = type;
+    model_.accessors.push_back(a);
+    return int(model_.accessors.size() - 1);
+  }
+
+  // One glTF material per (scene, slot), made on first use.
+  int material(const Scene& s, uint32_t slot) {
+    const auto key = std::make_pair(&s, slot);
+    if (auto it = materials_.find(key); it != materials_.end()) return it->second;
+    const Material sm = material_in_slot(s, slot);
+    tinygltf::Material m;
+    m.name = sm.name;
+    m.pbrMetallicRoughness.baseColorFactor = {sm.color[0], sm.color[1], sm.color[2], 1.0};
+    m.doubleSided = true;
+    model_.materials.push_back(m);
+    return materials_[key] = int(model_.materials.size() - 1);
+  }
+
+  bool z_up_;
+  tinygltf::Model model_;
+  tinygltf::Buffer buffer_;
+  std::map<std::pair<const Scene*, uint32_t>, int> materials_;
+};
+
+// One GLB of one scene: root node (the offset) -> a node per component, each
+// with a mesh of one primitive per material.
+void export_glb(const Scene& s, const std::string& path, const ExportOptions& options) {
+  GlbBuilder b(options.z_up);
+  const int root = b.add_root(s, "model");
+  const int positions = b.add_positions(s);
+  const std::vector<uint32_t> order = triangle_order(s);
+  std::vector<int> children;
+  for (size_t i = 0; i < order.size();) {
+    const uint32_t comp = s.component_of(order[i]);
+    size_t end = i;
+    while (end < order.size() && s.component_of(order[end]) == comp) ++end;
+    const std::string name = component_name(s, comp);
+    children.push_back(b.add_node(name, b.add_mesh(s, positions, order, i, end, name)));
+    i = end;
+  }
+  b.node(root).children = children;
+  b.write({root}, path);
 }
 
 }  // namespace
 
-void export_scene(const Scene& s, const std::string& path) {
+void export_lods_glb(const std::vector<const Scene*>& lods, const std::vector<std::string>& names,
+                     const std::vector<double>& screen_coverage, const std::string& path,
+                     const ExportOptions& options) {
+  if (lods.empty()) throw std::invalid_argument(path + ": no LOD to export");
+  if (names.size() != lods.size() || screen_coverage.size() != lods.size())
+    throw std::invalid_argument(path + ": one name and one screen coverage per LOD are needed");
+  for (const Scene* s : lods) try {
+      validate(*s);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(path + ": cannot export: " + e.what());
+    }
+  GlbBuilder b(options.z_up);
+  const int root = b.add_root(*lods[0], "model");
+  std::vector<int> lod_nodes;
+  for (size_t i = 0; i < lods.size(); ++i) {
+    const Scene& s = *lods[i];
+    const std::vector<uint32_t> order = triangle_order(s);
+    const int mesh = order.empty() ? -1 : b.add_mesh(s, b.add_positions(s), order, 0, order.size(), names[i]);
+    lod_nodes.push_back(b.add_node(names[i], mesh));
+    // Each LOD keeps its own offset; the root holds the finest one's.
+    tinygltf::Node& n = b.node(lod_nodes.back());
+    std::array<double, 3> d;
+    for (int a = 0; a < 3; ++a) d[a] = s.offset[a] - lods[0]->offset[a];
+    if (d != std::array<double, 3>{0, 0, 0})
+      n.translation = options.z_up ? std::vector<double>{d[0], d[2], -d[1]} : std::vector<double>{d[0], d[1], d[2]};
+  }
+  b.node(root).children = {lod_nodes[0]};
+  if (lods.size() > 1) {
+    tinygltf::Value::Array ids, coverage;
+    for (size_t i = 1; i < lod_nodes.size(); ++i) ids.push_back(tinygltf::Value(lod_nodes[i]));
+    for (double c : screen_coverage) coverage.push_back(tinygltf::Value(c));
+    tinygltf::Value::Object ext{{"ids", tinygltf::Value(ids)}};
+    b.node(lod_nodes[0]).extensions["MSFT_lod"] = tinygltf::Value(ext);
+    b.node(lod_nodes[0]).extras = tinygltf::Value(tinygltf::Value::Object{{"MSFT_screencoverage", tinygltf::Value(coverage)}});
+    b.model().extensionsUsed.push_back("MSFT_lod");
+  }
+  b.write({root}, path);
+}
+
+void export_scene(const Scene& s, const std::string& path, const ExportOptions& options) {
   std::string ext = fs::path(path).extension().string();
   for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   try {
@@ -184,7 +291,7 @@ void export_scene(const Scene& s, const std::string& path) {
     throw std::invalid_argument(path + ": cannot export: " + e.what());
   }
   if (ext == ".obj") return export_obj(s, path);
-  if (ext == ".glb") return export_glb(s, path);
+  if (ext == ".glb") return export_glb(s, path, options);
   throw std::invalid_argument(path + ": unknown export format '" + ext + "' (use .obj or .glb)");
 }
 

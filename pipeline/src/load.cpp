@@ -694,4 +694,14 @@ SceneInfo analyse_scene(const Scene& s) {
   return info;
 }
 
+nlohmann::json load_report_json(const LoadReport& r) {
+  nlohmann::json j = {{"polygons", r.polygons},
+                      {"polygons_triangulated", r.polygons_triangulated},
+                      {"degenerate_triangles", r.degenerate_triangles},
+                      {"components_from_connectivity", r.components_from_connectivity},
+                      {"seconds", r.seconds}};
+  if (r.polygons_fanned) j["polygons_fanned"] = r.polygons_fanned;  // only when it happened
+  return j;
+}
+
 }  // namespace perclod

@@ -78,7 +78,7 @@ SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
   Scene lod = simplify(scene, labels, so, &run.stats);
   run.lod_file = job.out.lod(job.distance, job.format);
   auto t0 = Clock::now();
-  export_scene(lod, run.lod_file);
+  export_scene(lod, run.lod_file, ExportOptions{job.up == UpAxis::Z});
   run.write_seconds = since(t0);
   return run;
 }
@@ -172,7 +172,7 @@ nlohmann::json judge_views(const nlohmann::json& views, const FidelityLimits& li
           {"over_limits", over}};
 }
 
-nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress) {
+nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress, std::vector<Scene>* lods) {
   if (job.distances.empty()) throw std::invalid_argument("no viewing distance given");
   if (job.lod_format != "obj" && job.lod_format != "glb")
     throw std::invalid_argument("LOD format must be obj or glb, not '" + job.lod_format + "'");
@@ -250,7 +250,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       if (met) break;
     }
     std::string lod_path = out.lod(d, job.lod_format);
-    export_scene(lod, lod_path);
+    export_scene(lod, lod_path, ExportOptions{job.label.up == UpAxis::Z});
     nlohmann::json entry = lr.report;
     entry["pixel_footprint"] = so.pixel_footprint;
     entry["lod_file"] = lod_path;
@@ -298,6 +298,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     }
     entry["seconds"] = since(t_d);
     report["lods"].push_back(entry);
+    if (lods) lods->push_back(std::move(lod));
   }
   report["seconds"] = since(t_all);
   write_text_atomic(out.report(), report.dump(2) + "\n");

@@ -1,6 +1,7 @@
 // perclod/config.h - YAML display profiles and batch configs (configs/).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -45,12 +46,45 @@ struct BatchConfig {
   // distance for the fewest triangles within these (LodJob::fidelity_target).
   bool fidelity_target = false;
   double target_max_changed = 0.02, target_max_silhouette = 0.01;
+  std::string cityjson_lod;          // CityJSON input: the LOD geometry to read ("" = each object's highest)
+  bool tileset = true;               // also write the all-LOD GLB, a GLB per LOD and a 3D Tiles tileset.json
+  // crs_origin: {lat, lon, height}: the model's coordinates are metres east,
+  // north, up of this point (WGS84 degrees, ellipsoidal metres); the tileset
+  // is placed there by a local ENU transform.
+  bool crs_origin = false;
+  double origin_lat = 0, origin_lon = 0, origin_height = 0;
+};
+
+// One model of a config file and the name of its output folder.
+struct ModelEntry {
+  std::string name;    // file stem, made unique (parent folder's name, then a number)
+  BatchConfig config;  // the top-level settings with the entry's own on top; config.out = the batch's out
+};
+
+// A config file: one model ('model:'), or a batch ('models:'): a list whose
+// items are a model file, a glob ("tiles/*.obj"), a folder (every model file
+// under it, sorted) or a mapping {model: FILE_GLOB_OR_FOLDER, KEY: VALUE...}
+// overriding the top-level settings for those models.
+struct ConfigFile {
+  std::string path;
+  bool batch = false;             // 'models:': one output folder per model, out/<name>/
+  std::vector<ModelEntry> models; // in list order (globs and folders sorted)
+  std::string out = "out";
+  int jobs = 1;                   // models processed at once
+  double memory_budget_mb = 0;    // 0 = no budget; else models start only while their estimates fit
 };
 // Checks the whole config before any work: unknown or repeated keys, every
 // value's type and range, each mode's requirements (qem needs target), that
 // the model file exists and that the display profile loads. Throws
 // "PATH: what is wrong" (or the profile's own error naming the profile).
+// A config naming several models is refused here (use load_config_file).
 BatchConfig load_batch_config(const std::string& path);
+// Any config, checked whole before any work (every entry of a batch too).
+ConfigFile load_config_file(const std::string& path);
+
+// The settings that decide a model's outputs, as JSON (the display profile's
+// values, not its path): hashed to tell whether an output is up to date.
+nlohmann::json settings_json(const BatchConfig& config);
 
 // The job `perclod run` does for a config: display profile loaded, names
 // parsed, outputs named after the model file (OutputNames{out, model stem}).

@@ -1,16 +1,33 @@
 // perclod/export.h - a Scene to a file, with the source offset restored.
 // OBJ (+ MTL with material colours, one group per component; coordinates
-// written in double as position + offset) or GLB (float positions, the offset
-// as the root node's translation). Atomic: written to a temporary file, renamed.
+// written in double as position + offset, in the source's axes) or GLB
+// (float positions; the offset, in double, as the translation of a root node
+// whose children are one node per component; glTF's +Y up, so a Z-up source
+// is turned (x, y, z) -> (x, z, -y)). Atomic: written to a temporary file, renamed.
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "perclod/scene.h"
 
 namespace perclod {
 
+struct ExportOptions {
+  bool z_up = false;  // the source's up axis is +Z (GLB turns it to +Y up)
+};
+
 // Format from the extension: .obj or .glb. Throws naming the file on failure.
-void export_scene(const Scene& scene, const std::string& path);
+void export_scene(const Scene& scene, const std::string& path, const ExportOptions& options = {});
+
+// Every LOD of a model in one GLB, finest first: a root node with the finest
+// LOD's offset, holding the finest LOD's node, which carries the MSFT_lod
+// extension (ids: the coarser LODs' nodes, in order) and, in its extras,
+// MSFT_screencoverage: screen_coverage[i] is the fraction of the screen's
+// height below which LOD i gives way to LOD i + 1 (the last: to nothing).
+// One mesh per LOD node (a primitive per material), named names[i].
+void export_lods_glb(const std::vector<const Scene*>& lods, const std::vector<std::string>& names,
+                     const std::vector<double>& screen_coverage, const std::string& path,
+                     const ExportOptions& options = {});
 
 }  // namespace perclod

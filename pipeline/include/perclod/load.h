@@ -14,6 +14,7 @@
 // file (and line) and what is wrong.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 
@@ -41,6 +42,10 @@ struct LoadReport {
 };
 
 Scene load_scene(const std::string& path, const LoadOptions& options = {}, LoadReport* report = nullptr);
+
+// The report as `info --json` and the run report print it ("polygons_fanned"
+// only when some polygon was fanned).
+nlohmann::json load_report_json(const LoadReport& report);
 
 // Mesh statistics for `perclod info`.
 struct SceneInfo {

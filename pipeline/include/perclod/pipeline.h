@@ -158,6 +158,7 @@ struct SimplifyJob {
   SimplifyOptions options;       // pixel_footprint is set from distance and display
   OutputNames out;               // the LOD goes to out.lod(distance, format)
   std::string format = "obj";    // "obj" or "glb"
+  UpAxis up = UpAxis::Y;         // a Z-up model's GLB is turned to glTF's +Y up
 };
 
 struct SimplifyRun {
@@ -241,6 +242,8 @@ constexpr double kFidelitySearchBounds[] = {16, 8, 4, 2, 1, 0.5, 0.25, 0};
 // (absent when there is nothing to warn about) for the caller to print; a
 // LOD over a limit in some view adds a warning per view and measure, and
 // the report's "over_limits" counts them (0 when every LOD is within).
-nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress = {});
+// `lods`, when given, receives each LOD's scene in job.distances order.
+nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress = {},
+                         std::vector<Scene>* lods = nullptr);
 
 }  // namespace perclod

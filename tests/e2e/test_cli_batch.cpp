@@ -1,0 +1,210 @@
+// `perclod run` over a batch: failures reported and survived, reruns skipped,
+// shards that partition the list, and the manifest, tileset and GLBs a viewer loads.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "cli_util.h"
+#include "perclod/load.h"
+
+using perclod::test::run_cli;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A 12 x 8 x 10 m block with a slab and a chimney: three boxes, three groups.
+std::string building_obj(double dx) {
+  std::string s;
+  int base = 0;
+  auto box = [&](const char* name, double x0, double y0, double z0, double x1, double y1, double z1) {
+    s += std::string("g ") + name + "\n";
+    for (int k = 0; k < 8; ++k)
+      s += "v " + std::to_string((k & 1 ? x1 : x0) + dx) + " " + std::to_string(k & 2 ? y1 : y0) + " " +
+           std::to_string(k & 4 ? z1 : z0) + "\n";
+    const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (auto& f : q)
+      s += "f " + std::to_string(base + f[0] + 1) + " " + std::to_string(base + f[1] + 1) + " " +
+           std::to_string(base + f[2] + 1) + " " + std::to_string(base + f[3] + 1) + "\n";
+    base += 8;
+  };
+  box("house/body", 0, 0, 0, 12, 8, 10);
+  box("house/slab", -0.5, -0.5, 10, 12.5, 8.5, 10.3);
+  box("house/chimney", 2, 2, 10.3, 2.6, 2.6, 11.5);
+  return s;
+}
+
+struct BatchDir {
+  fs::path root;
+  explicit BatchDir(const std::string& name) {
+    root = fs::temp_directory_path() / ("perclod-batch-" + name + "-" + std::to_string(::getpid()));
+    fs::remove_all(root);
+    fs::create_directories(root / "models");
+    std::ofstream(root / "models" / "alpha.obj") << building_obj(0);
+    std::ofstream(root / "models" / "beta.obj") << building_obj(100);
+    std::ofstream(root / "models" / "broken.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n";
+    std::ofstream(root / "batch.yaml") << "out: " << (root / "out").string() << "\n"
+                                       << "distances: [56]\nviews: facades\nsamples: 1\njudge_views: none\n"
+                                       << "models:\n  - models/alpha.obj\n  - models/broken.obj\n"
+                                       << "  - {model: models/beta.obj, up: z, crs_origin: {lat: 48.77, lon: 11.43, height: 370}}\n";
+  }
+  ~BatchDir() { fs::remove_all(root); }
+  std::string config() const { return (root / "batch.yaml").string(); }
+  fs::path out() const { return root / "out"; }
+};
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+std::map<std::string, std::string> statuses(const nlohmann::json& summary) {
+  std::map<std::string, std::string> r;
+  for (const auto& m : summary["models"]) r[m["name"]] = m["status"];
+  return r;
+}
+
+// Walks a tileset: every tile's required fields, errors that never grow with
+// depth, content files that exist. Returns the tiles' depth count.
+int check_tile(const nlohmann::json& tile, const fs::path& dir, double parent_error, int depth) {
+  EXPECT_TRUE(tile.contains("boundingVolume"));
+  EXPECT_TRUE(tile["boundingVolume"].contains("box") || tile["boundingVolume"].contains("sphere"));
+  const double e = tile.at("geometricError").get<double>();
+  EXPECT_LE(e, parent_error) << "depth " << depth;
+  if (tile.contains("content")) {
+    const std::string uri = tile["content"]["uri"];
+    EXPECT_TRUE(fs::exists(dir / uri)) << uri;
+  }
+  int deepest = depth;
+  if (tile.contains("children"))
+    for (const auto& c : tile["children"]) deepest = std::max(deepest, check_tile(c, dir, e, depth + 1));
+  else
+    EXPECT_EQ(e, 0) << "a leaf LOD is the finest: nothing to refine to";
+  return deepest;
+}
+
+}  // namespace
+
+TEST(CliBatch, AFailedModelIsReportedTheOthersCompleteAndARerunSkipsThem) {
+  BatchDir b("fail");
+  auto r = run_cli("run " + b.config() + " --json");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("1 of 3 models failed (broken)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("broken.obj"), std::string::npos) << r.err;  // the file and what is wrong
+  EXPECT_NE(r.err.find("[2/3 broken] FAILED"), std::string::npos) << r.err;
+  auto s = nlohmann::json::parse(r.out);
+  EXPECT_EQ(statuses(s), (std::map<std::string, std::string>{{"alpha", "done"}, {"beta", "done"}, {"broken", "failed"}}));
+  EXPECT_EQ(s["done"], 2);
+  EXPECT_EQ(s["failed"], 1);
+  EXPECT_TRUE(fs::exists(b.out() / "alpha" / "alpha_manifest.json"));
+  EXPECT_TRUE(fs::exists(b.out() / "beta" / "beta_manifest.json"));
+  EXPECT_FALSE(fs::exists(b.out() / "broken"));
+  for (const auto& e : fs::directory_iterator(b.out()))
+    EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << e.path();
+  // Paths in the report are relative to the model's folder (no partial folder).
+  const auto report = read_json(b.out() / "alpha" / "alpha_report.json");
+  EXPECT_EQ(report["lods"][0]["lod_file"], "alpha_lod_56m.obj");
+
+  const auto before = fs::last_write_time(b.out() / "alpha" / "alpha_manifest.json");
+  r = run_cli("run " + b.config() + " --json");
+  EXPECT_EQ(r.exit_code, 1);
+  s = nlohmann::json::parse(r.out);
+  EXPECT_EQ(statuses(s), (std::map<std::string, std::string>{{"alpha", "skipped"}, {"beta", "skipped"}, {"broken", "failed"}}));
+  EXPECT_EQ(fs::last_write_time(b.out() / "alpha" / "alpha_manifest.json"), before);
+
+  // A changed input is redone; --force redoes everything.
+  std::ofstream(b.root / "models" / "alpha.obj", std::ios::app) << "# edited\n";
+  r = run_cli("run " + b.config() + " --json");
+  s = nlohmann::json::parse(r.out);
+  EXPECT_EQ(statuses(s)["alpha"], "done");
+  EXPECT_EQ(statuses(s)["beta"], "skipped");
+  r = run_cli("run " + b.config() + " --json --force");
+  s = nlohmann::json::parse(r.out);
+  EXPECT_EQ(statuses(s)["beta"], "done");
+}
+
+TEST(CliBatch, ShardsPartitionTheModels) {
+  BatchDir b("shard");
+  std::multiset<std::string> seen;
+  for (const char* shard : {"0/2", "1/2"}) {
+    auto r = run_cli("run " + b.config() + " --json --shard " + shard);
+    auto s = nlohmann::json::parse(r.out);
+    EXPECT_EQ(s["shard"], shard);
+    for (const auto& m : s["models"]) seen.insert(m["name"].get<std::string>());
+    EXPECT_TRUE(fs::exists(b.out() / (std::string("batch_") + shard[0] + "_of_2.json")));
+  }
+  EXPECT_EQ(seen, (std::multiset<std::string>{"alpha", "beta", "broken"}));
+  auto r = run_cli("run " + b.config() + " --shard 2/2");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("0 <= i < n"), std::string::npos) << r.err;
+}
+
+TEST(CliBatch, ManifestTilesetAndGlbsValidate) {
+  BatchDir b("export");
+  auto r = run_cli("run " + b.config());
+  ASSERT_EQ(r.exit_code, 1) << r.err;  // broken.obj
+  for (const std::string name : {"alpha", "beta"}) {
+    const fs::path dir = b.out() / name;
+    const auto m = read_json(dir / (name + "_manifest.json"));
+    EXPECT_EQ(m["schema"], "perclod-manifest/1");
+    EXPECT_TRUE(m["complete"].get<bool>());
+    EXPECT_EQ(m["model"]["hash"].get<std::string>().substr(0, 8), "fnv1a64:");
+    EXPECT_EQ(m["config"]["hash"].get<std::string>().substr(0, 8), "fnv1a64:");
+    EXPECT_EQ(m["model"]["triangles"], 36);
+    ASSERT_EQ(m["lods"].size(), 1u);
+    const auto& lod = m["lods"][0];
+    EXPECT_EQ(lod["distance"], 56);
+    EXPECT_LE(lod["serves"]["from"].get<double>(), 56);
+    EXPECT_TRUE(lod["serves"]["to"].is_null());  // the last LOD serves every farther distance
+    const auto& t = lod["triangles"];
+    EXPECT_EQ(t["total"].get<int>(),
+              t["perceptible"].get<int>() + t["imperceptible"].get<int>() + t["undisplayable"].get<int>());
+    EXPECT_EQ(lod["fidelity"]["views"].size(), 4u);  // the four facades (judge_views: none)
+    for (const auto& key : {"report", "lods_glb", "tileset"})
+      EXPECT_TRUE(fs::exists(dir / m["files"][key].get<std::string>())) << key;
+    EXPECT_TRUE(fs::exists(dir / lod["file"].get<std::string>()));
+    // The GLB loads back through assimp with the LOD's triangles and offset.
+    perclod::Scene glb = perclod::load_scene((dir / lod["glb"].get<std::string>()).string());
+    EXPECT_EQ(glb.triangle_count(), t["total"].get<size_t>());
+    const auto ts = read_json(dir / m["files"]["tileset"].get<std::string>());
+    EXPECT_EQ(ts["asset"]["version"], "1.1");
+    EXPECT_GE(ts["geometricError"].get<double>(), ts["root"]["geometricError"].get<double>());
+    check_tile(ts["root"], dir, ts["geometricError"].get<double>(), 0);
+    if (name == "beta") {
+      EXPECT_EQ(m["model"]["up"], "z");
+      EXPECT_EQ(ts["root"]["transform"].size(), 16u);  // crs_origin: local ENU frame
+      // Z-up source: glTF Y-up; the file's bounds (x 100..112.5) come back with the offset.
+      const perclod::Bounds bb = perclod::scene_bounds(glb);
+      EXPECT_NEAR(bb.lo[0] + glb.offset[0], 99.5, 1e-3);
+      EXPECT_NEAR(bb.hi[1] - bb.lo[1], 11.5, 1e-3);  // the height (source Z) is glTF's Y
+    } else {
+      EXPECT_FALSE(ts["root"].contains("transform"));
+      const perclod::Bounds bb = perclod::scene_bounds(glb);
+      EXPECT_NEAR(bb.lo[0] + glb.offset[0], -0.5, 1e-3);
+    }
+  }
+  const auto batch = read_json(b.out() / "tileset.json");
+  EXPECT_EQ(batch["asset"]["version"], "1.1");
+  ASSERT_EQ(batch["root"]["children"].size(), 2u);
+  for (const auto& c : batch["root"]["children"])
+    EXPECT_TRUE(fs::exists(b.out() / c["content"]["uri"].get<std::string>())) << c;
+}
+
+TEST(CliBatch, OneModelConfigsWriteTheManifestBesideTheLods) {
+  BatchDir b("single");
+  std::ofstream(b.root / "one.yaml") << "model: models/alpha.obj\nout: " << (b.root / "one").string()
+                                     << "\ndistances: [56, 427]\nviews: facades\nsamples: 1\njudge_views: none\n";
+  auto r = run_cli("run " + (b.root / "one.yaml").string() + " --shard 0/2");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("apply to a batch"), std::string::npos) << r.err;
+  r = run_cli("run " + (b.root / "one.yaml").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto m = read_json(b.root / "one" / "alpha_manifest.json");
+  ASSERT_EQ(m["lods"].size(), 2u);
+  EXPECT_EQ(m["lods"][0]["serves"]["to"], m["lods"][1]["serves"]["from"]);
+  EXPECT_TRUE(fs::exists(b.root / "one" / "alpha_lod_427m.glb"));
+  EXPECT_TRUE(fs::exists(b.root / "one" / "alpha_lods.glb"));
+}

@@ -1,0 +1,224 @@
+// Batch configs, shards, LOD ranges, the ENU frame and the GLB exports.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "perclod/batch.h"
+#include "perclod/config.h"
+#include "perclod/export.h"
+#include "perclod/load.h"
+#include "test_util.h"
+
+using namespace perclod;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A folder with three model files in two subfolders and a config using them.
+struct BatchFolder {
+  test::TempDir dir{"batchcfg"};
+  BatchFolder() {
+    fs::create_directories(dir.path / "city" / "a");
+    fs::create_directories(dir.path / "city" / "b");
+    for (const char* f : {"city/a/house.obj", "city/b/house.obj", "city/b/tower.obj", "city/b/notes.txt"})
+      std::ofstream(dir.path / f) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  }
+};
+
+}  // namespace
+
+TEST(BatchConfig, ModelsListGlobsFoldersAndOverrides) {
+  BatchFolder b;
+  const std::string cfg = b.dir.file("batch.yaml",
+                                     "distances: [56, 132]\nsamples: 2\nout: results\njobs: 2\n"
+                                     "models:\n"
+                                     "  - city/b/*.obj\n"
+                                     "  - {model: city/a, up: z, distances: [427]}\n");
+  ConfigFile f = load_config_file(cfg);
+  ASSERT_TRUE(f.batch);
+  EXPECT_EQ(f.jobs, 2);
+  ASSERT_EQ(f.models.size(), 3u);  // notes.txt is not a model file
+  // Two files share the stem "house": their folders take the parent's name.
+  EXPECT_EQ(f.models[0].name, "b_house");
+  EXPECT_EQ(f.models[1].name, "tower");
+  EXPECT_EQ(f.models[2].name, "a_house");
+  EXPECT_EQ(f.models[0].config.up, UpAxis::Y);
+  EXPECT_EQ(f.models[0].config.distances, (std::vector<double>{56, 132}));
+  EXPECT_EQ(f.models[2].config.up, UpAxis::Z);
+  EXPECT_EQ(f.models[2].config.distances, (std::vector<double>{427}));
+  EXPECT_EQ(f.models[2].config.samples, 2);  // the top level's, not overridden
+  for (const auto& m : f.models) {
+    EXPECT_TRUE(fs::path(m.config.model).is_absolute()) << m.config.model;
+    EXPECT_TRUE(fs::exists(m.config.model)) << m.config.model;
+    EXPECT_EQ(m.config.out, "results");  // like a single model's out: from the working directory
+  }
+  // The settings hash sees an override; the same settings hash alike.
+  EXPECT_NE(hash_text(settings_json(f.models[0].config).dump()), hash_text(settings_json(f.models[2].config).dump()));
+  EXPECT_EQ(hash_text(settings_json(f.models[0].config).dump()), hash_text(settings_json(f.models[1].config).dump()));
+  // A single-model reader refuses a batch, naming the file.
+  EXPECT_NE(error_of([&] { load_batch_config(cfg); }).find("names several models"), std::string::npos);
+}
+
+TEST(BatchConfig, BadEntriesNameTheEntryAndWhatIsWrong) {
+  BatchFolder b;
+  auto err = [&](const std::string& body) {
+    return error_of([&] { load_config_file(b.dir.file("bad.yaml", "distances: [56]\n" + body)); });
+  };
+  EXPECT_NE(err("models:\n  - city/none/*.obj\n").find("models[0]: 'city/none/*.obj' matches no model file"),
+            std::string::npos);
+  EXPECT_NE(err("models: []\n").find("non-empty list"), std::string::npos);
+  EXPECT_NE(err("models:\n  - city/a/house.obj\n  - {model: city/b/tower.obj, ratio: 7}\n").find("models[1]: 'ratio'"),
+            std::string::npos);
+  EXPECT_NE(err("models:\n  - {up: z}\n").find("models[0]: 'model' is required"), std::string::npos);
+  EXPECT_NE(err("models:\n  - {model: city/a, out: x}\n").find("models[0]: unknown key 'out'"), std::string::npos);
+  EXPECT_NE(err("models:\n  - city/missing.obj\n").find("models[0]: model"), std::string::npos);
+  EXPECT_NE(err("model: city/a/house.obj\nmodels:\n  - city/a\n").find("not both"), std::string::npos);
+  EXPECT_NE(err("model: city/a/house.obj\njobs: 2\n").find("apply only to a batch"), std::string::npos);
+  EXPECT_NE(err("jobs: 0\nmodels:\n  - city/a\n").find("'jobs' must be 1..64"), std::string::npos);
+  EXPECT_NE(err("crs_origin: {lat: 95, lon: 0}\nmodels:\n  - city/a\n").find("'crs_origin'"), std::string::npos);
+}
+
+TEST(BatchShards, ShardsPartitionTheListExactly) {
+  for (size_t count : {0u, 1u, 5u, 17u})
+    for (int n : {1, 2, 3, 8}) {
+      std::multiset<size_t> all;
+      for (int i = 0; i < n; ++i)
+        for (size_t k : shard_indices(count, i, n)) all.insert(k);
+      ASSERT_EQ(all.size(), count);
+      for (size_t k = 0; k < count; ++k) EXPECT_EQ(all.count(k), 1u) << count << " " << n;
+    }
+  EXPECT_EQ(parse_shard("2/8"), std::make_pair(2, 8));
+  for (const char* bad : {"8/8", "-1/2", "1", "a/b", "1/0", "1/2x", ""})
+    EXPECT_NE(error_of([&] { parse_shard(bad); }).find("--shard"), std::string::npos) << bad;
+}
+
+TEST(BatchHash, HashesAreStableAndSeeOneByte) {
+  test::TempDir d("hash");
+  const std::string a = d.file("a.bin", "perclod"), b = d.file("b.bin", "perclOd");
+  EXPECT_EQ(hash_file(a), hash_text("perclod"));
+  EXPECT_EQ(hash_text(""), "fnv1a64:cbf29ce484222325");  // the FNV-1a 64 offset basis
+  EXPECT_NE(hash_file(a), hash_file(b));
+  EXPECT_NE(error_of([&] { hash_file(d / "none"); }).find("none: cannot open"), std::string::npos);
+}
+
+TEST(LodRanges, SwitchDistancesFollowThePixelRule) {
+  // Pixel angle 1 mrad: a 2 cm displacement is under a pixel beyond 20 m.
+  const double angle = 1e-3, fov = 2 * std::atan(0.5);  // view height = distance
+  auto r = lod_ranges({132, 56, 427}, {0.5, 0.02, 0.02}, angle, fov, 10.0);
+  ASSERT_EQ(r.size(), 3u);
+  EXPECT_EQ(r[0].distance, 56);
+  EXPECT_NEAR(r[0].switch_distance, 20, 1e-9);
+  EXPECT_NEAR(r[0].from, 20, 1e-9);           // safe closer than it was made for
+  EXPECT_NEAR(r[1].from, 132, 1e-9);          // 0.5 m -> 500 m: the perceptual judgement at 132 m stands
+  EXPECT_NEAR(r[2].from, 132, 1e-9);          // never before the previous LOD's start
+  EXPECT_EQ(r[0].to, r[1].from);
+  EXPECT_TRUE(std::isinf(r[2].to));
+  EXPECT_NEAR(r[0].screen_coverage, 10.0 / 132, 1e-12);
+  EXPECT_EQ(r[2].screen_coverage, 0);
+  // Tileset errors: the finest is a leaf (0); coarser ones never smaller.
+  EXPECT_EQ(r[0].geometric_error, 0);
+  EXPECT_NEAR(r[1].geometric_error, 0.5, 1e-12);
+  EXPECT_NEAR(r[2].geometric_error, 0.5, 1e-12);
+}
+
+TEST(EnuFrame, AxesAreOrthonormalAndTheOriginIsOnTheEllipsoid) {
+  auto m = enu_to_ecef(0, 0, 0);
+  EXPECT_NEAR(m[12], 6378137.0, 1e-6);  // equator, Greenwich
+  EXPECT_NEAR(m[8], 1, 1e-12);          // up = +X there
+  EXPECT_NEAR(m[1], 1, 1e-12);          // east = +Y
+  EXPECT_NEAR(m[6], 1, 1e-12);          // north = +Z
+  auto p = enu_to_ecef(48.7665, 11.4258, 400);  // Ingolstadt
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double dot = 0;
+      for (int k = 0; k < 3; ++k) dot += p[4 * i + k] * p[4 * j + k];
+      EXPECT_NEAR(dot, i == j ? 1 : 0, 1e-12);
+    }
+  const double r = std::sqrt(p[12] * p[12] + p[13] * p[13] + p[14] * p[14]);
+  EXPECT_GT(r, 6356752.0 + 400 - 1);
+  EXPECT_LT(r, 6378137.0 + 400 + 1);
+}
+
+TEST(GlbExport, ComponentsAreNodesAndTheOffsetLoadsBack) {
+  test::TempDir d("glbexport");
+  Scene s = test::box();
+  Scene two = test::box();
+  for (size_t i = 0; i < two.positions.size(); i += 3) two.positions[i] += 3;
+  const size_t base = s.vertex_count();
+  s.positions.insert(s.positions.end(), two.positions.begin(), two.positions.end());
+  for (uint32_t i : two.indices) s.indices.push_back(uint32_t(i + base));
+  s.component.assign(24, 0);
+  std::fill(s.component.begin() + 12, s.component.end(), 1);
+  s.component_names = {"bldg_1/wall", "bldg_1/roof"};
+  s.offset = {6780.5, 4035.25, 400};
+  const std::string path = d / "two.glb";
+  export_scene(s, path);
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 20u);
+  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
+  auto gltf = nlohmann::json::parse(bytes.substr(20, json_len));
+  ASSERT_EQ(gltf["nodes"].size(), 3u);
+  EXPECT_EQ(gltf["nodes"][0]["translation"], (std::vector<double>{6780.5, 4035.25, 400}));  // exact, in double
+  EXPECT_EQ(gltf["nodes"][0]["children"], (std::vector<int>{1, 2}));
+  EXPECT_EQ(gltf["nodes"][1]["name"], "bldg_1/wall");
+  EXPECT_EQ(gltf["nodes"][2]["name"], "bldg_1/roof");
+  // Back through assimp: the same triangles, the offset restored (assimp is
+  // float: at UTM coordinates it would lose decimetres, here under a millimetre).
+  Scene back = load_scene(path);
+  EXPECT_EQ(back.triangle_count(), 24u);
+  const Bounds bb = scene_bounds(back);
+  for (int a = 0; a < 3; ++a) {
+    const double lo = bb.lo[a] + back.offset[a];
+    EXPECT_NEAR(lo, s.offset[a], 1e-3) << a;
+  }
+}
+
+TEST(GlbExport, ZUpSourcesAreTurnedToGltfYUp) {
+  test::TempDir d("glbzup");
+  Scene s = test::box();
+  for (size_t i = 2; i < s.positions.size(); i += 3) s.positions[i] *= 5;  // tall along Z
+  s.offset = {10, 20, 30};
+  export_scene(s, d / "z.glb", ExportOptions{true});
+  std::ifstream in(d / "z.glb", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
+  auto gltf = nlohmann::json::parse(bytes.substr(20, json_len));
+  EXPECT_EQ(gltf["nodes"][0]["translation"], (std::vector<double>{10, 30, -20}));
+  const auto& acc = gltf["accessors"][0];
+  EXPECT_NEAR(acc["max"][1].get<double>() - acc["min"][1].get<double>(), 5, 1e-6);  // height now along Y
+  EXPECT_NEAR(acc["max"][2].get<double>() - acc["min"][2].get<double>(), 1, 1e-6);
+}
+
+TEST(GlbExport, AllLodsInOneFileWithMsftLod) {
+  test::TempDir d("glblods");
+  Scene fine = test::box(), coarse = test::box();
+  coarse.indices.resize(6 * 3);  // fewer triangles
+  const std::string path = d / "lods.glb";
+  export_lods_glb({&fine, &coarse}, {"lod_56m", "lod_427m"}, {0.25, 0.0}, path);
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
+  auto gltf = nlohmann::json::parse(bytes.substr(20, json_len));
+  EXPECT_EQ(gltf["extensionsUsed"], (std::vector<std::string>{"MSFT_lod"}));
+  const auto& lod0 = gltf["nodes"][1];
+  EXPECT_EQ(lod0["name"], "lod_56m");
+  EXPECT_EQ(lod0["extensions"]["MSFT_lod"]["ids"], (std::vector<int>{2}));
+  EXPECT_EQ(lod0["extras"]["MSFT_screencoverage"], (std::vector<double>{0.25, 0.0}));
+  EXPECT_EQ(gltf["scenes"][0]["nodes"], (std::vector<int>{0}));
+  EXPECT_EQ(gltf["nodes"][0]["children"], (std::vector<int>{1}));  // the coarse LOD only through MSFT_lod
+  EXPECT_EQ(gltf["meshes"].size(), 2u);
+  EXPECT_NE(error_of([&] { export_lods_glb({&fine}, {"a", "b"}, {0}, path); }).find("one name"), std::string::npos);
+}
