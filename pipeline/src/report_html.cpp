@@ -129,8 +129,8 @@ tr.failed td{background:#fff0ef}tr.skipped td{color:#6e7781}
 .muted{color:#6e7781}.warn{color:#a40e26}
 .facts td:first-child{text-align:left;font-weight:600;background:#f8f9fa}
 figure{display:inline-block;margin:4px 8px 12px 0;vertical-align:top}
-figure img{display:block;max-width:300px;max-height:300px;border:1px solid #d0d7de;background:#eee}
-figcaption{font-size:0.8em;color:#444;max-width:300px;word-break:break-all}
+figure img{display:block;max-width:200px;max-height:200px;border:1px solid #d0d7de;background:#eee}
+figcaption{font-size:0.8em;color:#444;max-width:200px;word-break:break-all}
 .pair{display:inline-block;border:1px solid #d0d7de;padding:6px;margin:0 8px 8px 0}
 .swatch{display:inline-block;width:12px;height:12px;vertical-align:middle;margin-right:4px;border:1px solid #888}
 svg{background:#fff;border:1px solid #d0d7de;margin:4px 8px 8px 0}
@@ -165,8 +165,9 @@ std::vector<double> ticks(double lo, double hi, int want = 5) {
 // Upper end of an axis from 0: the next tick above `v`.
 double nice_max(double v) {
   if (!(v > 0) || !std::isfinite(v)) return 1;
-  const std::vector<double> t = ticks(0, v * 1.05);
-  return std::max(t.back(), v);
+  const std::vector<double> t = ticks(0, v);
+  const double step = t.size() > 1 ? t[1] - t[0] : v;
+  return std::ceil(v / step - 1e-9) * step;
 }
 
 std::string tick_label(double v, double step) {
@@ -198,7 +199,7 @@ struct Axis {
 std::string line_chart(const std::string& id, const std::string& title, const std::vector<double>& x,
                        const std::vector<Series>& series, const Axis& left, const Axis* right,
                        const std::vector<std::pair<std::string, double>>& left_rules = {}) {
-  const double W = 600, H = 330, ml = 74, mr = right ? 74 : 24, mt = 34, mb = 52;
+  const double W = 600, H = 350, ml = 74, mr = right ? 74 : 24, mt = 54, mb = 52;
   const double pw = W - ml - mr, ph = H - mt - mb;
   double xmin = INFINITY, xmax = -INFINITY;
   for (double v : x)
@@ -282,16 +283,16 @@ std::string line_chart(const std::string& id, const std::string& title, const st
         << "</title></circle>\n";
     }
   }
-  // Legend, top right inside the plot.
-  double ly = mt + 8;
+  // Legend: one row between the title and the plot.
+  double lx = ml;
+  const double ly = 38;
   for (const Series& ser : series) {
-    const double lx = ml + pw - 190;
     s << "<line x1=\"" << lx << "\" x2=\"" << lx + 22 << "\" y1=\"" << ly << "\" y2=\"" << ly << "\" stroke=\""
       << ser.colour << "\" stroke-width=\"2\"" << (ser.dashed ? " stroke-dasharray=\"6,4\"" : "")
       << "/><circle cx=\"" << lx + 11 << "\" cy=\"" << ly << "\" r=\"3\" fill=\"" << ser.colour << "\"/><text x=\""
       << lx + 28 << "\" y=\"" << ly + 4 << "\">" << html_escape(ser.name) << (ser.right && right ? " (right)" : "")
       << "</text>\n";
-    ly += 16;
+    lx += 40 + 7 * double(ser.name.size() + (ser.right && right ? 8 : 0));
   }
   s << "</svg>\n";
   return s.str();
@@ -369,7 +370,7 @@ std::string fidelity_table(const json& lod) {
 std::string label_views_table(const json& lod) {
   std::ostringstream s;
   s << "<table class=\"label-views\"><tr><th class=\"l\">labelling view</th><th>covered px</th>"
-       "<th>imperceptible</th><th>perceptible</th><th>imperceptible tri.</th><th>undisplayable</th>"
+       "<th>imperceptible px</th><th>perceptible tri.</th><th>imperceptible tri.</th><th>undisplayable tri.</th>"
        "<th>render</th><th>perceive</th><th>trace</th></tr>\n";
   for (const auto& v : list(lod, "views")) {
     const json& l = sub(v, "labels");
@@ -600,8 +601,8 @@ std::string model_report_html(const json& report, const OutputNames& names) {
     std::vector<std::pair<std::string, std::string>> facts = {
         {"pixel footprint", fixed(num(l, "pixel_footprint"), 4) + "&nbsp;m"},
         {"samples per pixel", count(num(l, "samples_per_pixel"))},
-        {"stop reason", html_escape(str(simp, "stop_reason"))},
         {"vertices", count(num(simp, "vertices_before")) + " &rarr; " + count(num(simp, "vertices_after"))}};
+    if (!str(simp, "stop_reason").empty()) facts.push_back({"stop reason", html_escape(str(simp, "stop_reason"))});
     if (member(l, "bounds_px"))
       facts.push_back({"bounds (px)", "perceptible " + fixed(num(bounds, "perceptible"), 2) + ", imperceptible " +
                                           fixed(num(bounds, "imperceptible"), 2)});
