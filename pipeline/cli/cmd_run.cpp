@@ -27,7 +27,8 @@ void register_run(CLI::App& app) {
   cmd->add_flag("--json", *json, "Print the run report (also written to OUT/<model>_report.json) on stdout");
   cmd->footer(
       "Writes to OUT: <model>_lod_<d>m.obj, <model>_labels_<d>m.txt, per view <model>_<view>_<d>m.png,\n"
-      "_simulated/_difference/_mask.png, _marking.png and _marking_near.png, and <model>_report.json.\n"
+      "_simulated/_difference/_mask.png, _marking.png and _marking_near.png, <model>_report.json and\n"
+      "its offline page <model>_report.html (figures, charts and the renders beside them).\n"
       "Each LOD is judged from its labelling views and the config's judge_views (default held_out);\n"
       "figures over max_changed / max_silhouette are warned about on stderr.");
   cmd->callback([=] {
