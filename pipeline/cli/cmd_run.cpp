@@ -109,7 +109,8 @@ void register_run(CLI::App& app) {
                 "Print the run report (one model) or the batch summary (many) on stdout");
   cmd->footer(
       "One model: writes to OUT: <model>_lod_<d>m.obj, <model>_labels_<d>m.txt, per view <model>_<view>_<d>m.png,\n"
-      "_simulated/_difference/_mask.png, _marking.png and _marking_near.png, <model>_report.json, and for\n"
+      "_simulated/_difference/_mask.png, _marking.png and _marking_near.png, <model>_report.json and its\n"
+      "offline page <model>_report.html (figures, charts, renders beside them), and for\n"
       "viewers <model>_lod_<d>m.glb, <model>_lods.glb (MSFT_lod), <model>_tileset.json (3D Tiles 1.1) and\n"
       "<model>_manifest.json (README, Manifest).\n"
       "A batch writes each model to OUT/<name>/ (complete or absent: built in a partial folder, then renamed),\n"

@@ -10,6 +10,7 @@
 
 #include "perclod/export.h"
 #include "perclod/labels_io.h"
+#include "perclod/report_html.h"
 #include "pipeline_internal.h"
 
 namespace perclod {
@@ -302,6 +303,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
   }
   report["seconds"] = since(t_all);
   write_text_atomic(out.report(), report.dump(2) + "\n");
+  write_model_report_html(report, out);  // the same report as a page beside it: out.report_html()
   return report;
 }
 

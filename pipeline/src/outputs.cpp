@@ -58,6 +58,8 @@ std::string OutputNames::lod(double d, const std::string& format) const {
 
 std::string OutputNames::report() const { return file("_report.json"); }
 
+std::string OutputNames::report_html() const { return file("_report.html"); }
+
 namespace {
 
 // Temporaries of write_atomic calls in flight, for the signal handler: a

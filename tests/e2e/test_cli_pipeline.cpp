@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
@@ -129,6 +130,17 @@ TEST(CliPipeline, RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput) {
   // Every figure over a limit is a warning on stderr.
   EXPECT_EQ(j["over_limits"].get<size_t>(), j.contains("warnings") ? j["warnings"].size() : 0u);
   EXPECT_TRUE(fs::exists(out / "result" / "bldg_4018215_report.json"));
+  // Its HTML page beside it, naming the files it shows relative to itself.
+  std::ifstream page(out / "result" / "bldg_4018215_report.html");
+  ASSERT_TRUE(page.good());
+  const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("<title>perclod report: bldg_4018215</title>"), std::string::npos);
+  EXPECT_NE(html.find("href=\"bldg_4018215_lod_427m.obj\""), std::string::npos);
+  EXPECT_NE(html.find("src=\"bldg_4018215_+x_56m_marking.png\""), std::string::npos);
+  for (const auto& lod : j["lods"])
+    for (const auto& v : lod["views"])
+      EXPECT_TRUE(fs::exists(out / "result" / ("bldg_4018215_" + v["view"].get<std::string>() + "_" +
+                                               std::to_string(lod["distance"].get<int>()) + "m.png")));
   // A bad config value names the file and the key, and writes nothing.
   std::ofstream(out / "bad.yaml") << "model: " << kBuilding << "\ndistances: [56, -1]\nout: " << (out / "bad").string() << "\n";
   auto bad = run_cli("run " + (out / "bad.yaml").string());

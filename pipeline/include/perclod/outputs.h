@@ -30,6 +30,7 @@ struct OutputNames {
   // <dir>/<stem>_lod_<d>m.<format>, format "obj" or "glb".
   std::string lod(double distance, const std::string& format) const;
   std::string report() const;                       // <dir>/<stem>_report.json
+  std::string report_html() const;                  // <dir>/<stem>_report.html (perclod/report_html.h)
   // <dir>/<stem><suffix>: `perceive` names its images after the input image.
   std::string file(const std::string& suffix) const;
 };

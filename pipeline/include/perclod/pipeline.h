@@ -234,7 +234,8 @@ struct LodJob {
 constexpr double kFidelitySearchBounds[] = {16, 8, 4, 2, 1, 0.5, 0.25, 0};
 
 // One LOD per distance: out.lod(d), out.labels(d), renders and marking
-// renders, and out.report() (returned too). Each LOD is judged from its
+// renders, and out.report() (returned too) with its HTML page out.report_html()
+// (perclod/report_html.h). Each LOD is judged from its
 // labelling views and job.judge_views (entry "lod_vs_original", per view, and
 // "fidelity", judge_views' summary against job.limits).
 // A LOD without triangles (nothing displayable at its distance) is still
