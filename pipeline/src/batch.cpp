@@ -25,6 +25,7 @@
 #include "perclod/export.h"
 #include "perclod/load.h"
 #include "perclod/outputs.h"
+#include "perclod/report_html.h"
 
 #ifndef PERCLOD_VERSION
 #define PERCLOD_VERSION "unknown"
@@ -292,6 +293,7 @@ nlohmann::json run_model(const BatchConfig& config, const ModelRun& run, const s
   report["model"] = c.model;
   report["load"] = load_report_json(rep);
   report["manifest"] = leaf(job.label.out.file("_manifest.json"));
+  write_model_report_html(report, job.label.out);
   write_model_exports(scene, lods, job, c, run, report);
   return report;
 }
@@ -344,6 +346,16 @@ nlohmann::json read_manifest(const std::string& path) {
   } catch (const std::exception&) {
     return nullptr;
   }
+}
+
+// Per LOD of a manifest: distance, total triangles, worst figures.
+nlohmann::json summary_lods(const nlohmann::json& manifest) {
+  nlohmann::json r = nlohmann::json::array();
+  if (manifest.is_object() && manifest.contains("lods"))
+    for (const auto& l : manifest["lods"])
+      r.push_back({{"distance", l["distance"]}, {"triangles", l["triangles"]["total"]},
+                   {"worst", l["fidelity"]["worst"]}});
+  return r;
 }
 
 std::string manifest_path(const std::string& dir, const BatchConfig& c) {
@@ -421,19 +433,24 @@ std::string format_seconds(double s) {
   return buf;
 }
 
+// Holds an exclusive flock on a file for its lifetime (waits for it).
+class FileLock {
+ public:
+  explicit FileLock(const std::string& path) : fd_(::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666)) {
+    if (fd_ >= 0) ::flock(fd_, LOCK_EX);
+  }
+  ~FileLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+
+ private:
+  int fd_;
+};
+
 // <out>/tileset.json: one child per complete model folder (external tilesets).
-// Shards finishing together take turns (flock on <out>/.tileset.lock), so
-// the last one's scan sees every folder published before it.
 void write_batch_tileset(const std::string& out) {
-  const std::string lock_path = (fs::path(out) / ".tileset.lock").string();
-  const int lock = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-  if (lock >= 0) ::flock(lock, LOCK_EX);
-  struct Unlock {
-    int fd;
-    ~Unlock() {
-      if (fd >= 0) ::close(fd);
-    }
-  } unlock{lock};
   nlohmann::json children = nlohmann::json::array();
   double error = 0;
   std::error_code ec;
@@ -498,6 +515,21 @@ void write_batch_tileset(const std::string& out) {
   write_text_atomic((fs::path(out) / "tileset.json").string(), ts.dump(2) + "\n");
 }
 
+// <out>/index.html from every shard's summary batch_<i>_of_<n>.json on disk
+// (the shards of one split: each lists its own models).
+void write_batch_index(const std::string& out, int shards) {
+  nlohmann::json all = {{"models", nlohmann::json::array()}, {"done", 0}, {"skipped", 0}, {"failed", 0}, {"seconds", 0.0}};
+  for (int i = 0; i < shards; ++i) {
+    const nlohmann::json s = read_manifest(
+        (fs::path(out) / ("batch_" + std::to_string(i) + "_of_" + std::to_string(shards) + ".json")).string());
+    if (!s.is_object()) continue;
+    for (const auto& m : s["models"]) all["models"].push_back(m);
+    for (const char* k : {"done", "skipped", "failed"}) all[k] = all[k].get<int>() + s.value(k, 0);
+    all["seconds"] = std::max(all["seconds"].get<double>(), s.value("seconds", 0.0));
+  }
+  write_text_atomic((fs::path(out) / "index.html").string(), batch_index_html(all));
+}
+
 }  // namespace
 
 nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
@@ -552,7 +584,8 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
           old.value("perclod_version", "") == perclod_version() && old["model"].value("hash", "") == run.input_hash &&
           old["config"].value("hash", "") == run.settings_hash) {
         r["status"] = "skipped";
-        r["lods"] = old["lods"];
+        r["lods"] = summary_lods(old);
+        if (old["files"].contains("report_html")) r["report_html"] = m.name + "/" + old["files"]["report_html"].get<std::string>();
         say(i, "up to date, skipped (--force redoes it)");
       } else {
         remove_stale_partials(config.out, m.name);
@@ -575,7 +608,9 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
           publish(partial, final_dir);
           const nlohmann::json man = read_manifest(manifest_path(final_dir, c));
           r["status"] = "done";
-          r["lods"] = man.is_object() ? man["lods"] : nlohmann::json::array();
+          r["lods"] = summary_lods(man);
+          if (man.is_object() && man["files"].contains("report_html"))
+            r["report_html"] = m.name + "/" + man["files"]["report_html"].get<std::string>();
           if (report.contains("warnings"))
             for (const auto& w : report["warnings"])
               r["warnings"].push_back("[" + m.name + "] " + moved(w.get<std::string>()));
@@ -638,7 +673,13 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
                                              std::to_string(options.shards) + ".json"))
                         .string(),
                     summary.dump(2) + "\n");
-  write_batch_tileset(config.out);
+  {
+    // Shards finishing together take turns, so the last one's scan sees every
+    // folder and summary published before it.
+    FileLock lock((fs::path(config.out) / ".batch.lock").string());
+    write_batch_tileset(config.out);
+    write_batch_index(config.out, options.shards);
+  }
   return summary;
 }
 

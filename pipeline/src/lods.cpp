@@ -10,7 +10,7 @@
 
 #include "perclod/export.h"
 #include "perclod/labels_io.h"
-#include "perclod/report_html.h"
+#include "perclod/image_io.h"
 #include "pipeline_internal.h"
 
 namespace perclod {
@@ -102,13 +102,53 @@ std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, con
   return records;
 }
 
+namespace {
+
+// One picture of a judged view at 1/4 size (box filter): the original's
+// luminance | the LOD's | the LOD's with changed pixels red and pixels drawn
+// by only one of the two blue (a block takes any such pixel in it).
+Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_luminance,
+                       const std::vector<uint8_t>& lod_background, const std::vector<uint8_t>& changed, int w, int h) {
+  constexpr int f = 4;
+  const int tw = std::max(1, w / f), th = std::max(1, h / f);
+  Rgb8Image img;
+  img.width = 3 * tw, img.height = th;
+  img.pixels.assign(size_t(img.width) * size_t(th) * 3, 0);
+  for (int y = 0; y < th; ++y)
+    for (int x = 0; x < tw; ++x) {
+      double a = 0, b = 0;
+      bool red = false, blue = false;
+      int n = 0;
+      for (int yy = y * f; yy < std::min(h, y * f + f); ++yy)
+        for (int xx = x * f; xx < std::min(w, x * f + f); ++xx, ++n) {
+          const size_t i = size_t(yy) * size_t(w) + size_t(xx);
+          a += v.luminance[i], b += lod_luminance[i];
+          red |= changed[i] != 0;
+          blue |= lod_background[i] != v.background[i];
+        }
+      const auto grey = [&](int panel, double l, uint8_t r, uint8_t g, uint8_t bl) {
+        uint8_t* p = &img.pixels[(size_t(y) * size_t(img.width) + size_t(panel * tw + x)) * 3];
+        const double k = l / n / 255.0;
+        p[0] = uint8_t(std::lround(r * k)), p[1] = uint8_t(std::lround(g * k)), p[2] = uint8_t(std::lround(bl * k));
+      };
+      grey(0, a, 255, 255, 255);
+      grey(1, b, 255, 255, 255);
+      if (blue) grey(2, std::max(b, 96.0 * n), 64, 96, 255);
+      else if (red) grey(2, std::max(b, 96.0 * n), 255, 48, 48);
+      else grey(2, b, 255, 255, 255);
+    }
+  return img;
+}
+
+}  // namespace
+
 nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
-                                 const LabelJob& job) {
+                                 const LabelJob& job, std::vector<Rgb8Image>* pictures) {
   const PerceptionSettings ps = perception_for(job);
   renderer.set_scene(lod);
   nlohmann::json views = nlohmann::json::array();
   PerceptionResult pr;
-  std::vector<uint8_t> background, drawn_mask;
+  std::vector<uint8_t> background, drawn_mask, changed_mask;
   std::vector<float> luminance_original;
   for (const ViewRecord& v : original) {
     RenderOutput img = renderer.render(v.camera);
@@ -119,6 +159,7 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
     const size_t n = background.size();
     size_t drawn = 0, changed = 0, coverage_changed = 0, covered_original = 0;
     drawn_mask.assign(n, 0);
+    changed_mask.assign(pictures ? n : 0, 0);
     luminance_original.resize(n);
     for (size_t i = 0; i < n; ++i) {
       luminance_original[i] = float(v.luminance[i]);
@@ -126,13 +167,16 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
       if (background[i] && v.background[i]) continue;
       drawn_mask[i] = 1;
       ++drawn;
-      changed += std::abs(pr.simulated[i] - v.simulated[i]) > ps.threshold;
+      const bool c = std::abs(pr.simulated[i] - v.simulated[i]) > ps.threshold;
+      changed += c;
+      if (pictures) changed_mask[i] = c;
       coverage_changed += background[i] != v.background[i];
     }
     // Both luminances on the same 8-bit grid, so an unchanged LOD scores 1.
     for (float& l : pr.luminance) l = std::round(std::clamp(l, 0.f, 255.f));
     const double ssim = ssim_mean(luminance_original.data(), pr.luminance.data(), img.width, img.height,
                                   drawn_mask.data());
+    if (pictures) pictures->push_back(side_by_side(v, pr.luminance, background, changed_mask, img.width, img.height));
     views.push_back({{"view", v.view},
                      {"set", v.set},
                      {"drawn_pixels", drawn},
@@ -227,6 +271,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     SimplifyStats st;
     Scene lod;
     nlohmann::json views, search = nlohmann::json::array();
+    std::vector<Rgb8Image> pictures;  // per judged view: original | LOD | changes
     double seconds_compare = 0;
     const bool searching = job.fidelity_target && so.mode == SimplifyMode::Fidelity;
     std::vector<double> bounds = {so.bound_imperceptible_px};
@@ -235,7 +280,8 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       so.bound_imperceptible_px = e;
       lod = simplify(scene, lr.labels, so, &st);
       const auto t_cmp = Clock::now();
-      views = compare_lod_views(renderer, lod, judged, lj);
+      pictures.clear();
+      views = compare_lod_views(renderer, lod, judged, lj, out.dir.empty() ? nullptr : &pictures);
       seconds_compare += since(t_cmp);
       if (!searching) break;
       const nlohmann::json f = judge_views(views, job.target);
@@ -274,6 +320,11 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       ss << lod_path << ": the LOD at " << d << " m is empty (no triangle of the model is displayable there)";
       warn(ss.str());
     }
+    for (size_t k = 0; k < pictures.size(); ++k) {
+      const std::string file = out.view(views[k]["view"].get<std::string>(), d, "_lod_vs_original.png");
+      write_png(file, pictures[k].width, pictures[k].height, 3, pictures[k].pixels.data());
+      views[k]["comparison_image"] = file;
+    }
     entry["lod_vs_original"] = std::move(views);
     entry["fidelity"] = judge_views(entry["lod_vs_original"], job.limits);
     entry["seconds_compare"] = seconds_compare;
@@ -303,7 +354,6 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
   }
   report["seconds"] = since(t_all);
   write_text_atomic(out.report(), report.dump(2) + "\n");
-  write_model_report_html(report, out);  // the same report as a page beside it: out.report_html()
   return report;
 }
 

@@ -386,8 +386,7 @@ std::string label_views_table(const json& lod) {
 }
 
 // Per labelling view: the render of each of its tiles and its marking renders
-// (as listed in the report); then LOD renders beside the original where the
-// report names them (the "lod_render" hook).
+// (as listed in the report); then every judged view's comparison picture.
 std::string images_section(const json& lod, double d, const OutputNames& names) {
   std::ostringstream s;
   std::map<std::string, std::string> marking;  // file name -> path in the report
@@ -417,26 +416,28 @@ std::string images_section(const json& lod, double d, const OutputNames& names) 
     }
     s << "</div>\n";
   }
-  // LOD beside the original: only where the report says a LOD render exists.
-  std::ostringstream pairs;
-  size_t n = 0;
+  // LOD beside the original, from every judged view (labelling and held-out):
+  // compare_lod_views' pictures, original | LOD | changes.
+  std::ostringstream labelling, held_out;
   for (const auto& v : list(lod, "lod_vs_original")) {
-    const std::string lod_render = str(v, "lod_render");
-    if (lod_render.empty()) continue;
-    const std::string view = str(v, "view");
-    std::string original = str(v, "original_render");
-    if (original.empty() && str(v, "set") == "labelling") original = names.view(view, d, ".png");
-    pairs << "<div class=\"pair\">";
-    if (!original.empty()) pairs << image(relative(original, names), view + " original");
-    pairs << image(relative(lod_render, names), view + " LOD") << "</div>\n";
-    ++n;
+    const std::string picture = str(v, "comparison_image");
+    if (picture.empty()) continue;
+    std::ostringstream caption;
+    caption.precision(3);
+    caption << str(v, "view") << ": " << 100 * num(v, "changed_fraction") << "% changed, SSIM "
+            << num(v, "ssim_covered") << ", silhouette " << 100 * num(v, "silhouette_mismatch") << "%";
+    (str(v, "set") == "held_out" ? held_out : labelling) << image(relative(picture, names), caption.str());
   }
-  if (n)
-    s << "<h3>LOD beside the original</h3>\n" << pairs.str();
-  else
-    s << "<p class=\"muted\">No LOD renders in this report: the LOD is judged from renders kept in memory (figures "
-         "above). A report entry of <code>lod_vs_original</code> with <code>lod_render</code> (and "
-         "<code>original_render</code>) is shown here beside the original.</p>\n";
+  if (!labelling.str().empty() || !held_out.str().empty()) {
+    s << "<h3>LOD beside the original</h3>\n<p class=\"muted\">Each picture: the original | the LOD | the LOD "
+         "with perceptibly changed pixels red and pixels drawn by only one of the two blue (luminance, 1/4 "
+         "size).</p>\n";
+    if (!labelling.str().empty()) s << "<h4>Labelling views</h4>\n<div class=\"pair\">" << labelling.str() << "</div>\n";
+    if (!held_out.str().empty())
+      s << "<h4>Held-out views (never used for labelling)</h4>\n<div class=\"pair\">" << held_out.str() << "</div>\n";
+  } else {
+    s << "<p class=\"muted\">No LOD-beside-original pictures in this report.</p>\n";
+  }
   return s.str();
 }
 

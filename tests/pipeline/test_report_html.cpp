@@ -190,28 +190,27 @@ TEST(ReportHtml, ImagesAreRelativeNamesOfFilesThePipelineWrites) {
     EXPECT_EQ(h.find("out/"), std::string::npos) << h;
     EXPECT_NE(h.rfind("/", 0), 0u) << h;
   }
-  // No LOD render in the report: no pair, and the page says so.
-  EXPECT_TRUE(has(html, "No LOD renders in this report"));
+  // No comparison picture in the report: none shown, and the page says so.
+  EXPECT_TRUE(has(html, "No LOD-beside-original pictures in this report"));
 }
 
-TEST(ReportHtml, ShowsLodRendersBesideTheOriginalWhenTheReportNamesThem) {
+TEST(ReportHtml, ShowsEveryJudgedViewsComparisonPictureBySet) {
   const OutputNames n{"out", "bldg"};
   json report = small_report(n);
   json& views = report["lods"][0]["lod_vs_original"];
   for (auto& v : views) {
-    if (v["view"] == "az22.5el15") {
-      v["lod_render"] = "out/bldg_az22.5el15_56m_lod.png";
-      v["original_render"] = "out/bldg_az22.5el15_56m_original.png";
-    }
-    if (v["view"] == "back") v["lod_render"] = "out/bldg_back_56m_lod.png";  // original: its labelling render
+    if (v["view"] == "az22.5el15") v["comparison_image"] = "out/bldg_az22.5el15_56m_lod_vs_original.png";
+    if (v["view"] == "back") v["comparison_image"] = "out/bldg_back_56m_lod_vs_original.png";
   }
   const std::string html = model_report_html(report, n);
   EXPECT_TRUE(has(html, "<h3>LOD beside the original</h3>"));
-  EXPECT_TRUE(has(html, "src=\"bldg_az22.5el15_56m_lod.png\""));
-  EXPECT_TRUE(has(html, "src=\"bldg_az22.5el15_56m_original.png\""));
-  EXPECT_TRUE(has(html, "src=\"bldg_back_56m_lod.png\""));
-  EXPECT_EQ(occurrences(html, "src=\"bldg_back_56m.png\""), 2u);  // in the gallery and beside its LOD
-  EXPECT_EQ(occurrences(html, "No LOD renders in this report"), 1u);  // 132 m still has none
+  EXPECT_TRUE(has(html, "<h4>Labelling views</h4>"));
+  EXPECT_TRUE(has(html, "<h4>Held-out views (never used for labelling)</h4>"));
+  // Relative to the page, with the view's figures as the caption.
+  EXPECT_TRUE(has(html, "src=\"bldg_az22.5el15_56m_lod_vs_original.png\""));
+  EXPECT_TRUE(has(html, "src=\"bldg_back_56m_lod_vs_original.png\""));
+  EXPECT_TRUE(has(html, "az22.5el15: "));
+  EXPECT_EQ(occurrences(html, "No LOD-beside-original pictures in this report"), 1u);  // 132 m has none
 }
 
 TEST(ReportHtml, ChartsHaveOnePointPerDistance) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "perclod/display.h"
+#include "perclod/image_io.h"
 #include "perclod/labels_io.h"
 #include "perclod/outputs.h"
 #include "perclod/perception.h"
@@ -197,8 +198,11 @@ std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, con
 //  * silhouette_mismatch: pixels drawn in exactly one of the two, over the
 //    pixels the original draws (coverage_changed_pixels counts them).
 // Uploads `lod` to `renderer`.
+// `pictures`, when given, receives per view a picture at 1/4 size: the
+// original's luminance | the LOD's | the LOD's with changed pixels red and
+// silhouette changes blue (make_lods writes them as _lod_vs_original.png).
 nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
-                                 const LabelJob& job);
+                                 const LabelJob& job, std::vector<Rgb8Image>* pictures = nullptr);
 // The same from the labelling views of a LabelResult.
 nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
                                  const LabelJob& job);

@@ -10,12 +10,9 @@
 //  * per labelling view (each tile) the render <stem>_<view>_<d>m.png, and
 //    per view the marking renders the report's "marking_renders" lists
 //    (_marking.png, _marking_near.png);
-//  * a LOD render beside the original only where the report says one was
-//    written: an entry of "lod_vs_original" may carry "lod_render" (and
-//    "original_render"; labelling views default to their render), paths of
-//    PNGs in the output directory. make_lods writes none today (the LOD is
-//    judged from renders kept in memory), so these are the hook for a
-//    pipeline step that saves them; without them the page shows the figures.
+//  * per judged view (labelling and held-out) the picture make_lods writes
+//    and names in the view's "comparison_image": original | LOD | changes,
+//    captioned with the view's figures.
 #pragma once
 
 #include <string>
