@@ -467,17 +467,15 @@ bool bridge_hole(std::vector<uint32_t>& ring, const std::vector<uint32_t>& hole,
   // P may be in the ring more than once (an earlier bridge ends there): take
   // the occurrence whose inside wedge holds the direction to M.
   const uint32_t p = ring[pk];
+  auto in_wedge = [&](size_t at) {  // M seen from P at ring[at] is inside the polygon's corner there
+    const uint32_t pa = ring[(at + n - 1) % n], pc = ring[(at + 1) % n];
+    const double ux = X(pc) - X(p), uy = Y(pc) - Y(p), vx = X(pa) - X(p), vy = Y(pa) - Y(p);
+    const double dx = mx - X(p), dy = my - Y(p);
+    const double ud = ux * dy - uy * dx, dv = dx * vy - dy * vx;
+    return cross2(X(pa), Y(pa), X(p), Y(p), X(pc), Y(pc)) > 0 ? ud > 0 && dv > 0 : ud > 0 || dv > 0;
+  };
   for (size_t k = 0; k < n; ++k) {
     if (ring[k] != p || k == pk) continue;
-    const uint32_t a = ring[(k + n - 1) % n], c = ring[(k + 1) % n];
-    auto in_wedge = [&](size_t at) {
-      const uint32_t pa = ring[(at + n - 1) % n], pc = ring[(at + 1) % n];
-      const double ux = X(pc) - X(p), uy = Y(pc) - Y(p), vx = X(pa) - X(p), vy = Y(pa) - Y(p);
-      const double dx = mx - X(p), dy = my - Y(p);
-      const double ud = ux * dy - uy * dx, dv = dx * vy - dy * vx;
-      return cross2(X(pa), Y(pa), X(p), Y(p), X(pc), Y(pc)) > 0 ? ud > 0 && dv > 0 : ud > 0 || dv > 0;
-    };
-    (void)a, (void)c;
     if (!in_wedge(pk) && in_wedge(k)) {
       pk = k;
       break;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <iomanip>
 #include <sstream>
 #include <string>
 
@@ -355,4 +356,85 @@ TEST(CityJson, MalformedFilesThrowLoadErrorNamingTheFile) {
   // The out-of-range message names the index and the vertex count.
   const std::string msg = message_of(dir / "range.city.json");
   EXPECT_NE(msg.find("index 2 out of range (2 vertices)"), std::string::npos) << msg;
+}
+
+TEST(CityJson, RandomPolygonsWithHolesKeepTheirArea) {
+  // Star-shaped outer rings (concave, 5-40 corners) with up to 12 holes of
+  // 3-8 corners in separate cells (some sharing x or y with one another), in
+  // random planes: every surface's triangles must cover outer minus holes.
+  test::TempDir dir("cityjson-random-holes");
+  uint64_t state = 12345;
+  auto rnd = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return double(state >> 11) / double(1ULL << 53);
+  };
+  const double kPi = 3.14159265358979323846;
+  for (int round = 0; round < 40; ++round) {
+    std::ostringstream verts, bounds;
+    int nv = 0;
+    double expected = 0;
+    // A random orthonormal frame (u, v) to place the plane in 3D, far from the origin.
+    double u[3] = {rnd() - 0.5, rnd() - 0.5, rnd() - 0.5}, w[3] = {rnd() - 0.5, rnd() - 0.5, rnd() - 0.5};
+    const double un = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    for (double& c : u) c /= un;
+    const double d = w[0] * u[0] + w[1] * u[1] + w[2] * u[2];
+    for (int k = 0; k < 3; ++k) w[k] -= d * u[k];
+    const double wn = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    for (double& c : w) c /= wn;
+    auto add = [&](double x, double y) {
+      verts << (nv ? "," : "") << std::setprecision(17) << "[" << 1000 + x * u[0] + y * w[0] << ","
+            << 2000 + x * u[1] + y * w[1] << "," << 30 + x * u[2] + y * w[2] << "]";
+      return nv++;
+    };
+    auto ring_area = [](const std::vector<std::pair<double, double>>& r) {
+      double a = 0;
+      for (size_t i = 0; i < r.size(); ++i) {
+        const auto& p = r[i];
+        const auto& q = r[(i + 1) % r.size()];
+        a += p.first * q.second - q.first * p.second;
+      }
+      return 0.5 * a;
+    };
+    const int corners = 5 + int(rnd() * 36);
+    std::vector<std::pair<double, double>> outer;
+    for (int i = 0; i < corners; ++i) {
+      const double t = 2 * kPi * i / corners, r = 6 + 4 * rnd();
+      outer.push_back({r * std::cos(t), r * std::sin(t)});
+    }
+    expected += ring_area(outer);
+    bounds << "[[";
+    for (size_t i = 0; i < outer.size(); ++i) bounds << (i ? "," : "") << add(outer[i].first, outer[i].second);
+    bounds << "]";
+    // Holes in cells of a 4x4 grid over [-4, 4]^2 (inside every outer ring).
+    std::vector<int> cells(16);
+    for (int i = 0; i < 16; ++i) cells[size_t(i)] = i;
+    const int holes = int(rnd() * 13);
+    for (int h = 0; h < holes; ++h) {
+      const size_t pick = size_t(h) + size_t(rnd() * double(16 - h));
+      std::swap(cells[size_t(h)], cells[pick]);
+      const double cx = -3 + 2 * (cells[size_t(h)] % 4), cy = -3 + 2 * (cells[size_t(h)] / 4);
+      const int m = 3 + int(rnd() * 6);
+      std::vector<std::pair<double, double>> hole;
+      const bool square = rnd() < 0.3;  // axis-aligned: corners share x and y with other holes
+      for (int i = 0; i < m && !square; ++i) {
+        const double t = 2 * kPi * i / m, r = 0.3 + 0.6 * rnd();
+        hole.push_back({cx + r * std::cos(t), cy + r * std::sin(t)});
+      }
+      if (square) hole = {{cx - 0.5, cy - 0.5}, {cx + 0.5, cy - 0.5}, {cx + 0.5, cy + 0.5}, {cx - 0.5, cy + 0.5}};
+      if (rnd() < 0.5) std::reverse(hole.begin(), hole.end());  // either orientation is accepted
+      expected -= std::fabs(ring_area(hole));
+      bounds << ",[";
+      for (size_t i = 0; i < hole.size(); ++i) bounds << (i ? "," : "") << add(hole[i].first, hole[i].second);
+      bounds << "]";
+    }
+    bounds << "]";
+    const std::string objects = R"("s": {"type": "Building", "geometry": [{"type": "MultiSurface", "lod": "2",
+        "boundaries": [)" + bounds.str() + "]}]}";
+    LoadReport rep;
+    const Scene s = load_scene(dir.file("r.city.json", city(objects, verts.str())), {}, &rep);
+    EXPECT_EQ(rep.polygons_holes_failed, 0u) << "round " << round;
+    EXPECT_EQ(rep.polygons_fanned, 0u) << "round " << round;
+    EXPECT_NEAR(total_area(s), expected, 1e-4 * expected) << "round " << round << ", " << holes << " holes";
+    EXPECT_EQ(s.triangle_count(), size_t(nv + 2 * holes - 2)) << "round " << round;
+  }
 }
