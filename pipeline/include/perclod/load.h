@@ -26,7 +26,7 @@
 // surface type (RoofSurface red, WallSurface light grey, GroundSurface dark,
 // Window blue, Door brown...), else the default.
 //
-// Components: an OBJ's o/g groups, assimp's nodes/meshes; where a file has at
+// Components: an OBJ's o/g groups, assimp's nodes/meshes (CityJSON: above); where one has at
 // most one, the connected parts after welding equal positions.
 // Nothing is silently dropped: polygons are triangulated, zero-area and
 // repeated-vertex triangles are kept and counted. NaN/inf coordinates,
@@ -56,7 +56,7 @@ struct LoadOptions {
 
 struct LoadReport {
   size_t polygons = 0;              // faces in the file
-  size_t polygons_triangulated = 0; // faces with more than 3 corners
+  size_t polygons_triangulated = 0; // faces with more than 3 corners (or with holes)
   // Faces ear clipping could not finish (self-intersecting, or too costly: a
   // huge polygon with few ears); their remainder is a fan that may overlap.
   size_t polygons_fanned = 0;
