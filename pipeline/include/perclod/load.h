@@ -6,7 +6,27 @@
 // become float; Scene::offset keeps the centre. PLY, glTF/GLB, STL, IFC, DAE,
 // FBX go through assimp (float; recentred the same way).
 //
-// Components: an OBJ's o/g groups, assimp's nodes/meshes; where a file has at
+// CityJSON (1.0, 1.1, 2.0): a `.city.json`, `.cityjson` or `.json` file (or
+// one without an extension) whose top-level "type" is "CityJSON" - the content
+// decides, a `.json` that is not CityJSON is a LoadError. Vertices go through
+// the file's `transform` (v * scale + translate) in double, then are recentred
+// like OBJ. One component per CityObject with geometry (even if only one
+// has geometry: no connected parts): a top-level object is
+// named by its id, a child (an object with "parents": BuildingPart,
+// BuildingInstallation...) "<top-level id>/<child id>" (deeper descendants
+// "<top>/<parent>/<child>"), and a top-level object whose descendants have
+// geometry names its own geometry "<id>/<id>", so find_buildings() groups a
+// building with its parts ('/' inside an id becomes '|'). Geometry:
+// MultiSurface, CompositeSurface, Solid, MultiSolid, CompositeSolid and
+// GeometryInstance (templates); surfaces are polygons with holes, joined into
+// one ring by bridge edges and ear clipped. LoadOptions::cityjson_lod picks
+// the LOD; MultiPoint/MultiLineString geometries are skipped and counted.
+// Colours: the appearance's material diffuseColor where a surface has one
+// (the "default-theme-material", else the first theme), else the semantic
+// surface type (RoofSurface red, WallSurface light grey, GroundSurface dark,
+// Window blue, Door brown...), else the default.
+//
+// Components: an OBJ's o/g groups, assimp's nodes/meshes (CityJSON: above); where one has at
 // most one, the connected parts after welding equal positions.
 // Nothing is silently dropped: polygons are triangulated, zero-area and
 // repeated-vertex triangles are kept and counted. NaN/inf coordinates,
@@ -28,16 +48,33 @@ struct LoadError : std::runtime_error {
 
 struct LoadOptions {
   double scale = 1.0;  // unit scale applied to source coordinates (e.g. 0.001 for mm)
+  // CityJSON only: the LOD whose geometry is read. "" = the highest LOD each
+  // CityObject has; else a LOD such as "2", "2.2", "3", compared as a number
+  // ("2" matches "2.0", not "2.2"). A CityObject with geometry but none at
+  // that LOD is skipped and counted (LoadReport::cityjson_objects_without_lod).
+  std::string cityjson_lod = "";
 };
 
 struct LoadReport {
   size_t polygons = 0;              // faces in the file
-  size_t polygons_triangulated = 0; // faces with more than 3 corners
+  size_t polygons_triangulated = 0; // faces with more than 3 corners (or with holes)
   // Faces ear clipping could not finish (self-intersecting, or too costly: a
   // huge polygon with few ears); their remainder is a fan that may overlap.
   size_t polygons_fanned = 0;
   size_t degenerate_triangles = 0;  // zero area or repeated vertex (kept)
   bool components_from_connectivity = false;
+  // Surfaces with holes (CityJSON), and those of them whose triangles do not
+  // cover exactly the outer ring minus the holes (a hole outside its outer
+  // ring, overlapping holes, self-intersecting rings): kept as triangulated.
+  size_t polygons_with_holes = 0;
+  size_t polygons_holes_failed = 0;
+  // Surfaces skipped because their outer ring has fewer than 3 distinct corners.
+  size_t polygons_skipped = 0;
+  // CityJSON: CityObjects with geometry but none at LoadOptions::cityjson_lod
+  // (skipped), and geometries of a type without surfaces (MultiPoint,
+  // MultiLineString) or unknown (skipped).
+  size_t cityjson_objects_without_lod = 0;
+  size_t cityjson_geometries_unsupported = 0;
   double seconds = 0;
 };
 
