@@ -12,13 +12,20 @@
 namespace perclod::cli {
 
 void ModelArgs::add(CLI::App* cmd) {
-  cmd->add_option("MODEL", path, "Model file: OBJ, PLY, glTF/GLB, STL, IFC, DAE, FBX")->required();
+  cmd->add_option("MODEL", path, "Model file: OBJ, CityJSON, PLY, glTF/GLB, STL, IFC, DAE, FBX")->required();
   cmd->add_option("--up", up, "Up axis of the model: y (default) or z (CityGML-derived data)")
       ->check(CLI::IsMember({"y", "z", "Y", "Z"}));
   cmd->add_option("--scale", scale, "Unit scale to metres (e.g. 0.001 for a model in mm)")->check(kPositive);
+  cmd->add_option("--cityjson-lod", cityjson_lod,
+                  "CityJSON: the LOD geometry to read, e.g. 2 or 2.2 (default: each object's highest)");
 }
 
-Scene ModelArgs::load(LoadReport* report, bool quiet) const { return load_model(path, LoadOptions{scale}, report, quiet); }
+Scene ModelArgs::load(LoadReport* report, bool quiet) const {
+  LoadOptions o;
+  o.scale = scale;
+  o.cityjson_lod = cityjson_lod;
+  return load_model(path, o, report, quiet);
+}
 
 Scene load_model(const std::string& path, const LoadOptions& options, LoadReport* report, bool quiet) {
   LoadReport rep;

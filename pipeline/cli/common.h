@@ -19,6 +19,7 @@ struct ModelArgs {
   std::string path;
   std::string up = "y";
   double scale = 1.0;
+  std::string cityjson_lod;
   void add(CLI::App* cmd);
   // Loads the model; prints a one-line summary to stderr unless quiet.
   Scene load(LoadReport* report = nullptr, bool quiet = false) const;

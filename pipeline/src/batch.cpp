@@ -281,6 +281,7 @@ nlohmann::json run_model(const BatchConfig& config, const ModelRun& run, const s
   LodJob job = lod_job(c);
   LoadOptions lo;
   lo.scale = c.scale;
+  lo.cityjson_lod = c.cityjson_lod;
   LoadReport rep;
   Scene scene = load_scene(c.model, lo, &rep);
   if (progress) {

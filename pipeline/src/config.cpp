@@ -287,7 +287,7 @@ bool is_model_file(const std::filesystem::path& p) {
   std::string e = p.extension().string();
   for (auto& ch : e) ch = char(std::tolower(static_cast<unsigned char>(ch)));
   static const std::set<std::string> kExt = {".obj", ".ply", ".glb", ".gltf", ".stl", ".dae",
-                                             ".fbx", ".ifc", ".json"};
+                                             ".fbx", ".ifc", ".json", ".cityjson"};
   return kExt.count(e) > 0;
 }
 

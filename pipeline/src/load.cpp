@@ -1324,7 +1324,14 @@ nlohmann::json load_report_json(const LoadReport& r) {
                       {"degenerate_triangles", r.degenerate_triangles},
                       {"components_from_connectivity", r.components_from_connectivity},
                       {"seconds", r.seconds}};
-  if (r.polygons_fanned) j["polygons_fanned"] = r.polygons_fanned;  // only when it happened
+  // Counts of what could not be used as it was: only when it happened.
+  for (const auto& [key, n] : {std::pair<const char*, size_t>{"polygons_fanned", r.polygons_fanned},
+                               {"polygons_with_holes", r.polygons_with_holes},
+                               {"polygons_holes_failed", r.polygons_holes_failed},
+                               {"polygons_skipped", r.polygons_skipped},
+                               {"cityjson_objects_without_lod", r.cityjson_objects_without_lod},
+                               {"cityjson_geometries_unsupported", r.cityjson_geometries_unsupported}})
+    if (n) j[key] = n;
   return j;
 }
 

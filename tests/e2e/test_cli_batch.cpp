@@ -208,3 +208,27 @@ TEST(CliBatch, OneModelConfigsWriteTheManifestBesideTheLods) {
   EXPECT_TRUE(fs::exists(b.root / "one" / "alpha_lod_427m.glb"));
   EXPECT_TRUE(fs::exists(b.root / "one" / "alpha_lods.glb"));
 }
+
+TEST(CliBatch, CityJsonModelsTakeTheirLodFromTheConfig) {
+  BatchDir b("cityjson");
+  const std::string fixture = PERCLOD_SOURCE_DIR "/tests/pipeline/fixtures/bldg_4018215.city.json";
+  std::ofstream(b.root / "city.yaml") << "out: " << (b.root / "cj").string() << "\n"
+                                      << "distances: [56]\nviews: facades\nsamples: 1\njudge_views: none\nup: z\n"
+                                      << "models:\n  - {model: " << fixture << ", cityjson_lod: \"2\"}\n"
+                                      << "  - {model: " << fixture << ", cityjson_lod: \"3\"}\n";
+  auto r = run_cli("run " + (b.root / "city.yaml").string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto s = nlohmann::json::parse(r.out);
+  ASSERT_EQ(s["models"].size(), 2u);
+  // The same file twice: the folder's name first, then a number, tell them apart.
+  EXPECT_EQ(s["models"][0]["name"], "fixtures_bldg_4018215.city");
+  EXPECT_EQ(s["models"][1]["name"], "fixtures_bldg_4018215.city_2");
+  const auto lod2 = read_json(b.root / "cj" / "fixtures_bldg_4018215.city" / "bldg_4018215.city_manifest.json");
+  const auto lod3 = read_json(b.root / "cj" / "fixtures_bldg_4018215.city_2" / "bldg_4018215.city_manifest.json");
+  EXPECT_EQ(lod2["model"]["triangles"], 12);     // the box of the fixture's lod 2
+  EXPECT_EQ(lod3["model"]["triangles"], 12456);  // the converted LOD3 building
+  EXPECT_EQ(lod2["config"]["settings"]["cityjson_lod"], "2");
+  EXPECT_NE(lod2["config"]["hash"], lod3["config"]["hash"]);
+  // Real UTM coordinates through the file's transform, in double.
+  EXPECT_NEAR(lod3["model"]["offset"][0].get<double>(), 678117.251, 2e-3);
+}
