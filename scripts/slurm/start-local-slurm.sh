@@ -16,7 +16,7 @@
 #   - munge (Slurm's authentication) with a key made here if there is none;
 #   - one node named after this host with all its CPUs and most of its memory,
 #     in one partition "local" (the default);
-#   - no cgroups (proctrack/linuxproc, task/none) and no accounting database:
+#   - no cgroups (proctrack/linuxproc, task/affinity) and no accounting database:
 #     finished jobs are kept in slurmctld's memory for an hour (MinJobAge), so
 #     `scontrol show job` still shows each array task's exit code after it
 #     ends, and every finished job is also logged one line each to
@@ -120,9 +120,13 @@ SlurmdPidFile=$RUN/slurmd.pid
 SlurmctldLogFile=$LOGS/slurmctld.log
 SlurmdLogFile=$LOGS/slurmd.log
 
-# No cgroups: track job processes through /proc and bind nothing.
+# No cgroups: track job processes through /proc. task/affinity pins each
+# task to the CPUs it was given (sched_setaffinity, no cgroups needed), so a
+# program that sizes its thread pool from its affinity mask, as oneTBB and so
+# perclod do, uses --cpus-per-task threads instead of every core of the node.
+# task/none also works but lets concurrent tasks oversubscribe the cores.
 ProctrackType=proctrack/linuxproc
-TaskPlugin=task/none
+TaskPlugin=task/affinity
 MpiDefault=none
 # No mail server here: job mail (--mail-type) goes nowhere.
 MailProg=/bin/true
@@ -156,8 +160,10 @@ EOF
     else
         mv "$CONF.new" "$CONF"
         log "wrote $CONF ($HOST: $cpus CPUs, $mem_mib MiB)"
-        # A running controller must re-read a changed file.
-        if alive "$RUN/slurmctld.pid"; then scontrol reconfigure; fi
+        # Running daemons must read the new file; some settings (plugins)
+        # are only read at start, so restart them rather than reconfigure.
+        stop_daemon slurmd "$RUN/slurmd.pid"
+        stop_daemon slurmctld "$RUN/slurmctld.pid"
     fi
 fi
 
