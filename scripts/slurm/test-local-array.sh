@@ -108,10 +108,21 @@ job=${job%%;*}
 say "array job $job finished in $total s (sbatch --wait exit $rc)"
 [[ $rc == 0 ]] || fail "sbatch --wait exited $rc (the highest exit code of the tasks)"
 
+# The models a task's log shows it working on: perclod's batch progress lines
+# "[k/m NAME] start: ..." and the LOD files it names (NAME_lod_56m.obj).
+task_models() {
+    { grep -oE '^\[[0-9]+/[0-9]+ [^]]+\] start:' "$1" | sed -E 's/^\[[0-9]+\/[0-9]+ //; s/\] start:$//'
+      grep -oE '[^/ ]+_lod_[0-9]+m\.(obj|glb)' "$1" | sed -E 's/_lod_[0-9]+m\..*//'
+    } 2>/dev/null | sort -u || true
+}
+
 # --- Each task: state, exit code, wall time ----------------------------------
-# scontrol prints one line per array task; StartTime/EndTime give wall time.
+# scontrol prints one line per array task (in no particular order); their
+# StartTime/EndTime give the wall time, to the second.
 declare -A task_log
-lines=$(scontrol -o show job "$job" | sort -t= -k1,1 | awk '{ for (i = 1; i <= NF; i++) if ($i ~ /^ArrayTaskId=/) { split($i, a, "="); print a[2] "\t" $0 } }' | sort -n | cut -f2-)
+lines=$(scontrol -o show job "$job" \
+    | awk '{ for (i = 1; i <= NF; i++) if ($i ~ /^ArrayTaskId=/) { split($i, a, "="); print a[2] "\t" $0 } }' \
+    | sort -n | cut -f2-)
 seen=0
 while IFS= read -r line; do
     field() { grep -oE "(^| )$1=[^ ]*" <<<"$line" | head -1 | cut -d= -f2-; }
@@ -119,9 +130,8 @@ while IFS= read -r line; do
     wall=$(( $(date -d "$(field EndTime)" +%s) - $(date -d "$(field StartTime)" +%s) ))
     log=$work/slurm-${job}_$id.out
     task_log[$id]=$log
-    n_models=$( { grep -oE "[^/ ]+_lod_[0-9]+m\.(obj|glb)" "$log" 2>/dev/null || true; } \
-                | sed -E 's/_lod_[0-9]+m\..*//' | sort -u | wc -l)
-    printf '  task %s: %s, exit %s, wall %s s, %s models\n' "$id" "$state" "$code" "$wall" "$n_models"
+    mine=$(task_models "$log" | tr '\n' ' ')
+    printf '  task %s: %s, exit %s, wall %s s, models: %s\n' "$id" "$state" "$code" "$wall" "${mine:-none}"
     [[ $state == COMPLETED && $code == 0:0 ]] || fail "task $id: $state, exit code $code (log $log)"
     seen=$((seen + 1))
 done <<<"$lines"
@@ -136,24 +146,45 @@ for name in "${models[@]}"; do
     done
     compgen -G "$dir/*report.json" >/dev/null || fail "$name: no report in $dir"
 done
-# Anything in out/ that is not one of the models' directories (a temporary
-# directory left behind, a second copy under another name, a loose file):
+# Besides the models' folders out/ may hold each shard's summary
+# (batch_<i>_of_<n>.json) and the batch's tileset.json. Anything else (a
+# .NAME.partial-PID folder left behind, a second copy of a model under another
+# name, a loose file) is a failure.
 while IFS= read -r entry; do
     e=$(basename "$entry")
-    [[ $e == .perclod.lock ]] && continue
+    case $e in .perclod.lock|tileset.json|batch_*_of_*.json) continue ;; esac
     printf '%s\n' "${models[@]}" | grep -qxF "$e" || fail "unexpected entry in out/: $e"
 done < <(find "$work/out" -mindepth 1 -maxdepth 1)
+# Each shard's summary must list no failed model.
+for id in "${!task_log[@]}"; do
+    summary=$work/out/batch_${id}_of_${tasks}.json
+    if [[ ! -f $summary ]]; then fail "task $id wrote no summary $summary"; continue; fi
+    python3 - "$summary" <<'PY' || fail "task $id: its summary lists failed models ($summary)"
+import json, sys
+s = json.load(open(sys.argv[1]))
+bad = [m["name"] for m in s.get("models", []) if m.get("status") not in ("done", "skipped")]
+sys.exit(1 if bad or s.get("failed", 0) else 0)
+PY
+done
+# The batch tileset, written by every shard as it ends, must still name every
+# model that has a tileset of its own (the last shard to end sees them all).
+if [[ -f $work/out/tileset.json ]]; then
+    for ts in "$work"/out/*/*_tileset.json; do
+        [[ -e $ts ]] || continue
+        grep -qF "$(basename "$ts")" "$work/out/tileset.json" \
+            || fail "out/tileset.json does not reference $(basename "$(dirname "$ts")")"
+    done
+fi
 
 # --- Shards partition the models ---------------------------------------------
-# A task's log names the LOD files it wrote (..._lod_56m.obj); each model must
-# appear in exactly one task's log.
+# Each model must show up in exactly one task's log.
 for name in "${models[@]}"; do
     owners=()
-    for id in "${!task_log[@]}"; do
-        grep -qE "(^|[/ ])${name}_lod_[0-9]+m\." "${task_log[$id]}" 2>/dev/null && owners+=("$id")
+    for id in $(printf '%s\n' "${!task_log[@]}" | sort -n); do
+        task_models "${task_log[$id]}" | grep -qxF "$name" && owners+=("$id")
     done
     case ${#owners[@]} in
-        1) printf '  %s: task %s\n' "$name" "${owners[0]}" ;;
+        1) ;;
         0) fail "$name: processed by no task" ;;
         *) fail "$name: processed by tasks ${owners[*]}" ;;
     esac
@@ -169,7 +200,9 @@ job2=$(submit) || rc=$?
 job2=${job2%%;*}
 say "re-run: array job $job2 finished in $(( $(date +%s) - t0 )) s (exit $rc)"
 [[ $rc == 0 ]] || fail "re-run: sbatch --wait exited $rc"
-changed=$(find "$work/out" -type f -newer "$stamp" ! -name .perclod.lock | head -5)
+# Only the models' folders count: each shard rewrites its summary and the
+# batch tileset every time.
+changed=$(find "$work/out" -mindepth 2 -type f -newer "$stamp" ! -name .perclod.lock | head -5)
 [[ -z $changed ]] || fail "re-run rewrote finished outputs without --force, e.g.: $(tr '\n' ' ' <<<"$changed")"
 
 say "total wall time of the first array: $total s; logs and outputs in $work"
