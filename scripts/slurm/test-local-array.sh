@@ -91,6 +91,7 @@ models=()
         models+=("$name")
     done < <(find "$(cd "$DATA" && pwd)" -name '*.obj' | sort)
 } >"$config"
+say "$("$PERCLOD" --version 2>/dev/null || echo perclod) at $PERCLOD"
 say "${#models[@]} models (${models[*]}), $tasks tasks; work dir $work"
 cat "$config"
 
