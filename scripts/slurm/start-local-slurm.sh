@@ -187,7 +187,7 @@ fi
 # "allocated" if jobs already run). A node left "down" or "drained" by an
 # earlier run is resumed once.
 resumed=no
-for i in $(seq 60); do
+for _ in $(seq 60); do
     state=$(sinfo -h -N -n "$HOST" -o %T 2>/dev/null | head -1 || true)
     case $state in
         idle|mixed|allocated|completing)
