@@ -12,16 +12,18 @@
 #   - every model has exactly one complete output directory <out>/<model>/,
 #     with a LOD per distance and a report, and no temporary directory is left,
 #   - no model was processed by two tasks and none by no task (the shards
-#     partition the list), judged from which task's log names the model's LODs,
+#     partition the list), judged from the models each task's log shows it
+#     starting, and no shard's summary (out/batch_<i>_of_<n>.json) lists a failure,
 #   - submitting the same array again processes nothing (finished models are
 #     skipped without --force) and leaves the outputs untouched,
 # and prints each task's wall time and the total. Exits non-zero on any failure.
 #
 # The run is kept small: distances 56 and 427 m, the four facade views, one
 # sample per pixel, no Embree cross-check, no per-building labelling, no
-# held-out judging. Measured on one core of a 2-core machine, one model takes
-# 25-32 s at these settings and ingolstadt_lod3_all53.obj (148k triangles)
-# 78 s; --quick leaves that one out.
+# held-out judging. Measured on one core of a 2-core machine (shared with
+# other builds), one model takes 10-30 s at these settings and
+# ingolstadt_lod3_all53.obj (148k triangles) 40-80 s; the whole test with 3
+# tasks takes about 1.5-2 minutes. --quick leaves the big model out.
 #
 # Environment: PERCLOD (default build/perclod of this repository) is the binary
 # the array runs; it must have `perclod run --shard`. Slurm daemons started by
