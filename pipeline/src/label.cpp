@@ -82,6 +82,7 @@ Buildings find_buildings(const Scene& scene) {
     std::string key = slash == std::string::npos ? name + "\n" + std::to_string(c) : name.substr(0, slash);
     auto [it, added] = index.emplace(key, uint32_t(b.names.size()));
     if (added) b.names.push_back(slash == std::string::npos ? name : key);
+    if (added && slash != std::string::npos) ++b.named;
     b.of_component[c] = it->second;
   }
   return b;
@@ -264,7 +265,9 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   bool per_building = job.per_building == PerBuilding::On;
   if (job.per_building != PerBuilding::Off) {
     buildings = find_buildings(scene);
-    if (job.per_building == PerBuilding::Auto) per_building = buildings.names.size() >= 2;
+    // Auto: only files whose names say they hold buildings; a model whose
+    // 1,000 groups are just parts (no '/') is one building, not 1,000.
+    if (job.per_building == PerBuilding::Auto) per_building = buildings.named >= 2;
   }
   if (per_building) {
     std::vector<uint32_t> owner(nt);

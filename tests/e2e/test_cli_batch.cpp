@@ -232,3 +232,34 @@ TEST(CliBatch, CityJsonModelsTakeTheirLodFromTheConfig) {
   // Real UTM coordinates through the file's transform, in double.
   EXPECT_NEAR(lod3["model"]["offset"][0].get<double>(), 678117.251, 2e-3);
 }
+
+TEST(CliBatch, ModelsInParallelGiveTheSameOutputsAndTheMemoryBudgetHoldsThemBack) {
+  BatchDir b("jobs");
+  std::ofstream(b.root / "seq.yaml") << "out: " << (b.root / "seq").string() << "\n"
+                                     << "distances: [56]\nviews: facades\nsamples: 1\njudge_views: none\n"
+                                     << "models:\n  - models/alpha.obj\n  - models/broken.obj\n"
+                                     << "  - {model: models/beta.obj, up: z}\n";
+  std::ofstream(b.root / "par.yaml") << "out: " << (b.root / "par").string() << "\njobs: 2\n"
+                                     << "distances: [56]\nviews: facades\nsamples: 1\njudge_views: none\n"
+                                     << "models:\n  - models/alpha.obj\n  - models/broken.obj\n"
+                                     << "  - {model: models/beta.obj, up: z}\n";
+  auto seq = run_cli("run " + (b.root / "seq.yaml").string());
+  auto par = run_cli("run " + (b.root / "par.yaml").string());
+  EXPECT_EQ(seq.exit_code, 1);
+  EXPECT_EQ(par.exit_code, 1);
+  // Two at a time: broken.obj starts before alpha is done.
+  const size_t alpha_done = par.err.find("[1/3 alpha] done"), broken_start = par.err.find("[2/3 broken] start");
+  ASSERT_NE(alpha_done, std::string::npos) << par.err;
+  ASSERT_NE(broken_start, std::string::npos) << par.err;
+  EXPECT_LT(broken_start, alpha_done) << par.err;
+  for (const std::string name : {"alpha", "beta"})
+    for (const std::string file : {"_labels_56m.txt", "_lod_56m.obj", "_lod_56m.glb"}) {
+      std::ifstream a(b.root / "seq" / name / (name + file)), p(b.root / "par" / name / (name + file));
+      const std::string sa((std::istreambuf_iterator<char>(a)), {}), sp((std::istreambuf_iterator<char>(p)), {});
+      EXPECT_FALSE(sa.empty()) << name + file;
+      EXPECT_EQ(sa, sp) << name + file;
+    }
+  // A budget that fits one model's estimate (about 320 MiB) runs one at a time.
+  par = run_cli("run " + (b.root / "par.yaml").string() + " --force --memory-budget-mb 400");
+  EXPECT_LT(par.err.find("[1/3 alpha] done"), par.err.find("[2/3 broken] start")) << par.err;
+}

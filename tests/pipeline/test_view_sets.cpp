@@ -124,6 +124,7 @@ TEST(ViewSets, PerBuildingViewsLabelEachBuildingAtItsOwnDistance) {
   Buildings b = find_buildings(s);
   ASSERT_EQ(b.names, (std::vector<std::string>{"a", "b"}));
   EXPECT_EQ(b.of_component, (std::vector<uint32_t>{0, 0, 1, 1}));
+  EXPECT_EQ(b.named, 2u);
 
   auto plaque_front = [](const LabelResult& r, size_t first) {  // the plaque's +y quad
     return r.labels[first + 6] != Label::Undisplayable || r.labels[first + 7] != Label::Undisplayable;
@@ -137,6 +138,15 @@ TEST(ViewSets, PerBuildingViewsLabelEachBuildingAtItsOwnDistance) {
   EXPECT_TRUE(plaque_front(per, 12));
   EXPECT_TRUE(plaque_front(per, 36));
   EXPECT_EQ(per.report["per_building"].size(), 2u);
+  // The same groups without "<building>/" names are parts of one model:
+  // auto leaves them to the whole-model views.
+  Scene parts = s;
+  parts.component_names = {"Building_1", "Window_2", "Building_3", "Window_4"};
+  EXPECT_EQ(find_buildings(parts).names.size(), 4u);
+  EXPECT_EQ(find_buildings(parts).named, 0u);
+  LabelResult auto_parts = label(parts, job);
+  EXPECT_FALSE(auto_parts.report.contains("per_building"));
+  EXPECT_EQ(auto_parts.labels, whole.labels);
   // Per-building views only add: nothing labelled by the whole-model views is lost.
   for (size_t t = 0; t < s.triangle_count(); ++t)
     if (whole.labels[t] == Label::Perceptible) {

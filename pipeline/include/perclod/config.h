@@ -26,7 +26,7 @@ struct BatchConfig {
   std::vector<std::string> views = {kDefaultViews};  // view set items (perclod/views.h); "facades:" is the old key
   int samples = kDefaultSamples;     // samples per pixel: 1, 2, 4, 8
   int spins = 1;                     // perception cycle spinning: 1 (the paper), 2, 4
-  std::string per_building = "auto"; // true | false | auto (two or more buildings in the file)
+  std::string per_building = "auto"; // true | false | auto (two or more buildings named "<building>/<part>")
   std::string out = "out";
   std::string tracer = "octree";     // octree | embree
   bool verify = false;               // also trace with Embree and report agreement

@@ -65,6 +65,8 @@ TracerKind parse_tracer(const std::string& s);  // "octree" | "embree"
 std::unique_ptr<Tracer> make_tracer(const Scene& scene, TracerKind kind);
 
 // How a model is split into buildings for per-building labelling.
+// Auto: on when component names give two or more buildings by their
+// "<building>/" prefix (CityGML-derived OBJ and CityJSON files).
 enum class PerBuilding { Off, On, Auto };
 PerBuilding parse_per_building(const std::string& s);  // "false" | "true" | "auto"
 
@@ -75,6 +77,7 @@ PerBuilding parse_per_building(const std::string& s);  // "false" | "true" | "au
 struct Buildings {
   std::vector<uint32_t> of_component;
   std::vector<std::string> names;
+  size_t named = 0;  // buildings named by a "<building>/" prefix (PerBuilding::Auto needs two)
 };
 Buildings find_buildings(const Scene& scene);
 
