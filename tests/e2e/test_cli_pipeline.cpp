@@ -134,7 +134,9 @@ TEST(CliPipeline, RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput) {
   std::ifstream page(out / "result" / "bldg_4018215_report.html");
   ASSERT_TRUE(page.good());
   const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
-  EXPECT_NE(html.find("<title>perclod report: bldg_4018215</title>"), std::string::npos);
+  // Titled by the model file as the config names it.
+  EXPECT_NE(html.find("<title>perclod report: " + j["model"].get<std::string>() + "</title>"), std::string::npos);
+  EXPECT_NE(html.find("bldg_4018215.obj</title>"), std::string::npos);
   EXPECT_NE(html.find("href=\"bldg_4018215_lod_427m.obj\""), std::string::npos);
   EXPECT_NE(html.find("src=\"bldg_4018215_+x_56m_marking.png\""), std::string::npos);
   for (const auto& lod : j["lods"])
