@@ -215,7 +215,7 @@ nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>&
     write_text_atomic(out.file("_tileset.json"), tileset.dump(2) + "\n");
     files["tileset"] = leaf(out.file("_tileset.json"));
   }
-  if (fs::exists(out.file("_report.html"))) files["report_html"] = leaf(out.file("_report.html"));
+  if (fs::exists(out.report_html())) files["report_html"] = leaf(out.report_html());
 
   nlohmann::json lod_list = nlohmann::json::array();
   for (const LodRange& r : ranges) {
@@ -338,8 +338,9 @@ struct Slot {
   nlohmann::json result;
 };
 
-// The complete outputs of a model: its manifest, if whole and readable.
-nlohmann::json read_manifest(const std::string& path) {
+// A JSON file (a manifest, a tileset, a summary), or null when it is missing
+// or unreadable.
+nlohmann::json read_json_file(const std::string& path) {
   std::ifstream in(path);
   if (!in) return nullptr;
   try {
@@ -352,10 +353,14 @@ nlohmann::json read_manifest(const std::string& path) {
 // Per LOD of a manifest: distance, total triangles, worst figures.
 nlohmann::json summary_lods(const nlohmann::json& manifest) {
   nlohmann::json r = nlohmann::json::array();
-  if (manifest.is_object() && manifest.contains("lods"))
-    for (const auto& l : manifest["lods"])
-      r.push_back({{"distance", l["distance"]}, {"triangles", l["triangles"]["total"]},
-                   {"worst", l["fidelity"]["worst"]}});
+  const nlohmann::json lods = manifest.is_object() ? manifest.value("lods", nlohmann::json::array()) : nlohmann::json();
+  if (lods.is_array())
+    for (const auto& l : lods) {
+      if (!l.is_object()) continue;
+      r.push_back({{"distance", l.value("distance", 0.0)},
+                   {"triangles", l.value("triangles", nlohmann::json::object()).value("total", size_t(0))},
+                   {"worst", l.value("fidelity", nlohmann::json::object()).value("worst", nlohmann::json::object())}});
+    }
   return r;
 }
 
@@ -463,7 +468,7 @@ void write_batch_tileset(const std::string& out) {
     for (const auto& f : fs::directory_iterator(d, ec)) {
       const std::string name = f.path().filename().string();
       if (name.size() < 13 || name.compare(name.size() - 13, 13, "_tileset.json") != 0) continue;
-      nlohmann::json t = read_manifest(f.path().string());
+      nlohmann::json t = read_json_file(f.path().string());
       if (!t.is_object() || !t.contains("root")) continue;
       nlohmann::json root = t["root"];
       nlohmann::json child = {{"boundingVolume", root["boundingVolume"]},
@@ -521,7 +526,7 @@ void write_batch_tileset(const std::string& out) {
 void write_batch_index(const std::string& out, int shards) {
   nlohmann::json all = {{"models", nlohmann::json::array()}, {"done", 0}, {"skipped", 0}, {"failed", 0}, {"seconds", 0.0}};
   for (int i = 0; i < shards; ++i) {
-    const nlohmann::json s = read_manifest(
+    const nlohmann::json s = read_json_file(
         (fs::path(out) / ("batch_" + std::to_string(i) + "_of_" + std::to_string(shards) + ".json")).string());
     if (!s.is_object()) continue;
     for (const auto& m : s["models"]) all["models"].push_back(m);
@@ -580,13 +585,17 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
       run.config_file = config.path;
       run.input_hash = hash_file(c.model);
       run.settings_hash = hash_text(settings_json(c).dump());
-      const nlohmann::json old = read_manifest(manifest_path(final_dir, c));
+      const nlohmann::json old = read_json_file(manifest_path(final_dir, c));
+      const auto field = [&](const char* part) {  // old[part]["hash"], "" when absent
+        return old.is_object() ? old.value(part, nlohmann::json::object()).value("hash", std::string()) : std::string();
+      };
       if (!options.force && old.is_object() && old.value("complete", false) &&
-          old.value("perclod_version", "") == perclod_version() && old["model"].value("hash", "") == run.input_hash &&
-          old["config"].value("hash", "") == run.settings_hash) {
+          old.value("perclod_version", "") == perclod_version() && field("model") == run.input_hash &&
+          field("config") == run.settings_hash) {
         r["status"] = "skipped";
         r["lods"] = summary_lods(old);
-        if (old["files"].contains("report_html")) r["report_html"] = m.name + "/" + old["files"]["report_html"].get<std::string>();
+        const nlohmann::json files = old.value("files", nlohmann::json::object());
+        if (files.contains("report_html")) r["report_html"] = m.name + "/" + files["report_html"].get<std::string>();
         say(i, "up to date, skipped (--force redoes it)");
       } else {
         remove_stale_partials(config.out, m.name);
@@ -607,11 +616,12 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
           relocate(rel, partial + "/", "");
           write_text_atomic(output_names_for(partial, c.model).report(), rel.dump(2) + "\n");
           publish(partial, final_dir);
-          const nlohmann::json man = read_manifest(manifest_path(final_dir, c));
+          const nlohmann::json man = read_json_file(manifest_path(final_dir, c));
           r["status"] = "done";
           r["lods"] = summary_lods(man);
-          if (man.is_object() && man["files"].contains("report_html"))
-            r["report_html"] = m.name + "/" + man["files"]["report_html"].get<std::string>();
+          const nlohmann::json files = man.is_object() ? man.value("files", nlohmann::json::object()) : nlohmann::json();
+          if (files.is_object() && files.contains("report_html"))
+            r["report_html"] = m.name + "/" + files["report_html"].get<std::string>();
           if (report.contains("warnings"))
             for (const auto& w : report["warnings"])
               r["warnings"].push_back("[" + m.name + "] " + moved(w.get<std::string>()));

@@ -104,39 +104,65 @@ std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, con
 
 namespace {
 
-// One picture of a judged view at 1/4 size (box filter): the original's
-// luminance | the LOD's | the LOD's with changed pixels red and pixels drawn
-// by only one of the two blue (a block takes any such pixel in it).
+// One picture of a judged view: the original's luminance | the LOD's | the
+// LOD's with perceptibly changed pixels red and pixels drawn by only one of
+// the two blue. Each panel is the region either render draws (8 px margin),
+// shrunk by a whole factor (box filter; a block is red or blue if any pixel
+// in it is) to at most 400 px, or enlarged by one (nearest) to about 240 px,
+// so a building far away is as readable as one close by.
 Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_luminance,
                        const std::vector<uint8_t>& lod_background, const std::vector<uint8_t>& changed, int w, int h) {
-  constexpr int f = 4;
-  const int tw = std::max(1, w / f), th = std::max(1, h / f);
+  int x0 = w, y0 = h, x1 = -1, y1 = -1;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      if (v.background[i] && lod_background[i]) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  if (x1 < 0) x0 = 0, y0 = 0, x1 = w - 1, y1 = h - 1;  // nothing drawn: the whole view
+  constexpr int kMargin = 8;
+  x0 = std::max(0, x0 - kMargin), y0 = std::max(0, y0 - kMargin);
+  x1 = std::min(w - 1, x1 + kMargin), y1 = std::min(h - 1, y1 + kMargin);
+  const int cw = x1 - x0 + 1, ch = y1 - y0 + 1, side = std::max(cw, ch);
+  const int shrink = std::max(1, (side + 399) / 400), grow = shrink > 1 ? 1 : std::clamp(240 / side, 1, 8);
+  const int pw = std::max(1, cw * grow / shrink), ph = std::max(1, ch * grow / shrink);
+  constexpr int kGap = 4;
   Rgb8Image img;
-  img.width = 3 * tw, img.height = th;
-  img.pixels.assign(size_t(img.width) * size_t(th) * 3, 0);
-  for (int y = 0; y < th; ++y)
-    for (int x = 0; x < tw; ++x) {
+  img.width = 3 * pw + 2 * kGap, img.height = ph;
+  img.pixels.assign(size_t(img.width) * size_t(ph) * 3, 255);
+  for (int y = 0; y < ph; ++y)
+    for (int x = 0; x < pw; ++x) {
+      // Source block of this output pixel.
+      const int sx0 = x0 + x * shrink / grow, sy0 = y0 + y * shrink / grow;
+      const int sx1 = std::min(x1 + 1, sx0 + std::max(1, shrink)), sy1 = std::min(y1 + 1, sy0 + std::max(1, shrink));
       double a = 0, b = 0;
       bool red = false, blue = false;
       int n = 0;
-      for (int yy = y * f; yy < std::min(h, y * f + f); ++yy)
-        for (int xx = x * f; xx < std::min(w, x * f + f); ++xx, ++n) {
+      for (int yy = sy0; yy < sy1; ++yy)
+        for (int xx = sx0; xx < sx1; ++xx, ++n) {
           const size_t i = size_t(yy) * size_t(w) + size_t(xx);
           a += v.luminance[i], b += lod_luminance[i];
           red |= changed[i] != 0;
           blue |= lod_background[i] != v.background[i];
         }
-      const auto grey = [&](int panel, double l, uint8_t r, uint8_t g, uint8_t bl) {
-        uint8_t* p = &img.pixels[(size_t(y) * size_t(img.width) + size_t(panel * tw + x)) * 3];
+      n = std::max(n, 1);
+      const auto put = [&](int panel, double l, uint8_t r, uint8_t g, uint8_t bl) {
+        uint8_t* p = &img.pixels[(size_t(y) * size_t(img.width) + size_t(panel * (pw + kGap) + x)) * 3];
         const double k = l / n / 255.0;
         p[0] = uint8_t(std::lround(r * k)), p[1] = uint8_t(std::lround(g * k)), p[2] = uint8_t(std::lround(bl * k));
       };
-      grey(0, a, 255, 255, 255);
-      grey(1, b, 255, 255, 255);
-      if (blue) grey(2, std::max(b, 96.0 * n), 64, 96, 255);
-      else if (red) grey(2, std::max(b, 96.0 * n), 255, 48, 48);
-      else grey(2, b, 255, 255, 255);
+      put(0, a, 255, 255, 255);
+      put(1, b, 255, 255, 255);
+      if (blue) put(2, std::max(b, 96.0 * n), 64, 96, 255);
+      else if (red) put(2, std::max(b, 96.0 * n), 255, 48, 48);
+      else put(2, b, 255, 255, 255);
     }
+  for (int y = 0; y < ph; ++y)  // grey gaps between the panels
+    for (int g = 0; g < kGap; ++g)
+      for (int panel : {1, 2}) {
+        uint8_t* p = &img.pixels[(size_t(y) * size_t(img.width) + size_t(panel * (pw + kGap) - kGap + g)) * 3];
+        p[0] = p[1] = p[2] = 160;
+      }
   return img;
 }
 

@@ -430,8 +430,8 @@ std::string images_section(const json& lod, double d, const OutputNames& names) 
   }
   if (!labelling.str().empty() || !held_out.str().empty()) {
     s << "<h3>LOD beside the original</h3>\n<p class=\"muted\">Each picture: the original | the LOD | the LOD "
-         "with perceptibly changed pixels red and pixels drawn by only one of the two blue (luminance, 1/4 "
-         "size).</p>\n";
+         "with perceptibly changed pixels red and pixels drawn by only one of the two blue (luminance, "
+         "cropped to the drawn region).</p>\n";
     if (!labelling.str().empty()) s << "<h4>Labelling views</h4>\n<div class=\"pair\">" << labelling.str() << "</div>\n";
     if (!held_out.str().empty())
       s << "<h4>Held-out views (never used for labelling)</h4>\n<div class=\"pair\">" << held_out.str() << "</div>\n";

@@ -201,9 +201,10 @@ std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, con
 //  * silhouette_mismatch: pixels drawn in exactly one of the two, over the
 //    pixels the original draws (coverage_changed_pixels counts them).
 // Uploads `lod` to `renderer`.
-// `pictures`, when given, receives per view a picture at 1/4 size: the
-// original's luminance | the LOD's | the LOD's with changed pixels red and
-// silhouette changes blue (make_lods writes them as _lod_vs_original.png).
+// `pictures`, when given, receives per view a picture of the region either
+// render draws (scaled to 240-400 px): the original's luminance | the LOD's |
+// the LOD's with changed pixels red and silhouette changes blue (make_lods
+// writes them as _lod_vs_original.png).
 nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
                                  const LabelJob& job, std::vector<Rgb8Image>* pictures = nullptr);
 // The same from the labelling views of a LabelResult.
