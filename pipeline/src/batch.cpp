@@ -653,7 +653,8 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
         std::unique_lock<std::mutex> lk(mu);
         if (next >= total) return;
         i = next;
-        need = estimate_memory_mb(config.models[slots[i].index].config.model);
+        const BatchConfig& c = config.models[slots[i].index].config;
+        need = c.memory_mb > 0 ? c.memory_mb : estimate_memory_mb(c.model);
         cv.wait(lk, [&] { return running_mb == 0 || budget <= 0 || running_mb + need <= budget; });
         if (i != next) continue;  // another worker took it meanwhile
         ++next;

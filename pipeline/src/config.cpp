@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <glob.h>
 #include <map>
 #include <filesystem>
@@ -120,7 +121,7 @@ const std::set<std::string> kModelKeys = {
     "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins", "per_building",
     "tracer", "verify", "ratio", "simplify", "k", "target", "keep_undisplayable", "format",
     "e_perceptible", "e_imperceptible", "judge_views", "max_changed", "max_silhouette", "strict",
-    "fidelity_target", "cityjson_lod", "crs_origin", "tileset"};
+    "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb"};
 // Keys of the batch itself (top level only).
 const std::set<std::string> kBatchKeys = {"models", "out", "jobs", "memory_budget_mb"};
 
@@ -261,6 +262,9 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   } catch (const std::invalid_argument& e) {
     throw config_error(path, std::string("'distances': ") + e.what());
   }
+  c.memory_mb = get<double>(n, path, "memory_mb", c.memory_mb);
+  if (!(c.memory_mb >= 0) || !std::isfinite(c.memory_mb))
+    throw config_error(path, "'memory_mb' must be a non-negative number of MiB (0 = estimate from the file size)");
   c.cityjson_lod = get<std::string>(n, path, "cityjson_lod", c.cityjson_lod);
   c.tileset = get<bool>(n, path, "tileset", c.tileset);
   if (const YAML::Node o = n["crs_origin"]) {
@@ -283,12 +287,18 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
 
 bool is_glob(const std::string& s) { return s.find_first_of("*?[") != std::string::npos; }
 
+// A file a folder item takes: a model format's extension. Of JSON files only
+// CityJSON's names (.city.json, .cityjson): a folder may hold reports.
 bool is_model_file(const std::filesystem::path& p) {
-  std::string e = p.extension().string();
-  for (auto& ch : e) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-  static const std::set<std::string> kExt = {".obj", ".ply", ".glb", ".gltf", ".stl", ".dae",
-                                             ".fbx", ".ifc", ".json", ".cityjson"};
-  return kExt.count(e) > 0;
+  std::string name = p.filename().string();
+  for (auto& ch : name) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  const auto ends = [&](const char* e) {
+    const size_t n = std::strlen(e);
+    return name.size() > n && name.compare(name.size() - n, n, e) == 0;
+  };
+  for (const char* e : {".obj", ".ply", ".glb", ".gltf", ".stl", ".dae", ".fbx", ".ifc", ".city.json", ".cityjson"})
+    if (ends(e)) return true;
+  return false;
 }
 
 // The files a `models:` item names: itself, the sorted matches of a glob, or

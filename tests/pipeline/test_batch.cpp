@@ -32,7 +32,8 @@ struct BatchFolder {
   BatchFolder() {
     fs::create_directories(dir.path / "city" / "a");
     fs::create_directories(dir.path / "city" / "b");
-    for (const char* f : {"city/a/house.obj", "city/b/house.obj", "city/b/tower.obj", "city/b/notes.txt"})
+    for (const char* f : {"city/a/house.obj", "city/b/house.obj", "city/b/tower.obj", "city/b/notes.txt",
+                          "city/a/house_report.json"})
       std::ofstream(dir.path / f) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   }
 };
@@ -45,11 +46,11 @@ TEST(BatchConfig, ModelsListGlobsFoldersAndOverrides) {
                                      "distances: [56, 132]\nsamples: 2\nout: results\njobs: 2\n"
                                      "models:\n"
                                      "  - city/b/*.obj\n"
-                                     "  - {model: city/a, up: z, distances: [427]}\n");
+                                     "  - {model: city/a, up: z, distances: [427], memory_mb: 4000}\n");
   ConfigFile f = load_config_file(cfg);
   ASSERT_TRUE(f.batch);
   EXPECT_EQ(f.jobs, 2);
-  ASSERT_EQ(f.models.size(), 3u);  // notes.txt is not a model file
+  ASSERT_EQ(f.models.size(), 3u);  // notes.txt and a report are not model files
   // Two files share the stem "house": their folders take the parent's name.
   EXPECT_EQ(f.models[0].name, "b_house");
   EXPECT_EQ(f.models[1].name, "tower");
@@ -59,6 +60,8 @@ TEST(BatchConfig, ModelsListGlobsFoldersAndOverrides) {
   EXPECT_EQ(f.models[2].config.up, UpAxis::Z);
   EXPECT_EQ(f.models[2].config.distances, (std::vector<double>{427}));
   EXPECT_EQ(f.models[2].config.samples, 2);  // the top level's, not overridden
+  EXPECT_EQ(f.models[2].config.memory_mb, 4000);
+  EXPECT_EQ(f.models[0].config.memory_mb, 0);  // estimated from the file
   for (const auto& m : f.models) {
     EXPECT_TRUE(fs::path(m.config.model).is_absolute()) << m.config.model;
     EXPECT_TRUE(fs::exists(m.config.model)) << m.config.model;
@@ -67,6 +70,9 @@ TEST(BatchConfig, ModelsListGlobsFoldersAndOverrides) {
   // The settings hash sees an override; the same settings hash alike.
   EXPECT_NE(hash_text(settings_json(f.models[0].config).dump()), hash_text(settings_json(f.models[2].config).dump()));
   EXPECT_EQ(hash_text(settings_json(f.models[0].config).dump()), hash_text(settings_json(f.models[1].config).dump()));
+  BatchConfig more = f.models[0].config;
+  more.memory_mb = 9000;  // scheduling only: the outputs stay up to date
+  EXPECT_EQ(hash_text(settings_json(more).dump()), hash_text(settings_json(f.models[0].config).dump()));
   // A single-model reader refuses a batch, naming the file.
   EXPECT_NE(error_of([&] { load_batch_config(cfg); }).find("names several models"), std::string::npos);
 }
@@ -82,6 +88,7 @@ TEST(BatchConfig, BadEntriesNameTheEntryAndWhatIsWrong) {
   EXPECT_NE(err("models:\n  - city/a/house.obj\n  - {model: city/b/tower.obj, ratio: 7}\n").find("models[1]: 'ratio'"),
             std::string::npos);
   EXPECT_NE(err("models:\n  - {up: z}\n").find("models[0]: 'model' is required"), std::string::npos);
+  EXPECT_NE(err("models:\n  - {model: city/a, memory_mb: -5}\n").find("models[0]: 'memory_mb'"), std::string::npos);
   EXPECT_NE(err("models:\n  - {model: city/a, out: x}\n").find("models[0]: unknown key 'out'"), std::string::npos);
   EXPECT_NE(err("models:\n  - city/missing.obj\n").find("models[0]: model"), std::string::npos);
   EXPECT_NE(err("model: city/a/house.obj\nmodels:\n  - city/a\n").find("not both"), std::string::npos);

@@ -47,6 +47,7 @@ struct BatchConfig {
   bool fidelity_target = false;
   double target_max_changed = 0.02, target_max_silhouette = 0.01;
   std::string cityjson_lod;          // CityJSON input: the LOD geometry to read ("" = each object's highest)
+  double memory_mb = 0;              // batch: this model's peak memory for memory_budget_mb (0 = estimate_memory_mb)
   bool tileset = true;               // also write the all-LOD GLB, a GLB per LOD and a 3D Tiles tileset.json
   // crs_origin: {lat, lon, height}: the model's coordinates are metres east,
   // north, up of this point (WGS84 degrees, ellipsoidal metres); the tileset
