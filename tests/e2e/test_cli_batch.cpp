@@ -9,6 +9,7 @@
 #include <set>
 
 #include "cli_util.h"
+#include "perclod/config.h"
 #include "perclod/load.h"
 
 using perclod::test::run_cli;
@@ -262,4 +263,24 @@ TEST(CliBatch, ModelsInParallelGiveTheSameOutputsAndTheMemoryBudgetHoldsThemBack
   // A budget that fits one model's estimate (about 320 MiB) runs one at a time.
   par = run_cli("run " + (b.root / "par.yaml").string() + " --force --memory-budget-mb 400");
   EXPECT_LT(par.err.find("[1/3 alpha] done"), par.err.find("[2/3 broken] start")) << par.err;
+}
+
+// The configs users copy load as they say (the batch one names ../shared/data).
+TEST(ShippedConfigs, LoadWithTheModelsAndSettingsTheyDescribe) {
+  const std::string dir = PERCLOD_SOURCE_DIR "/configs/";
+  perclod::ConfigFile demo = perclod::load_config_file(dir + "demo.yaml");
+  EXPECT_FALSE(demo.batch);
+  EXPECT_EQ(demo.models.front().config.simplify, "fidelity");
+  EXPECT_EQ(perclod::load_config_file(dir + "paper.yaml").models.front().config.simplify, "paper");
+  perclod::ConfigFile city = perclod::load_config_file(dir + "city-batch.yaml");
+  ASSERT_TRUE(city.batch);
+  std::vector<std::string> names;
+  for (const auto& m : city.models) names.push_back(m.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"han_ministry", "sibenik", "sponza", "bldg_4018215",
+                                              "ingolstadt_lod3_all53"}));
+  for (const auto& m : city.models) {
+    const bool ingolstadt = m.name.rfind("ingolstadt", 0) == 0 || m.name == "bldg_4018215";
+    EXPECT_EQ(m.config.up, ingolstadt ? perclod::UpAxis::Z : perclod::UpAxis::Y) << m.name;
+    EXPECT_EQ(m.config.crs_origin, ingolstadt) << m.name;
+  }
 }
