@@ -3,6 +3,7 @@
 #include <exception>
 
 #include "commands.h"
+#include "perclod/batch.h"
 #include "perclod/outputs.h"
 #include "common.h"
 
@@ -12,7 +13,7 @@ int main(int argc, char** argv) {
       "Renders a model from a set of views at each viewing distance, finds the triangles\n"
       "a viewer can see, and simplifies everything else away, one LOD per distance."};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "perclod 0.1.0");
+  app.set_version_flag("--version", std::string("perclod ") + perclod::perclod_version());  // CMake's project version
   app.footer("Run 'perclod COMMAND --help' for the options of one command.");
 
   // Subcommands (one line each; keep the order of the pipeline).

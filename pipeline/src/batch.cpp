@@ -553,7 +553,8 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
   for (size_t i = 0; i < total; ++i) {
     slots[i].index = mine[i];
     std::error_code ec;
-    weight[i] = 1.0 + double(fs::file_size(config.models[mine[i]].config.model, ec)) / 1e6;  // MB + 1
+    const auto bytes = fs::file_size(config.models[mine[i]].config.model, ec);
+    weight[i] = 1.0 + (ec ? 0.0 : double(bytes) / 1e6);  // MB + 1
     weight_total += weight[i];
   }
 
