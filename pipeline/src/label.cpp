@@ -221,14 +221,15 @@ std::string progress_line(const std::string& name, double d, const ViewOutcome& 
 }  // namespace
 
 LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& job,
-                        const Progress& progress) {
+                        const Progress& progress, const EmbreeTracer* verify_tracer) {
   if (job.views.empty()) throw std::invalid_argument("no views to label from");
   sample_offsets(job.samples);  // checks the count
   const size_t nt = scene.triangle_count();
   Bounds bounds = scene_bounds(scene);
   const PerceptionSettings ps = perception_for(job);
-  std::unique_ptr<EmbreeTracer> reference;
-  if (job.verify) reference = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);
+  std::unique_ptr<EmbreeTracer> own;  // built here unless the caller keeps one for the job
+  if (job.verify && !verify_tracer) own = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);
+  const EmbreeTracer* reference = job.verify ? (verify_tracer ? verify_tracer : own.get()) : nullptr;
   const bool write_files = !job.out.dir.empty();
   if (write_files) ensure_directory(job.out.dir);
   renderer.set_scene(scene);
@@ -244,7 +245,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   ViewOutcome o;
   for (const auto& view : job.views)
     for (const ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) {
-      label_view(renderer, scene, tracer, reference.get(), job, ps, tile.name, tile.camera, nullptr, 0, res, acc, o);
+      label_view(renderer, scene, tracer, reference, job, ps, tile.name, tile.camera, nullptr, 0, res, acc, o);
       res.views.push_back(view_record(tile.name, tile.camera, o.perception, o.background, "labelling"));
       if (write_files) {
         auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };

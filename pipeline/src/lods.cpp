@@ -255,6 +255,9 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
   check_framing(scene, job.label, job.label.views, job.distances);
   check_framing(scene, job.label, job.judge_views, job.distances);
   std::unique_ptr<Tracer> tracer = make_tracer(scene, job.tracer);
+  // verify: one Embree reference scene for the whole job, not one per distance.
+  std::unique_ptr<EmbreeTracer> verify_tracer;
+  if (job.label.verify) verify_tracer = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);
   Renderer renderer;
   if (progress) progress(tracer_summary(*tracer));
 
@@ -282,7 +285,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     LabelJob lj = job.label;
     lj.distance = d;
     auto t_d = Clock::now();
-    LabelResult lr = label_scene(renderer, scene, *tracer, lj, progress);
+    LabelResult lr = label_scene(renderer, scene, *tracer, lj, progress, verify_tracer.get());
 
     write_label_outputs(renderer, scene, lr, lj);
     std::vector<ViewRecord> judged = std::move(lr.views);

@@ -137,8 +137,10 @@ struct LabelResult {
 // Uploads `scene` to `renderer`, where it stays for write_label_outputs.
 // Writes the renders and perception images of each whole-model view when
 // job.out.dir is set.
+// `verify_tracer` (job.verify only): an Embree tracer of `scene` in Verify
+// mode kept by the caller for several distances; else one is built per call.
 LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& job,
-                        const Progress& progress = {});
+                        const Progress& progress = {}, const EmbreeTracer* verify_tracer = nullptr);
 
 // Writes out.labels(d) and the marking-colour renders of the combined labels
 // from each view at d and at d * closer_factor (out.view(f, d, "_marking.png"),
