@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <map>
 #include <stdexcept>
 
 #include "commands.h"
@@ -58,10 +59,12 @@ void run_many(const RunArgs& a, const ConfigFile& f) {
   o.memory_budget_mb = a.memory_budget_mb;
   set_error_files({a.config});
   nlohmann::json summary = run_batch(f, o, print_progress, ::isatty(2) == 1);
+  std::map<std::string, bool> strict;  // each model's own 'strict' (an entry may override it)
+  for (const auto& e : f.models) strict[e.name] = e.config.strict;
   size_t over = 0;
   for (const auto& m : summary["models"]) {
     print_warnings(m);
-    if (m.value("status", "") == "done" && (a.strict || f.models.front().config.strict))
+    if (m.value("status", "") == "done" && (a.strict || strict[m.value("name", "")]))
       over += m.value("over_limits", size_t(0));
   }
   std::fprintf(stderr, "perclod: batch %s: %d done, %d skipped, %d failed of %zu models in %.0f s\n",
