@@ -172,7 +172,7 @@ class GlbBuilder {
     scene.nodes = scene_nodes;
     model_.scenes.push_back(scene);
     model_.defaultScene = 0;
-    model_.buffers.push_back(buffer_);
+    if (!buffer_.data.empty()) model_.buffers.push_back(buffer_);  // a buffer holds at least one byte
     model_.asset.version = "2.0";
     model_.asset.generator = "perclod";
     std::ostringstream glb;
@@ -226,8 +226,10 @@ class GlbBuilder {
 void export_glb(const Scene& s, const std::string& path, const ExportOptions& options) {
   GlbBuilder b(options.z_up);
   const int root = b.add_root(s, "model");
-  const int positions = b.add_positions(s);
   const std::vector<uint32_t> order = triangle_order(s);
+  // glTF accessors and buffer views hold at least one element: a scene
+  // without triangles (an empty LOD) is the root node alone.
+  const int positions = order.empty() ? -1 : b.add_positions(s);
   std::vector<int> children;
   for (size_t i = 0; i < order.size();) {
     const uint32_t comp = s.component_of(order[i]);

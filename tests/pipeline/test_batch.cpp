@@ -229,3 +229,21 @@ TEST(GlbExport, AllLodsInOneFileWithMsftLod) {
   EXPECT_EQ(gltf["meshes"].size(), 2u);
   EXPECT_NE(error_of([&] { export_lods_glb({&fine}, {"a", "b"}, {0}, path); }).find("one name"), std::string::npos);
 }
+
+TEST(GlbExport, AnEmptyLodIsARootNodeWithoutEmptyAccessors) {
+  test::TempDir d("glbempty");
+  Scene empty = test::box();
+  empty.indices.clear();  // vertices left, no triangle
+  empty.offset = {1, 2, 3};
+  export_scene(empty, d / "empty.glb");
+  std::ifstream in(d / "empty.glb", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
+  auto gltf = nlohmann::json::parse(bytes.substr(20, json_len));
+  ASSERT_EQ(gltf["nodes"].size(), 1u);
+  EXPECT_EQ(gltf["nodes"][0]["translation"], (std::vector<double>{1, 2, 3}));
+  EXPECT_FALSE(gltf.contains("accessors") && !gltf["accessors"].empty());
+  EXPECT_FALSE(gltf.contains("buffers") && !gltf["buffers"].empty());
+  // assimp reads it: perclod's loader then refuses it for what it is, empty.
+  EXPECT_NE(error_of([&] { load_scene(d / "empty.glb"); }).find("no triangles (empty model)"), std::string::npos);
+}
