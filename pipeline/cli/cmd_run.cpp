@@ -33,12 +33,7 @@ void run_one(const RunArgs& a, const ConfigFile& f) {
     throw OptionError("--shard, --force, --jobs and --memory-budget-mb apply to a batch config ('models:'); " +
                       f.path + " names one model");
   set_error_files({c.model, a.config});
-  ModelRun run;
-  run.name = f.models.front().name;
-  run.config_file = f.path;
-  run.input_hash = hash_file(c.model);
-  run.settings_hash = hash_text(settings_json(c).dump());
-  nlohmann::json report = run_model(c, run, c.out, print_progress);
+  nlohmann::json report = run_model(c, model_run(f.models.front(), f.path), c.out, print_progress);
   print_warnings(report);
   if (a.json) print_json(report);
   const size_t over = report.value("over_limits", size_t(0));

@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
@@ -26,17 +25,17 @@
 #include "perclod/load.h"
 #include "perclod/outputs.h"
 #include "perclod/report_html.h"
+#include "pipeline_internal.h"
 
 #ifndef PERCLOD_VERSION
 #define PERCLOD_VERSION "unknown"
 #endif
 
 namespace perclod {
+using detail::Clock;
+using detail::since;
 namespace fs = std::filesystem;
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 constexpr uint64_t kFnvBasis = 14695981039346656037ull, kFnvPrime = 1099511628211ull;
 uint64_t fnv1a(uint64_t h, const char* data, size_t n) {
@@ -274,8 +273,17 @@ nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>&
   return manifest;
 }
 
+ModelRun model_run(const ModelEntry& model, const std::string& config_file) {
+  ModelRun run;
+  run.name = model.name;
+  run.config_file = config_file;
+  run.input_hash = hash_file(model.config.model);
+  run.settings_hash = hash_text(settings_json(model.config).dump());
+  return run;
+}
+
 nlohmann::json run_model(const BatchConfig& config, const ModelRun& run, const std::string& dir,
-                         const Progress& progress) {
+                         const Progress& progress, nlohmann::json* manifest) {
   BatchConfig c = config;
   c.out = dir;
   LodJob job = lod_job(c);
@@ -295,7 +303,8 @@ nlohmann::json run_model(const BatchConfig& config, const ModelRun& run, const s
   report["load"] = load_report_json(rep);
   report["manifest"] = leaf(job.label.out.file("_manifest.json"));
   write_model_report_html(report, job.label.out);
-  write_model_exports(scene, lods, job, c, run, report);
+  nlohmann::json m = write_model_exports(scene, lods, job, c, run, report);
+  if (manifest) *manifest = std::move(m);
   return report;
 }
 
@@ -581,11 +590,7 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
     const auto t = Clock::now();
     nlohmann::json r = {{"name", m.name}, {"model", c.model}, {"dir", m.name}};
     try {
-      ModelRun run;
-      run.name = m.name;
-      run.config_file = config.path;
-      run.input_hash = hash_file(c.model);
-      run.settings_hash = hash_text(settings_json(c).dump());
+      const ModelRun run = model_run(m, config.path);
       const nlohmann::json old = read_json_file(manifest_path(final_dir, c));
       const auto field = [&](const char* part) {  // old[part]["hash"], "" when absent
         return old.is_object() ? old.value(part, nlohmann::json::object()).value("hash", std::string()) : std::string();
@@ -611,17 +616,18 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
               s.replace(at, partial.size(), final_dir);
             return s;
           };
-          nlohmann::json report = run_model(c, run, partial, [&](const std::string& s) { say(i, moved(s)); });
+          nlohmann::json man;
+          nlohmann::json report =
+              run_model(c, run, partial, [&](const std::string& s) { say(i, moved(s)); }, &man);
           // Paths in the report and outputs become relative to the model's folder.
           nlohmann::json rel = report;
           relocate(rel, partial + "/", "");
           write_text_atomic(output_names_for(partial, c.model).report(), rel.dump(2) + "\n");
           publish(partial, final_dir);
-          const nlohmann::json man = read_json_file(manifest_path(final_dir, c));
           r["status"] = "done";
           r["lods"] = summary_lods(man);
-          const nlohmann::json files = man.is_object() ? man.value("files", nlohmann::json::object()) : nlohmann::json();
-          if (files.is_object() && files.contains("report_html"))
+          const nlohmann::json& files = man.at("files");
+          if (files.contains("report_html"))
             r["report_html"] = m.name + "/" + files["report_html"].get<std::string>();
           if (report.contains("warnings"))
             for (const auto& w : report["warnings"])

@@ -42,11 +42,16 @@ struct ModelRun {
   std::string input_hash, settings_hash;  // hash_file(model), hash_text(settings_json(config).dump())
 };
 
+// The identity of `model` of the config file `config_file`: its name and
+// both hashes (reads the model file).
+ModelRun model_run(const ModelEntry& model, const std::string& config_file);
+
 // load + make_lods (job from lod_job(config), outputs in `dir` named after the
-// model) + write_model_exports. Returns the report, with "model", "load",
-// "manifest" and "exports" added. Throws on any failure (naming the file).
+// model) + the report page + write_model_exports. Returns the report, with
+// "model", "load" and "manifest" (the manifest's file name) added; `manifest`,
+// when given, receives the manifest itself. Throws on any failure (naming the file).
 nlohmann::json run_model(const BatchConfig& config, const ModelRun& run, const std::string& dir,
-                         const Progress& progress = {});
+                         const Progress& progress = {}, nlohmann::json* manifest = nullptr);
 
 // The serving range of each LOD (sorted by distance; README, "Manifest"):
 // vd = its largest vertex displacement (metres), its switch distance
