@@ -396,8 +396,7 @@ ConfigFile load_config_file(const std::string& path) {
     if (item.IsScalar()) {
       pattern = item.Scalar();
     } else if (item.IsMap()) {
-      std::set<std::string> overridable = kModelKeys;
-      check_keys(item, where, overridable);
+      check_keys(item, where, kModelKeys);
       if (!item["model"]) throw config_error(where, "'model' is required in a models entry");
       for (const auto& kv : item) merged[kv.first.as<std::string>()] = YAML::Clone(kv.second);
       pattern = get<std::string>(item, where, "model", "");

@@ -97,16 +97,16 @@ std::string url(const std::string& path) {
   return html_escape(out);
 }
 
+std::string file_name(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+
 // A file the pipeline wrote under names.dir, relative to a page in names.dir:
 // the path below the directory, else its file name (outputs are flat).
 std::string relative(const std::string& path, const OutputNames& names) {
   const std::string prefix = names.dir + "/";
   if (!names.dir.empty() && path.rfind(prefix, 0) == 0 && path.find("..") == std::string::npos)
     return path.substr(prefix.size());
-  return std::filesystem::path(path).filename().string();
+  return file_name(path);
 }
-
-std::string file_name(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
 // "front_t3" -> "front": tiles share their view's marking renders.
 std::string untiled(const std::string& view) {
