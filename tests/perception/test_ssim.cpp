@@ -48,3 +48,36 @@ TEST(Ssim, ChangesLowerItWhereTheyAreAndTheRegionSelects) {
   EXPECT_GT(ssim_mean(a.data(), c.data(), w, h, nullptr), all);
   EXPECT_THROW(ssim_mean(a.data(), b.data(), 0, h, nullptr), std::invalid_argument);
 }
+
+// ssim_mean filters only the region's bounding box widened by the window:
+// the same region and pixels placed in a larger image (touching its edge on
+// one side, far from it on the others) give the same mean to the last bit.
+TEST(Ssim, ARegionScoresTheSameInsideALargerImage) {
+  const int w = 41, h = 29, W = 200, H = 150, ox = 0, oy = 70;
+  const std::vector<float> a = pattern(w, h);
+  std::vector<float> b = a;
+  for (int y = 8; y < 20; ++y)
+    for (int x = 3; x < 30; ++x) b[size_t(y) * w + x] = 255.f - b[size_t(y) * w + x];
+  std::vector<uint8_t> region(size_t(w) * h, 0);
+  for (int y = 4; y < 25; ++y)
+    for (int x = 0; x < 36; ++x) region[size_t(y) * w + x] = 1;  // touches the left edge
+  std::vector<float> A(size_t(W) * H, 17.f), B(size_t(W) * H, 230.f);
+  std::vector<uint8_t> R(size_t(W) * H, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x, j = size_t(y + oy) * W + size_t(x + ox);
+      A[j] = a[i], B[j] = b[i], R[j] = region[i];
+    }
+  // The surroundings differ from the small image's, but lie beyond every
+  // region pixel's window only where the small image has pixels: shrink the
+  // region by the window's radius (5) on the sides inside the large image.
+  std::vector<uint8_t> inner(size_t(w) * h, 0), Inner(size_t(W) * H, 0);
+  for (int y = 5; y < h - 5; ++y)
+    for (int x = 0; x < w - 5; ++x)
+      if (region[size_t(y) * w + x]) inner[size_t(y) * w + x] = 1, Inner[size_t(y + oy) * W + size_t(x + ox)] = 1;
+  const double small = ssim_mean(a.data(), b.data(), w, h, inner.data());
+  EXPECT_LT(small, 0.9);
+  EXPECT_EQ(ssim_mean(A.data(), B.data(), W, H, Inner.data()), small);
+  std::vector<uint8_t> none(size_t(W) * H, 0);
+  EXPECT_EQ(ssim_mean(A.data(), B.data(), W, H, none.data()), 1.0);
+}
