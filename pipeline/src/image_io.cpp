@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <utility>
 
 #include "perclod/outputs.h"
 
@@ -95,6 +96,62 @@ void write_tiff_float(const std::string& path, int w, int h, int channels, const
 
 void write_tiff_uint32(const std::string& path, int w, int h, const uint32_t* data) {
   write_image(path, w, h, 1, OIIO::TypeDesc::UINT32, data);
+}
+
+ImageWriter::ImageWriter(size_t max_queued_bytes)
+    : max_queued_bytes_(max_queued_bytes), thread_([this] { run(); }) {}
+
+ImageWriter::~ImageWriter() {
+  try {
+    finish();
+  } catch (...) {
+  }
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void ImageWriter::png(std::string path, int width, int height, int channels, std::vector<uint8_t> pixels) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  // One image always fits, however large, so a big one cannot wait forever.
+  room_.wait(lock, [&] { return queue_.empty() || queued_bytes_ + pixels.size() <= max_queued_bytes_; });
+  queued_bytes_ += pixels.size();
+  queue_.push_back(Job{std::move(path), width, height, channels, std::move(pixels)});
+  wake_.notify_one();
+}
+
+void ImageWriter::finish() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  room_.wait(lock, [&] { return queue_.empty() && !busy_; });
+  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+}
+
+void ImageWriter::run() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+    if (queue_.empty()) return;  // stop_ and nothing left
+    Job job = std::move(queue_.front());
+    queue_.pop_front();
+    busy_ = true;
+    lock.unlock();
+    std::exception_ptr failure;
+    try {
+      write_png(job.path, job.width, job.height, job.channels, job.pixels.data());
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    const size_t bytes = job.pixels.size();
+    job = Job{};
+    lock.lock();
+    if (failure && !error_) error_ = failure;
+    queued_bytes_ -= bytes;
+    busy_ = false;
+    room_.notify_all();
+  }
 }
 
 std::vector<uint32_t> read_tiff_uint32(const std::string& path, int* w, int* h) {

@@ -11,6 +11,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -87,6 +88,9 @@ struct Renderer::Impl {
   std::vector<float> material_colors;    // RGB per triangle
   std::vector<float> component_colors;   // RGB per triangle, made on first use
   std::vector<uint32_t> component;       // per triangle (Scene::component_of)
+  // Which colours the buffer texture holds: a render in the same colours as
+  // the last one uploads nothing (12 MB per render at 1M triangles).
+  enum class Colors { None, Material, Component, Custom } uploaded = Colors::None;
 
   void make_current() {
     if (!OSMesaMakeCurrent(ctx, dummy.data(), GL_UNSIGNED_BYTE, 1, 1))
@@ -121,7 +125,9 @@ struct Renderer::Impl {
     fb_h = h;
   }
 
-  void upload_colors(const std::vector<float>& rgb) {
+  void upload_colors(const std::vector<float>& rgb, Colors which) {
+    if (which != Colors::Custom && which == uploaded) return;
+    uploaded = which;
     glBindBuffer(GL_TEXTURE_BUFFER, color_buf);
     glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(rgb.size() * sizeof(float)), rgb.data(), GL_DYNAMIC_DRAW);
   }
@@ -194,6 +200,7 @@ void Renderer::set_scene(const Scene& s) {
     for (int k = 0; k < 3; ++k) mc[3 * t + k] = c[k];
   }
   impl_->component_colors.clear();
+  impl_->uploaded = Impl::Colors::None;
   impl_->has_scene = true;
 }
 
@@ -209,7 +216,7 @@ RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
   if (!opt.triangle_colors.empty()) {
     if (opt.triangle_colors.size() != 3 * I.triangle_count)
       throw RenderError("triangle_colors must hold 3 floats per triangle");
-    I.upload_colors(opt.triangle_colors);
+    I.upload_colors(opt.triangle_colors, Impl::Colors::Custom);
   } else if (opt.color_by == ColorBy::Component) {
     if (I.component_colors.empty()) {
       I.component_colors.resize(3 * I.triangle_count);
@@ -218,9 +225,9 @@ RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
         for (int k = 0; k < 3; ++k) I.component_colors[3 * t + k] = c[k];
       }
     }
-    I.upload_colors(I.component_colors);
+    I.upload_colors(I.component_colors, Impl::Colors::Component);
   } else {
-    I.upload_colors(I.material_colors);
+    I.upload_colors(I.material_colors, Impl::Colors::Material);
   }
 
   glBindFramebuffer(GL_FRAMEBUFFER, I.fbo);
@@ -283,6 +290,48 @@ RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
     throw RenderError("OpenGL error " + std::to_string(err) + " while rendering");
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+std::vector<uint8_t> shade_ids(const Scene& scene, const Camera& cam, const std::vector<uint32_t>& ids,
+                               const std::vector<float>& colors, const RenderOptions& opt) {
+  const size_t nt = scene.triangle_count();
+  if (ids.size() != size_t(cam.width) * size_t(cam.height))
+    throw RenderError("shade_ids: the ID buffer is not the camera's size");
+  if (colors.size() != 3 * nt) throw RenderError("shade_ids: triangle_colors must hold 3 floats per triangle");
+  // The fragment shader's light and its float -> 8-bit conversion (round to nearest).
+  const Eigen::Vector3d L = (-cam.forward + 0.8 * cam.up - 0.5 * cam.right).normalized();
+  auto corner = [&](size_t t, int k) {
+    const float* p = &scene.positions[3 * size_t(scene.indices[3 * t + k])];
+    return Eigen::Vector3d(p[0], p[1], p[2]);
+  };
+  auto unorm8 = [](double c) { return uint8_t(std::lround(std::clamp(c, 0.0, 1.0) * 255.0)); };
+  std::vector<uint8_t> rgb(3 * ids.size());
+  uint32_t last = 0;
+  uint8_t shaded[3] = {opt.background[0], opt.background[1], opt.background[2]};
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const uint32_t id = ids[i];
+    if (id == 0 || id > nt) {
+      for (int k = 0; k < 3; ++k) rgb[3 * i + k] = opt.background[k];
+      continue;
+    }
+    if (id != last) {  // neighbouring pixels mostly show the same triangle
+      const size_t t = id - 1;
+      const Eigen::Vector3d a = corner(t, 0);
+      Eigen::Vector3d n = (corner(t, 1) - a).cross(corner(t, 2) - a);
+      const double len = n.norm();
+      double diffuse = 0;
+      if (len > 0) {
+        n /= len;
+        if (n.dot(cam.eye - a) < 0) n = -n;
+        diffuse = std::max(n.dot(L), 0.0);
+      }
+      const double shade = opt.ambient + (1.0 - opt.ambient) * diffuse;
+      for (int k = 0; k < 3; ++k) shaded[k] = unorm8(double(colors[3 * t + k]) * shade);
+      last = id;
+    }
+    for (int k = 0; k < 3; ++k) rgb[3 * i + k] = shaded[k];
+  }
+  return rgb;
 }
 
 }  // namespace perclod

@@ -208,3 +208,35 @@ TEST(OutputDirectoryLock, OneWriterPerDirectory) {
 }
 
 }  // namespace
+
+// ImageWriter encodes on its own thread: the files are write_png's bytes, a
+// failure comes back from finish() naming the file, the images queued after
+// it are still written, and a queue smaller than one image still moves.
+TEST(AtomicWrites, ImageWriterWritesWhatWritePngWritesAndReportsAFailure) {
+  test::TempDir dir("image-writer");
+  auto bytes = [](const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const auto a = noise(128, 128), b = noise(64, 256);
+  write_png(dir / "direct.png", 128, 128, 3, a.data());
+  {
+    ImageWriter w(1000);  // smaller than any of these images
+    w.png(dir / "a.png", 128, 128, 3, a);
+    w.png(dir / "missing/x.png", 64, 256, 3, b);  // no such folder
+    w.png(dir / "b.png", 64, 256, 3, b);
+    try {
+      w.finish();
+      ADD_FAILURE() << "a failed write was not reported";
+    } catch (const std::runtime_error& e) {
+      EXPECT_TRUE(has(e.what(), dir / "missing/x.png")) << e.what();
+    }
+    w.finish();  // the failure was reported once
+    w.png(dir / "c.png", 128, 128, 3, a);
+  }  // the destructor waits for c.png
+  EXPECT_EQ(bytes(dir / "a.png"), bytes(dir / "direct.png"));
+  EXPECT_EQ(read_rgb8(dir / "b.png").pixels, b);
+  EXPECT_EQ(bytes(dir / "c.png"), bytes(dir / "direct.png"));
+  EXPECT_FALSE(fs::exists(dir / "missing"));
+  EXPECT_EQ(temporaries_in(dir.path), 0u);
+}

@@ -199,3 +199,34 @@ TEST(Render, RefusesASceneThatBreaksTheContract) {
   EXPECT_THROW(shared_renderer().set_scene(s), std::invalid_argument);
 }
 
+
+// Marking images are coloured from a labelling render's ID buffer instead of
+// a second draw: the colours match that draw up to rounding.
+TEST(Render, ShadeIdsMatchesARenderInTheSameColours) {
+  const Scene s = load_scene(PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj");
+  const Camera c = view_camera(scene_bounds(s), UpAxis::Z, "az45el30", 56, DisplayProfile{});
+  Renderer& r = shared_renderer();
+  r.set_scene(s);
+  const RenderOutput plain = r.render(c);
+  RenderOptions opt;
+  opt.triangle_colors.resize(3 * s.triangle_count());
+  for (size_t t = 0; t < s.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) opt.triangle_colors[3 * t + k] = float((t * 37 + size_t(k) * 101) % 256) / 255.f;
+  opt.want_ids = false;
+  const RenderOutput drawn = r.render(c, opt);
+  const std::vector<uint8_t> shaded = shade_ids(s, c, plain.ids, opt.triangle_colors, opt);
+  ASSERT_EQ(shaded.size(), drawn.rgb.size());
+  size_t covered = 0, off = 0, far = 0;
+  for (size_t i = 0; i < plain.ids.size(); ++i) {
+    covered += plain.ids[i] != 0;
+    int d = 0;
+    for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(int(shaded[3 * i + k]) - int(drawn.rgb[3 * i + k])));
+    off += d > 0;
+    far += d > 2;
+  }
+  EXPECT_GT(covered, 10000u);
+  EXPECT_LT(double(off) / double(covered), 0.005);  // rounding of the normal: 0.16% of pixels, by one level
+  EXPECT_EQ(far, 0u);
+  EXPECT_THROW(shade_ids(s, c, std::vector<uint32_t>(7), opt.triangle_colors), RenderError);
+  EXPECT_THROW(shade_ids(s, c, plain.ids, {1.f, 0.f}), RenderError);
+}

@@ -3,8 +3,13 @@
 // so an interrupted run never leaves a half-written image behind.
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
+#include <exception>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace perclod {
@@ -25,5 +30,44 @@ void write_tiff_float(const std::string& path, int width, int height, int channe
 // Lossless 32-bit unsigned TIFF, one channel (triangle-ID buffers).
 void write_tiff_uint32(const std::string& path, int width, int height, const uint32_t* data);
 std::vector<uint32_t> read_tiff_uint32(const std::string& path, int* width, int* height);
+
+// Encodes and writes PNGs (write_png) on a thread of its own, so a run's
+// debug images are compressed while the next view renders and traces. The
+// files are the bytes write_png writes. png() blocks while more than
+// `max_queued_bytes` of pixels wait; finish() waits for every queued image
+// and rethrows the first failure (later images are still written). The
+// destructor waits too and drops a failure finish() did not report.
+class ImageWriter {
+ public:
+  explicit ImageWriter(size_t max_queued_bytes = size_t(64) << 20);
+  ~ImageWriter();
+  ImageWriter(const ImageWriter&) = delete;
+  ImageWriter& operator=(const ImageWriter&) = delete;
+
+  void png(std::string path, int width, int height, int channels, std::vector<uint8_t> pixels);
+  void finish();
+
+ private:
+  struct Job {
+    std::string path;
+    int width, height, channels;
+    std::vector<uint8_t> pixels;
+  };
+  void run();
+  std::mutex mutex_;
+  std::condition_variable wake_, room_;
+  std::deque<Job> queue_;
+  size_t queued_bytes_ = 0, max_queued_bytes_;
+  bool busy_ = false, stop_ = false;
+  std::exception_ptr error_;
+  std::thread thread_;
+};
+
+// Writes through `writer` when there is one, else at once.
+inline void write_png_via(ImageWriter* writer, const std::string& path, int width, int height, int channels,
+                          std::vector<uint8_t> pixels) {
+  if (writer) writer->png(path, width, height, channels, std::move(pixels));
+  else write_png(path, width, height, channels, pixels.data());
+}
 
 }  // namespace perclod

@@ -62,6 +62,15 @@ class Renderer {
   std::unique_ptr<Impl> impl_;
 };
 
+// The colours render(camera, {triangle_colors}) would draw, made from an ID
+// buffer of `scene` from the same camera (RenderOutput::ids) instead of a
+// second draw: each pixel takes its triangle's colour under the renderer's
+// flat two-sided lighting (`options`: background, ambient). RGB, row 0 top.
+// Equal to the render up to rounding: the shader takes the face normal from
+// screen-space derivatives, this from the triangle's corners.
+std::vector<uint8_t> shade_ids(const Scene& scene, const Camera& camera, const std::vector<uint32_t>& ids,
+                               const std::vector<float>& triangle_colors, const RenderOptions& options = {});
+
 // The per-component fallback colour (deterministic, well separated hues).
 std::array<float, 3> component_color(uint32_t component);
 
