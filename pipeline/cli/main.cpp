@@ -1,5 +1,8 @@
 // perclod: perceptual levels of detail for building models.
-#include <cstdio>
+#include <cstdio>  // defines __GLIBC__ on glibc
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <exception>
 
 #include "commands.h"
@@ -8,6 +11,12 @@
 #include "common.h"
 
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+  // Buffers of 1 MB and more (renders, ID buffers, perception images) are
+  // mapped and unmapped, not kept in the heap when freed: a run's peak
+  // memory at 1M triangles falls from 1.09 to 0.96 GiB (README, Figures).
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
   CLI::App app{
       "perclod: perceptual levels of detail for detailed building models.\n"
       "Renders a model from a set of views at each viewing distance, finds the triangles\n"

@@ -121,7 +121,7 @@ const std::set<std::string> kModelKeys = {
     "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins", "per_building",
     "tracer", "verify", "ratio", "simplify", "k", "target", "keep_undisplayable", "format",
     "e_perceptible", "e_imperceptible", "judge_views", "max_changed", "max_silhouette", "strict",
-    "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb"};
+    "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb", "debug_images", "marking_near"};
 // Keys of the batch itself (top level only).
 const std::set<std::string> kBatchKeys = {"models", "out", "jobs", "memory_budget_mb"};
 
@@ -267,6 +267,8 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
     throw config_error(path, "'memory_mb' must be a non-negative number of MiB (0 = estimate from the file size)");
   c.cityjson_lod = get<std::string>(n, path, "cityjson_lod", c.cityjson_lod);
   c.tileset = get<bool>(n, path, "tileset", c.tileset);
+  c.debug_images = get<bool>(n, path, "debug_images", c.debug_images);
+  c.marking_near = get<bool>(n, path, "marking_near", c.marking_near);
   if (const YAML::Node o = n["crs_origin"]) {
     if (!o.IsMap()) throw config_error(path, "'crs_origin' must be a mapping {lat, lon, height}");
     check_keys(o, path, {"lat", "lon", "height"});
@@ -429,7 +431,7 @@ nlohmann::json settings_json(const BatchConfig& c) {
                                   ? nlohmann::json{{"max_changed", c.target_max_changed},
                                                    {"max_silhouette", c.target_max_silhouette}}
                                   : nlohmann::json(nullptr)},
-          {"cityjson_lod", c.cityjson_lod}, {"tileset", c.tileset},
+          {"cityjson_lod", c.cityjson_lod}, {"tileset", c.tileset}, {"debug_images", c.debug_images}, {"marking_near", c.marking_near},
           {"crs_origin", c.crs_origin ? nlohmann::json{{"lat", c.origin_lat}, {"lon", c.origin_lon},
                                                        {"height", c.origin_height}}
                                       : nlohmann::json(nullptr)}};
@@ -447,6 +449,9 @@ LodJob lod_job(const BatchConfig& c) {
   job.label.ratio = c.ratio;
   job.label.verify = c.verify;
   job.label.out = output_names_for(c.out, c.model);
+  job.label.write_view_images = c.debug_images;
+  job.label.write_perception_images = c.debug_images;
+  job.label.marking_near = c.marking_near;
   job.distances = c.distances;
   job.tracer = parse_tracer(c.tracer);
   job.simplify.mode = parse_simplify_mode(c.simplify.c_str());

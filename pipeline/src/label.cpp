@@ -30,24 +30,31 @@ nlohmann::json to_json(const Agreement& a) {
           {"identical_rate", a.identical_rate()}};
 }
 
-// Marking-colour renders of `labels` from each view (untiled: the whole
-// model, cut off where it overfills the frame) at the job's distance and at
-// distance * closer_factor.
-std::vector<std::string> write_marking_renders(Renderer& renderer, const Scene& scene,
-                                               const std::vector<Label>& labels, const LabelJob& job) {
+// Marking colours of `labels`: each labelling view and tile coloured from its
+// own ID buffer (no second render), and with job.marking_near each view
+// (untiled: the whole model, cut off where it overfills the frame) rendered
+// from distance * closer_factor.
+std::vector<std::string> write_marking_images(Renderer& renderer, const Scene& scene,
+                                              const std::vector<Label>& labels, std::vector<IdBuffer>& id_buffers,
+                                              const LabelJob& job) {
   std::vector<std::string> files;
-  if (job.out.dir.empty()) return files;
-  Bounds bounds = scene_bounds(scene);
+  if (job.out.dir.empty() || !job.write_view_images) return files;
   RenderOptions opt;
   opt.triangle_colors = marking_colors(labels);
   opt.want_ids = false;
-  for (const auto& view : job.views)
-    for (auto [d, suffix] : {std::pair{job.distance, "_marking.png"},
-                             std::pair{job.distance * job.closer_factor, "_marking_near.png"}}) {
-      RenderOutput o = renderer.render(view_camera(bounds, job.up, view, d, job.display), opt);
-      files.push_back(job.out.view(view, job.distance, suffix));
-      write_png(files.back(), o.width, o.height, 3, o.rgb.data());
-    }
+  for (IdBuffer& b : id_buffers) {
+    files.push_back(job.out.view(b.view, job.distance, "_marking.png"));
+    write_png_via(job.images, files.back(), b.camera.width, b.camera.height, 3,
+                  shade_ids(scene, b.camera, b.ids, opt.triangle_colors, opt));
+    b.ids = {};
+  }
+  if (!job.marking_near) return files;
+  const Bounds bounds = scene_bounds(scene);
+  for (const auto& view : job.views) {
+    RenderOutput o = renderer.render(view_camera(bounds, job.up, view, job.distance * job.closer_factor, job.display), opt);
+    files.push_back(job.out.view(view, job.distance, "_marking_near.png"));
+    write_png_via(job.images, files.back(), o.width, o.height, 3, std::move(o.rgb));
+  }
   return files;
 }
 
@@ -249,12 +256,16 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       res.views.push_back(view_record(tile.name, tile.camera, o.perception, o.background, "labelling"));
       if (write_files) {
         auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
-        const RenderOutput& img = o.image;
-        write_png(file(".png"), img.width, img.height, 3, img.rgb.data());
+        RenderOutput& img = o.image;
+        const int w = img.width, h = img.height;
+        if (job.write_view_images) {
+          write_png_via(job.images, file(".png"), w, h, 3, std::move(img.rgb));
+          res.id_buffers.push_back(IdBuffer{tile.name, tile.camera, std::move(img.ids)});
+        }
         if (job.write_perception_images) {
-          write_png(file("_simulated.png"), img.width, img.height, 1, simulated_view(o.perception).data());
-          write_png(file("_difference.png"), img.width, img.height, 1, difference_view(o.perception).data());
-          write_png(file("_mask.png"), img.width, img.height, 1, mask_view(o.perception).data());
+          write_png_via(job.images, file("_simulated.png"), w, h, 1, simulated_view(o.perception));
+          write_png_via(job.images, file("_difference.png"), w, h, 1, difference_view(o.perception));
+          write_png_via(job.images, file("_mask.png"), w, h, 1, mask_view(o.perception));
         }
       }
       res.report["views"].push_back(o.report);
@@ -329,7 +340,8 @@ void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& re
   std::string path = job.out.labels(job.distance);
   write_labels(path, lf);
   result.report["labels_file"] = path;
-  result.report["marking_renders"] = write_marking_renders(renderer, scene, result.labels, job);
+  result.report["marking_renders"] = write_marking_images(renderer, scene, result.labels, result.id_buffers, job);
+  result.id_buffers.clear();
 }
 
 nlohmann::json label_model(const Scene& scene, const LabelJob& job, TracerKind kind, const Progress& progress) {

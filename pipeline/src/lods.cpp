@@ -112,11 +112,19 @@ namespace {
 // so a building far away is as readable as one close by.
 Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_luminance,
                        const std::vector<uint8_t>& lod_background, const std::vector<uint8_t>& changed, int w, int h) {
+  auto original_background = [&v](int x, int y) {
+    const long k = v.kept(x, y);
+    return k < 0 || v.background[size_t(k)] != 0;
+  };
+  auto original_luminance = [&v](int x, int y) {
+    const long k = v.kept(x, y);
+    return k < 0 ? v.background_luminance : v.luminance[size_t(k)];
+  };
   int x0 = w, y0 = h, x1 = -1, y1 = -1;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
-      if (v.background[i] && lod_background[i]) continue;
+      if (original_background(x, y) && lod_background[i]) continue;
       x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
     }
   if (x1 < 0) x0 = 0, y0 = 0, x1 = w - 1, y1 = h - 1;  // nothing drawn: the whole view
@@ -141,9 +149,9 @@ Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_lumina
       for (int yy = sy0; yy < sy1; ++yy)
         for (int xx = sx0; xx < sx1; ++xx, ++n) {
           const size_t i = size_t(yy) * size_t(w) + size_t(xx);
-          a += v.luminance[i], b += lod_luminance[i];
+          a += original_luminance(xx, yy), b += lod_luminance[i];
           red |= changed[i] != 0;
-          blue |= lod_background[i] != v.background[i];
+          blue |= (lod_background[i] != 0) != original_background(xx, yy);
         }
       n = std::max(n, 1);
       const auto put = [&](int panel, double l, uint8_t r, uint8_t g, uint8_t bl) {
@@ -180,24 +188,32 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
     RenderOutput img = renderer.render(v.camera);
     background_of(img, background);
     perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
-    if (pr.simulated.size() != v.simulated.size() || v.luminance.size() != v.simulated.size())
+    const size_t kept = size_t(v.w) * size_t(v.h);
+    if (img.width != v.camera.width || img.height != v.camera.height || v.simulated.size() != kept ||
+        v.luminance.size() != kept || v.background.size() != kept)
       throw std::logic_error("compare_lod_views: view size changed between recording and comparison");
     const size_t n = background.size();
     size_t drawn = 0, changed = 0, coverage_changed = 0, covered_original = 0;
     drawn_mask.assign(n, 0);
     changed_mask.assign(pictures ? n : 0, 0);
-    luminance_original.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-      luminance_original[i] = float(v.luminance[i]);
-      covered_original += !v.background[i];
-      if (background[i] && v.background[i]) continue;
-      drawn_mask[i] = 1;
-      ++drawn;
-      const bool c = std::abs(pr.simulated[i] - v.simulated[i]) > ps.threshold;
-      changed += c;
-      if (pictures) changed_mask[i] = c;
-      coverage_changed += background[i] != v.background[i];
-    }
+    luminance_original.assign(n, float(v.background_luminance));
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const size_t i = size_t(y) * size_t(img.width) + size_t(x);
+        const long k = v.kept(x, y);
+        const bool original_background = k < 0 || v.background[size_t(k)];
+        if (k >= 0) luminance_original[i] = float(v.luminance[size_t(k)]);
+        covered_original += !original_background;
+        if (background[i] && original_background) continue;
+        drawn_mask[i] = 1;
+        ++drawn;
+        // Beyond the kept rectangle the original drew nothing within
+        // kRecordMargin pixels: a LOD drawing there changes what is seen.
+        const bool c = k < 0 || std::abs(pr.simulated[i] - v.simulated[size_t(k)]) > ps.threshold;
+        changed += c;
+        if (pictures) changed_mask[i] = c;
+        coverage_changed += (background[i] != 0) != original_background;
+      }
     // Both luminances on the same 8-bit grid, so an unchanged LOD scores 1.
     for (float& l : pr.luminance) l = std::round(std::clamp(l, 0.f, 255.f));
     const double ssim = ssim_mean(luminance_original.data(), pr.luminance.data(), img.width, img.height,
@@ -259,6 +275,9 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
   std::unique_ptr<EmbreeTracer> verify_tracer;
   if (job.label.verify) verify_tracer = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);
   Renderer renderer;
+  // Debug images are encoded on a thread of their own while the next view
+  // renders and traces; every one is on disk before the report is written.
+  ImageWriter images;
   if (progress) progress(tracer_summary(*tracer));
 
   nlohmann::json report = {{"triangles", scene.triangle_count()},
@@ -284,16 +303,18 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     }
     LabelJob lj = job.label;
     lj.distance = d;
+    lj.images = &images;
     auto t_d = Clock::now();
     LabelResult lr = label_scene(renderer, scene, *tracer, lj, progress, verify_tracer.get());
 
     write_label_outputs(renderer, scene, lr, lj);
+    release_free_memory();  // the ID buffers of the marking images
     std::vector<ViewRecord> judged = std::move(lr.views);
     lr.views.clear();
-    if (!job.judge_views.empty()) {
-      std::vector<ViewRecord> held = record_views(renderer, scene, job.judge_views, lj, "held_out");
-      std::move(held.begin(), held.end(), std::back_inserter(judged));
-    }
+    // The held-out views of the original are recorded after the first
+    // simplification, so the simplifier's memory and theirs are not needed
+    // at once (at 1M triangles each is a few hundred MB).
+    bool held_out_recorded = job.judge_views.empty();
 
     SimplifyOptions so = job.simplify;
     so.pixel_footprint = display_pixel_footprint(lj.display, d);
@@ -308,9 +329,16 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     for (double e : bounds) {
       so.bound_imperceptible_px = e;
       lod = simplify(scene, lr.labels, so, &st);
+      release_free_memory();  // the simplifier's mesh
+      if (!held_out_recorded) {
+        std::vector<ViewRecord> held = record_views(renderer, scene, job.judge_views, lj, "held_out");
+        std::move(held.begin(), held.end(), std::back_inserter(judged));
+        held_out_recorded = true;
+      }
       const auto t_cmp = Clock::now();
       pictures.clear();
-      views = compare_lod_views(renderer, lod, judged, lj, out.dir.empty() ? nullptr : &pictures);
+      views = compare_lod_views(renderer, lod, judged, lj,
+                                out.dir.empty() || !lj.write_view_images ? nullptr : &pictures);
       seconds_compare += since(t_cmp);
       if (!searching) break;
       const nlohmann::json f = judge_views(views, job.target);
@@ -351,7 +379,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     }
     for (size_t k = 0; k < pictures.size(); ++k) {
       const std::string file = out.view(views[k]["view"].get<std::string>(), d, "_lod_vs_original.png");
-      write_png(file, pictures[k].width, pictures[k].height, 3, pictures[k].pixels.data());
+      images.png(file, pictures[k].width, pictures[k].height, 3, std::move(pictures[k].pixels));
       views[k]["comparison_image"] = file;
     }
     entry["lod_vs_original"] = std::move(views);
@@ -381,6 +409,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     report["lods"].push_back(entry);
     if (lods) lods->push_back(std::move(lod));
   }
+  images.finish();
   report["seconds"] = since(t_all);
   write_text_atomic(out.report(), report.dump(2) + "\n");
   return report;

@@ -10,6 +10,10 @@
 
 #include "perclod/pipeline.h"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace perclod::detail {
 
 using Clock = std::chrono::steady_clock;
@@ -28,18 +32,38 @@ inline void background_of(const RenderOutput& img, std::vector<uint8_t>& backgro
   for (size_t i = 0; i < img.ids.size(); ++i) background[i] = img.ids[i] == 0;
 }
 
-// A ViewRecord of the original from one view's perception result.
+// A ViewRecord of the original from one view's perception result: the
+// rectangle it draws, widened by kRecordMargin and clipped to the image.
 inline ViewRecord view_record(const std::string& name, const Camera& camera, const PerceptionResult& pr,
                               const std::vector<uint8_t>& background, const std::string& set) {
   ViewRecord r;
   r.view = name;
   r.camera = camera;
-  r.simulated = pr.simulated;
-  r.luminance.resize(pr.luminance.size());
-  for (size_t i = 0; i < pr.luminance.size(); ++i)
-    r.luminance[i] = uint8_t(std::lround(std::clamp(pr.luminance[i], 0.f, 255.f)));
-  r.background = background;
   r.set = set;
+  const int W = camera.width, H = camera.height;
+  auto lum8 = [&](size_t i) { return uint8_t(std::lround(std::clamp(pr.luminance[i], 0.f, 255.f))); };
+  int x0 = W, y0 = H, x1 = -1, y1 = -1;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const size_t i = size_t(y) * size_t(W) + size_t(x);
+      if (background[i]) {
+        r.background_luminance = lum8(i);
+        continue;
+      }
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = y;
+    }
+  if (x1 < 0) return r;  // nothing drawn: nothing kept
+  r.x0 = std::max(0, x0 - kRecordMargin), r.y0 = std::max(0, y0 - kRecordMargin);
+  r.w = std::min(W - 1, x1 + kRecordMargin) - r.x0 + 1, r.h = std::min(H - 1, y1 + kRecordMargin) - r.y0 + 1;
+  const size_t n = size_t(r.w) * size_t(r.h);
+  r.simulated.resize(n), r.luminance.resize(n), r.background.resize(n);
+  for (int y = 0; y < r.h; ++y)
+    for (int x = 0; x < r.w; ++x) {
+      const size_t i = size_t(y + r.y0) * size_t(W) + size_t(x + r.x0), k = size_t(y) * size_t(r.w) + size_t(x);
+      r.simulated[k] = pr.simulated[i];
+      r.luminance[k] = lum8(i);
+      r.background[k] = background[i];
+    }
   return r;
 }
 
@@ -51,6 +75,15 @@ inline void check_framing(const Scene& scene, const LabelJob& job, const std::ve
   const Bounds b = scene_bounds(scene);
   for (double d : distances)
     for (const auto& v : views) frame_view(b, job.up, v, d, job.display);
+}
+
+// Hands memory freed between a job's stages (ID buffers, the simplifier's
+// mesh) back to the system, so the next stage's peak is not stacked on
+// free chunks the heap kept (glibc; a no-op elsewhere).
+inline void release_free_memory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
 }
 
 // "octree built in 120 ms, 4096 KiB": the progress line after a tracer build.

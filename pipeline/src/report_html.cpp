@@ -404,16 +404,20 @@ std::string images_section(const json& lod, double d, const OutputNames& names) 
          "<span class=\"swatch\" style=\"background:#0f0\"></span>perceptible "
          "<span class=\"swatch\" style=\"background:#f00\"></span>imperceptible "
          "<span class=\"swatch\" style=\"background:#00f\"></span>undisplayable. "
-         "Near: the marking from a quarter of the distance (closer_factor).</p>\n";
+         "Near (with marking_near): the marking from a quarter of the distance (closer_factor).</p>\n";
   }
   for (const std::string& base : order) {
     s << "<div class=\"pair\">";
-    for (const std::string& tile : tiles[base]) s << image(relative(names.view(tile, d, ".png"), names), tile + " render");
-    for (const auto& [suffix, what] : {std::pair<const char*, const char*>{"_marking.png", " marking"},
-                                       std::pair<const char*, const char*>{"_marking_near.png", " marking, near"}}) {
-      auto it = marking.find(file_name(names.view(base, d, suffix)));
-      if (it != marking.end()) s << image(relative(it->second, names), base + what);
+    auto marking_of = [&](const std::string& view, const char* suffix, const std::string& caption) {
+      auto it = marking.find(file_name(names.view(view, d, suffix)));
+      if (it != marking.end()) s << image(relative(it->second, names), caption);
+    };
+    for (const std::string& tile : tiles[base]) {
+      s << image(relative(names.view(tile, d, ".png"), names), tile + " render");
+      if (tile != base) marking_of(tile, "_marking.png", tile + " marking");  // a tile's own marking
     }
+    marking_of(base, "_marking.png", base + " marking");
+    marking_of(base, "_marking_near.png", base + " marking, near");
     s << "</div>\n";
   }
   // LOD beside the original, from every judged view (labelling and held-out):

@@ -200,3 +200,61 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
   EXPECT_NE(b.err.find("'fidelity_target' applies only to 'simplify: fidelity'"), std::string::npos) << b.err;
   fs::remove_all(out);
 }
+
+// debug_images: false writes no image at all, and changes nothing else: the
+// labels, the LODs and every figure of the report are those of a run with
+// them (which encodes its images on a second thread). With them, every
+// labelling render has its marking image beside it (coloured from its ID
+// buffer), and the near marking only with marking_near.
+TEST(CliPipeline, RunWithoutDebugImagesWritesNoneAndTheSameResults) {
+  fs::path out = fresh_dir("run-images");
+  fs::create_directories(out);
+  auto job = [&](const std::string& name, const std::string& extra) {
+    std::ofstream(out / (name + ".yaml")) << "model: " << kBuilding << "\nup: z\ndistances: [56, 427]\n"
+                                          << "views: facades,az45el30\njudge_views: az22.5el45\nout: "
+                                          << (out / name).string() << "\n" << extra;
+    auto r = run_cli("run " + (out / (name + ".yaml")).string() + " --json");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(r.out);
+  };
+  const auto with = job("with", "");
+  const auto without = job("without", "debug_images: false\n");
+  auto files = [&](const std::string& name, const std::string& ext) {
+    std::vector<std::string> f;
+    for (const auto& e : fs::directory_iterator(out / name))
+      if (e.path().extension() == ext) f.push_back(e.path().filename().string());
+    std::sort(f.begin(), f.end());
+    return f;
+  };
+  auto bytes = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_TRUE(files("without", ".png").empty());
+  const auto pngs = files("with", ".png");
+  for (const auto& lod : with["lods"])
+    for (const auto& v : lod["views"]) {
+      const std::string stem = "bldg_4018215_" + v["view"].get<std::string>() + "_" +
+                               std::to_string(lod["distance"].get<int>()) + "m";
+      for (const char* suffix : {".png", "_marking.png", "_simulated.png", "_lod_vs_original.png"})
+        EXPECT_TRUE(std::binary_search(pngs.begin(), pngs.end(), stem + suffix)) << stem + suffix;
+    }
+  for (const auto& f : pngs) EXPECT_EQ(f.find("_marking_near"), std::string::npos) << f;
+  for (const char* ext : {".txt", ".obj"}) {
+    const auto a = files("with", ext), b = files("without", ext);
+    ASSERT_EQ(a, b);
+    ASSERT_FALSE(a.empty());
+    for (const auto& f : a) EXPECT_EQ(bytes(out / "with" / f), bytes(out / "without" / f)) << f;
+  }
+  ASSERT_EQ(with["lods"].size(), without["lods"].size());
+  for (size_t k = 0; k < with["lods"].size(); ++k) {
+    const auto &a = with["lods"][k], &b = without["lods"][k];
+    EXPECT_EQ(a["labels"], b["labels"]);
+    EXPECT_EQ(a["simplify"]["total_after"], b["simplify"]["total_after"]);
+    ASSERT_EQ(a["lod_vs_original"].size(), b["lod_vs_original"].size());
+    for (size_t v = 0; v < a["lod_vs_original"].size(); ++v)
+      for (const char* key : {"view", "drawn_pixels", "changed_pixels", "ssim_covered", "coverage_changed_pixels"})
+        EXPECT_EQ(a["lod_vs_original"][v][key], b["lod_vs_original"][v][key]) << key;
+  }
+  fs::remove_all(out);
+}

@@ -203,5 +203,38 @@ TEST(LodFidelity, FlatPerceptibleWallLosesTrianglesNotPixels) {
   }
 }
 
+// A record keeps only the rectangle the original draws, widened by
+// kRecordMargin pixels: a LOD drawing farther out (a quad 10 m beside the
+// building at 427 m, about 40 px) is a silhouette change and a changed pixel
+// there, and the original against itself still changes nothing.
+TEST(LodFidelity, ALodDrawingBeyondTheKeptRectangleIsChangedThere) {
+  Renderer renderer;
+  const Scene scene = load_scene(kBuilding);
+  LabelJob job;
+  job.up = UpAxis::Z;
+  job.distance = 427;
+  const std::vector<ViewRecord> rec = record_views(renderer, scene, {"-y"}, job);
+  ASSERT_EQ(rec.size(), 1u);
+  EXPECT_LT(size_t(rec[0].w) * size_t(rec[0].h), size_t(rec[0].camera.width) * size_t(rec[0].camera.height) / 20);
+  const nlohmann::json same = compare_lod_views(renderer, scene, rec, job);
+  EXPECT_EQ(same[0]["changed_pixels"], 0u);
+  EXPECT_EQ(same[0]["coverage_changed_pixels"], 0u);
+  EXPECT_EQ(same[0]["ssim_covered"].get<double>(), 1.0);
+
+  Scene more = scene;
+  const Bounds b = scene_bounds(scene);
+  const float x0 = b.hi[0] + 10, x1 = x0 + 2, y = b.lo[1], z0 = b.lo[2], z1 = z0 + 3;
+  const uint32_t v = uint32_t(more.vertex_count());
+  more.positions.insert(more.positions.end(), {x0, y, z0, x1, y, z0, x1, y, z1, x0, y, z1});
+  more.indices.insert(more.indices.end(), {v, v + 1, v + 2, v, v + 2, v + 3});
+  if (!more.component.empty()) more.component.insert(more.component.end(), 2, more.component.back());
+  if (!more.material.empty()) more.material.insert(more.material.end(), 2, more.material.back());
+  const nlohmann::json moved = compare_lod_views(renderer, more, rec, job);
+  const size_t quad = moved[0]["coverage_changed_pixels"].get<size_t>();
+  EXPECT_GT(quad, 40u);  // about 8 x 12 px
+  EXPECT_GE(moved[0]["changed_pixels"].get<size_t>(), quad);
+  EXPECT_EQ(moved[0]["drawn_pixels"].get<size_t>(), same[0]["drawn_pixels"].get<size_t>() + quad);
+}
+
 }  // namespace
 }  // namespace perclod

@@ -49,6 +49,8 @@ struct BatchConfig {
   std::string cityjson_lod;          // CityJSON input: the LOD geometry to read ("" = each object's highest)
   double memory_mb = 0;              // batch: this model's peak memory for memory_budget_mb (0 = estimate_memory_mb)
   bool tileset = true;               // also write the all-LOD GLB, a GLB per LOD and a 3D Tiles tileset.json
+  bool debug_images = true;          // per-view PNGs: renders, perception images, markings, LOD-vs-original pictures
+  bool marking_near = false;         // also the marking from d/4 (one more full render per view and distance)
   // crs_origin: {lat, lon, height}: the model's coordinates are metres east,
   // north, up of this point (WGS84 degrees, ellipsoidal metres); the tileset
   // is placed there by a local ENU transform.

@@ -99,22 +99,47 @@ struct LabelJob {
   bool verify = false;                // also trace with Embree (tie-rule mode) and compare
   double closer_factor = 0.25;        // marking render from d * closer_factor too
   OutputNames out;                    // out.dir "" = write no files
+  // With out.dir set: per view its render and its marking (coloured from the
+  // labelling render's ID buffer), and the simulated/difference/mask images.
+  bool write_view_images = true;
   bool write_perception_images = true;
+  bool marking_near = true;           // also the marking from d * closer_factor (a full render per view)
+  ImageWriter* images = nullptr;      // encodes the PNGs on its own thread (else each is written at once)
 };
 
 // What the original looked like from one view, kept to judge a LOD from the
-// same view: a labelling view, or a held-out view (record_views).
+// same view: a labelling view, or a held-out view (record_views). Only the
+// rectangle the original draws, widened by kRecordMargin pixels, is kept
+// (a building at 427 m covers a few thousand of a view's million pixels);
+// outside it the original drew nothing: background, background_luminance.
+constexpr int kRecordMargin = 16;
 struct ViewRecord {
   std::string view;  // view name (with "_t<i>" for a tile)
   Camera camera;
-  std::vector<float> simulated;            // vision-simulated luminance of the render
+  int x0 = 0, y0 = 0, w = 0, h = 0;       // the kept rectangle of the camera's image
+  std::vector<float> simulated;            // vision-simulated luminance of the render, w x h, row 0 top
   std::vector<uint8_t> luminance;          // luminance of the render, rounded to 0..255
   std::vector<uint8_t> background;         // 1 where no triangle was drawn
+  uint8_t background_luminance = 255;      // the luminance of an undrawn pixel
   std::string set = "labelling";           // "labelling" or "held_out"
+
+  // Index into the kept arrays of image pixel (x, y), or -1 outside them.
+  long kept(int x, int y) const {
+    return x >= x0 && x < x0 + w && y >= y0 && y < y0 + h ? long(y - y0) * w + (x - x0) : -1;
+  }
+};
+
+// A labelling render's triangle IDs, kept to colour its marking image once
+// the labels are final (shade_ids).
+struct IdBuffer {
+  std::string view;  // view name (with "_t<i>" for a tile)
+  Camera camera;
+  std::vector<uint32_t> ids;
 };
 
 struct LabelResult {
   std::vector<Label> labels;               // combined over views
+  std::vector<IdBuffer> id_buffers;        // per labelling view and tile, when view images are written
   TriangleCounts totals;                   // summed over views, in samples
   std::vector<ViewRecord> views;           // whole-model views (and tiles), in job.views order
   size_t outside_views = 0;                // triangles in no view's frustum (labelled imperceptible)
@@ -142,10 +167,13 @@ struct LabelResult {
 LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& job,
                         const Progress& progress = {}, const EmbreeTracer* verify_tracer = nullptr);
 
-// Writes out.labels(d) and the marking-colour renders of the combined labels
-// from each view at d and at d * closer_factor (out.view(f, d, "_marking.png"),
-// "_marking_near.png"); records their paths in result.report ("labels_file",
-// "marking_renders"). `renderer` must hold `scene` (as label_scene leaves it).
+// Writes out.labels(d) and, with job.write_view_images, the marking colours of
+// the combined labels: per labelling view and tile from its own render's ID
+// buffer (out.view(tile, d, "_marking.png"), no second render), and with
+// job.marking_near a render of each view from d * closer_factor
+// ("_marking_near.png"); records their paths in result.report ("labels_file",
+// "marking_renders") and releases result.id_buffers. `renderer` must hold
+// `scene` (as label_scene leaves it).
 void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job);
 
 // label_scene + write_label_outputs with a tracer of `tracer` kind, and the
