@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <future>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -109,7 +111,44 @@ struct ViewOutcome {
   PerceptionResult perception;
   std::vector<uint8_t> background;
   RenderOutput image;
+  double t_render = 0, t_perceive = 0;
   nlohmann::json report;
+};
+
+// Labels views one after another with the two halves overlapped: while a
+// worker thread traces and counts view k, the calling thread (which owns the
+// OpenGL context) renders and perceives view k+1. One view is in flight at a
+// time and the counts are added in view order, so the result is the one a
+// sequential run gives, bit for bit. seen(k, outcome) runs on the calling
+// thread once view k is rendered and perceived (its ID buffer still in use),
+// counted(k, outcome) once it is also traced.
+class ViewPipeline {
+ public:
+  using Step = std::function<void(size_t, ViewOutcome&)>;
+  ViewPipeline(Step seen, Step counted) : seen_(std::move(seen)), counted_(std::move(counted)) {}
+  ~ViewPipeline() {
+    if (pending_.valid()) pending_.wait();  // an exception left a count in flight
+  }
+  template <class See, class Count>
+  void add(See see, Count count) {
+    ViewOutcome& o = slot_[next_ % 2];
+    see(o);
+    seen_(next_, o);
+    drain();
+    pending_ = std::async(std::launch::async, [count, &o] { count(o); });
+    ++next_;
+  }
+  void drain() {  // waits for the view in flight and hands it over
+    if (!pending_.valid()) return;
+    pending_.get();
+    counted_(next_ - 1, slot_[(next_ - 1) % 2]);
+  }
+
+ private:
+  Step seen_, counted_;
+  ViewOutcome slot_[2];
+  size_t next_ = 0;
+  std::future<void> pending_;
 };
 
 // The samples of a pixel sit off its centre (sample_offsets), where the
@@ -133,21 +172,27 @@ void add_drawn_but_missed(const uint32_t* ids, const uint8_t* mask, size_t pixel
   }
 }
 
-// Render, perceive and trace one camera at job.samples samples per pixel;
-// adds its counts and labels for the triangles `counts_for` accepts (all when
-// `owner` is null, else those whose owner[t] == building).
-void label_view(Renderer& renderer, const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference,
-                const LabelJob& job, const PerceptionSettings& ps, const std::string& name, const Camera& cam,
-                const std::vector<uint32_t>* owner, uint32_t building, LabelResult& res, Accumulator& acc,
-                ViewOutcome& out) {
-  const size_t nt = scene.triangle_count();
+// The first half of labelling a view, on the thread that owns the OpenGL
+// context: render and perceive one camera.
+void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& cam, ViewOutcome& out) {
   auto t0 = Clock::now();
   out.image = renderer.render(cam);
-  const double t_render = since(t0);
+  out.t_render = since(t0);
   background_of(out.image, out.background);
   t0 = Clock::now();
   perceive_into(out.image.rgb.data(), out.image.width, out.image.height, ps, out.background.data(), out.perception);
-  const double t_perceive = since(t0);
+  out.t_perceive = since(t0);
+}
+
+// The second half, on any thread: trace the view seen by see_view at
+// job.samples samples per pixel; adds its counts and labels for the
+// triangles of `owner[t] == building` (all when `owner` is null).
+void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
+                const std::string& name, const Camera& cam, const std::vector<uint32_t>* owner, uint32_t building,
+                LabelResult& res, Accumulator& acc, ViewOutcome& out) {
+  const size_t nt = scene.triangle_count();
+  const double t_render = out.t_render, t_perceive = out.t_perceive;
+  auto t0 = Clock::now();
 
   const size_t pixels = size_t(out.image.width) * out.image.height;
   std::vector<uint32_t> rays(pixels);
@@ -249,28 +294,38 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
                 {"samples_per_pixel", job.samples},
                 {"views", nlohmann::json::array()}};
   Accumulator acc(nt);
-  ViewOutcome o;
+  std::vector<ViewTile> tiles;
   for (const auto& view : job.views)
-    for (const ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) {
-      label_view(renderer, scene, tracer, reference, job, ps, tile.name, tile.camera, nullptr, 0, res, acc, o);
-      res.views.push_back(view_record(tile.name, tile.camera, o.perception, o.background, "labelling"));
-      if (write_files) {
-        auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
-        RenderOutput& img = o.image;
-        const int w = img.width, h = img.height;
-        if (job.write_view_images) {
-          write_png_via(job.images, file(".png"), w, h, 3, std::move(img.rgb));
-          res.id_buffers.push_back(IdBuffer{tile.name, tile.camera, std::move(img.ids)});
-        }
-        if (job.write_perception_images) {
-          write_png_via(job.images, file("_simulated.png"), w, h, 1, simulated_view(o.perception));
-          write_png_via(job.images, file("_difference.png"), w, h, 1, difference_view(o.perception));
-          write_png_via(job.images, file("_mask.png"), w, h, 1, mask_view(o.perception));
-        }
-      }
-      res.report["views"].push_back(o.report);
-      if (progress) progress(progress_line(tile.name, job.distance, o));
-    }
+    for (ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) tiles.push_back(std::move(tile));
+  {
+    ViewPipeline pipeline(
+        [&](size_t k, ViewOutcome& o) {  // rendered and perceived: record it, queue its images
+          const ViewTile& tile = tiles[k];
+          res.views.push_back(view_record(tile.name, tile.camera, o.perception, o.background, "labelling"));
+          if (!write_files) return;
+          auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
+          const int w = o.image.width, h = o.image.height;
+          if (job.write_view_images) write_png_via(job.images, file(".png"), w, h, 3, std::move(o.image.rgb));
+          if (job.write_perception_images) {
+            write_png_via(job.images, file("_simulated.png"), w, h, 1, simulated_view(o.perception));
+            write_png_via(job.images, file("_difference.png"), w, h, 1, difference_view(o.perception));
+            write_png_via(job.images, file("_mask.png"), w, h, 1, mask_view(o.perception));
+          }
+        },
+        [&](size_t k, ViewOutcome& o) {  // traced and counted
+          const ViewTile& tile = tiles[k];
+          if (write_files && job.write_view_images)
+            res.id_buffers.push_back(IdBuffer{tile.name, tile.camera, std::move(o.image.ids)});
+          res.report["views"].push_back(o.report);
+          if (progress) progress(progress_line(tile.name, job.distance, o));
+        });
+    for (const ViewTile& tile : tiles)
+      pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, tile.camera, o); },
+                   [&](ViewOutcome& o) {
+                     count_view(scene, tracer, reference, job, tile.name, tile.camera, nullptr, 0, res, acc, o);
+                   });
+    pipeline.drain();
+  }
 
   // Per building: views framed on each building, counting its own triangles.
   Buildings buildings;
@@ -300,12 +355,18 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       if (!(box[b].lo[0] <= box[b].hi[0])) continue;  // a building without triangles
       size_t views = 0;
       double seconds = 0;
+      ViewPipeline pipeline([](size_t, ViewOutcome&) {},
+                            [&](size_t, ViewOutcome& o) {
+                              ++views;
+                              for (const auto& [k, v] : o.report["seconds"].items()) seconds += v.get<double>();
+                            });
       for (const auto& view : job.views)
-        for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display)) {
-          label_view(renderer, scene, tracer, nullptr, job, ps, tile.name, tile.camera, &owner, b, res, acc, o);
-          ++views;
-          for (const auto& [k, v] : o.report["seconds"].items()) seconds += v.get<double>();
-        }
+        for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display))
+          pipeline.add([&, camera = tile.camera](ViewOutcome& o) { see_view(renderer, ps, camera, o); },
+                       [&, name = tile.name, camera = tile.camera](ViewOutcome& o) {
+                         count_view(scene, tracer, nullptr, job, name, camera, &owner, b, res, acc, o);
+                       });
+      pipeline.drain();
       per.push_back({{"building", buildings.names[b]}, {"views", views}, {"seconds", seconds}});
       if (progress) {
         std::ostringstream ss;
