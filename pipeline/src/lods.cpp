@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <iterator>
 #include <sstream>
 #include <stdexcept>
@@ -176,16 +177,16 @@ Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_lumina
 
 }  // namespace
 
-nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
-                                 const LabelJob& job, std::vector<Rgb8Image>* pictures) {
-  const PerceptionSettings ps = perception_for(job);
-  renderer.set_scene(lod);
-  nlohmann::json views = nlohmann::json::array();
+namespace {
+
+// One judged view's figures from the LOD's render of it (and its picture).
+struct ViewComparer {
+  PerceptionSettings ps;
   PerceptionResult pr;
   std::vector<uint8_t> background, drawn_mask, changed_mask;
   std::vector<float> luminance_original;
-  for (const ViewRecord& v : original) {
-    RenderOutput img = renderer.render(v.camera);
+
+  nlohmann::json operator()(const ViewRecord& v, RenderOutput& img, Rgb8Image* picture) {
     background_of(img, background);
     perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
     const size_t kept = size_t(v.w) * size_t(v.h);
@@ -195,7 +196,7 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
     const size_t n = background.size();
     size_t drawn = 0, changed = 0, coverage_changed = 0, covered_original = 0;
     drawn_mask.assign(n, 0);
-    changed_mask.assign(pictures ? n : 0, 0);
+    changed_mask.assign(picture ? n : 0, 0);
     luminance_original.assign(n, float(v.background_luminance));
     for (int y = 0; y < img.height; ++y)
       for (int x = 0; x < img.width; ++x) {
@@ -211,25 +212,56 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
         // kRecordMargin pixels: a LOD drawing there changes what is seen.
         const bool c = k < 0 || std::abs(pr.simulated[i] - v.simulated[size_t(k)]) > ps.threshold;
         changed += c;
-        if (pictures) changed_mask[i] = c;
+        if (picture) changed_mask[i] = c;
         coverage_changed += (background[i] != 0) != original_background;
       }
     // Both luminances on the same 8-bit grid, so an unchanged LOD scores 1.
     for (float& l : pr.luminance) l = std::round(std::clamp(l, 0.f, 255.f));
     const double ssim = ssim_mean(luminance_original.data(), pr.luminance.data(), img.width, img.height,
                                   drawn_mask.data());
-    if (pictures) pictures->push_back(side_by_side(v, pr.luminance, background, changed_mask, img.width, img.height));
-    views.push_back({{"view", v.view},
-                     {"set", v.set},
-                     {"drawn_pixels", drawn},
-                     {"changed_pixels", changed},
-                     {"changed_fraction", drawn ? double(changed) / double(drawn) : 0.0},
-                     {"ssim_covered", ssim},
-                     {"covered_pixels_original", covered_original},
-                     {"coverage_changed_pixels", coverage_changed},
-                     {"silhouette_mismatch", covered_original ? double(coverage_changed) / double(covered_original)
-                                                              : (coverage_changed ? 1.0 : 0.0)}});
+    if (picture) *picture = side_by_side(v, pr.luminance, background, changed_mask, img.width, img.height);
+    return {{"view", v.view},
+            {"set", v.set},
+            {"drawn_pixels", drawn},
+            {"changed_pixels", changed},
+            {"changed_fraction", drawn ? double(changed) / double(drawn) : 0.0},
+            {"ssim_covered", ssim},
+            {"covered_pixels_original", covered_original},
+            {"coverage_changed_pixels", coverage_changed},
+            {"silhouette_mismatch", covered_original ? double(coverage_changed) / double(covered_original)
+                                                     : (coverage_changed ? 1.0 : 0.0)}};
   }
+};
+
+}  // namespace
+
+// The LOD's render of view k+1 (on this thread, which owns the OpenGL
+// context) overlaps the comparison of view k on a worker; the figures are
+// those of one view after another.
+nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
+                                 const LabelJob& job, std::vector<Rgb8Image>* pictures) {
+  renderer.set_scene(lod);
+  nlohmann::json views = nlohmann::json::array();
+  std::vector<Rgb8Image> shots(pictures ? original.size() : 0);
+  ViewComparer compare{perception_for(job), {}, {}, {}, {}, {}};
+  RenderOutput img[2];
+  std::future<nlohmann::json> pending;
+  struct Wait {  // an exception must not leave a comparison running on our buffers
+    std::future<nlohmann::json>& f;
+    ~Wait() {
+      if (f.valid()) f.wait();
+    }
+  } wait{pending};
+  for (size_t k = 0; k < original.size(); ++k) {
+    img[k % 2] = renderer.render(original[k].camera);
+    if (pending.valid()) views.push_back(pending.get());
+    pending = std::async(std::launch::async, [&, k] {
+      return compare(original[k], img[k % 2], pictures ? &shots[k] : nullptr);
+    });
+  }
+  if (pending.valid()) views.push_back(pending.get());
+  if (pictures)
+    for (auto& p : shots) pictures->push_back(std::move(p));
   return views;
 }
 
