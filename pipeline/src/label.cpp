@@ -125,7 +125,8 @@ struct ViewOutcome {
 class ViewPipeline {
  public:
   using Step = std::function<void(size_t, ViewOutcome&)>;
-  ViewPipeline(Step seen, Step counted) : seen_(std::move(seen)), counted_(std::move(counted)) {}
+  ViewPipeline(bool overlap, Step seen, Step counted)
+      : overlap_(overlap), seen_(std::move(seen)), counted_(std::move(counted)) {}
   ~ViewPipeline() {
     if (pending_.valid()) pending_.wait();  // an exception left a count in flight
   }
@@ -135,7 +136,12 @@ class ViewPipeline {
     see(o);
     seen_(next_, o);
     drain();
-    pending_ = std::async(std::launch::async, [count, &o] { count(o); });
+    if (overlap_) {
+      pending_ = std::async(std::launch::async, [count, &o] { count(o); });
+    } else {
+      count(o);
+      counted_(next_, o);
+    }
     ++next_;
   }
   void drain() {  // waits for the view in flight and hands it over
@@ -145,6 +151,7 @@ class ViewPipeline {
   }
 
  private:
+  bool overlap_;
   Step seen_, counted_;
   ViewOutcome slot_[2];
   size_t next_ = 0;
@@ -299,6 +306,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
     for (ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) tiles.push_back(std::move(tile));
   {
     ViewPipeline pipeline(
+        job.overlap,
         [&](size_t k, ViewOutcome& o) {  // rendered and perceived: record it, queue its images
           const ViewTile& tile = tiles[k];
           res.views.push_back(view_record(tile.name, tile.camera, o.perception, o.background, "labelling"));
@@ -355,7 +363,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       if (!(box[b].lo[0] <= box[b].hi[0])) continue;  // a building without triangles
       size_t views = 0;
       double seconds = 0;
-      ViewPipeline pipeline([](size_t, ViewOutcome&) {},
+      ViewPipeline pipeline(job.overlap, [](size_t, ViewOutcome&) {},
                             [&](size_t, ViewOutcome& o) {
                               ++views;
                               for (const auto& [k, v] : o.report["seconds"].items()) seconds += v.get<double>();

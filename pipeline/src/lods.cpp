@@ -255,9 +255,10 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
   for (size_t k = 0; k < original.size(); ++k) {
     img[k % 2] = renderer.render(original[k].camera);
     if (pending.valid()) views.push_back(pending.get());
-    pending = std::async(std::launch::async, [&, k] {
+    pending = std::async(job.overlap ? std::launch::async : std::launch::deferred, [&, k] {
       return compare(original[k], img[k % 2], pictures ? &shots[k] : nullptr);
     });
+    if (!job.overlap) views.push_back(pending.get());
   }
   if (pending.valid()) views.push_back(pending.get());
   if (pictures)
@@ -335,7 +336,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     }
     LabelJob lj = job.label;
     lj.distance = d;
-    lj.images = &images;
+    lj.images = job.label.overlap ? &images : nullptr;
     auto t_d = Clock::now();
     LabelResult lr = label_scene(renderer, scene, *tracer, lj, progress, verify_tracer.get());
 

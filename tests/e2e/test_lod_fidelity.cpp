@@ -236,5 +236,48 @@ TEST(LodFidelity, ALodDrawingBeyondTheKeptRectangleIsChangedThere) {
   EXPECT_EQ(moved[0]["drawn_pixels"].get<size_t>(), same[0]["drawn_pixels"].get<size_t>() + quad);
 }
 
+// The overlapped paths (view k+1 rendered while view k is traced, or
+// compared) give what one view after another gives: labels, sample counts,
+// every per-view figure but the timings, and the LOD's judged figures.
+TEST(LodFidelity, OverlappedViewsGiveTheSequentialResults) {
+  Renderer renderer;
+  const Scene scene = load_scene(kBuilding);
+  OctreeTracer tracer(scene);
+  LabelJob job;
+  job.up = UpAxis::Z;
+  job.views = parse_views(kDefaultViews, UpAxis::Z);
+  job.samples = kDefaultSamples;
+  job.distance = 132;
+  job.verify = true;
+  auto without_seconds = [](nlohmann::json views) {
+    for (auto& v : views) v.erase("seconds");
+    return views;
+  };
+  LabelJob sequential = job;
+  sequential.overlap = false;
+  const LabelResult a = label_scene(renderer, scene, tracer, job);
+  const LabelResult b = label_scene(renderer, scene, tracer, sequential);
+  ASSERT_EQ(a.labels.size(), scene.triangle_count());
+  EXPECT_EQ(a.labels, b.labels);
+  EXPECT_EQ(a.totals.traced, b.totals.traced);
+  EXPECT_EQ(a.totals.imperceptible, b.totals.imperceptible);
+  EXPECT_EQ(without_seconds(a.report["views"]), without_seconds(b.report["views"]));
+  ASSERT_EQ(a.views.size(), b.views.size());
+  for (size_t k = 0; k < a.views.size(); ++k) {
+    EXPECT_EQ(a.views[k].view, b.views[k].view);
+    EXPECT_EQ(a.views[k].simulated, b.views[k].simulated);
+  }
+  SimplifyOptions opt;
+  opt.mode = SimplifyMode::Fidelity;
+  opt.pixel_footprint = display_pixel_footprint(job.display, job.distance);
+  const Scene lod = simplify(scene, a.labels, opt);
+  std::vector<Rgb8Image> pa, pb;
+  const nlohmann::json ja = compare_lod_views(renderer, lod, a.views, job, &pa);
+  const nlohmann::json jb = compare_lod_views(renderer, lod, a.views, sequential, &pb);
+  EXPECT_EQ(ja, jb);
+  ASSERT_EQ(pa.size(), pb.size());
+  for (size_t k = 0; k < pa.size(); ++k) EXPECT_EQ(pa[k].pixels, pb[k].pixels);
+}
+
 }  // namespace
 }  // namespace perclod

@@ -105,6 +105,9 @@ struct LabelJob {
   bool write_perception_images = true;
   bool marking_near = true;           // also the marking from d * closer_factor (a full render per view)
   ImageWriter* images = nullptr;      // encodes the PNGs on its own thread (else each is written at once)
+  // Render view k+1 while view k is traced (labelling) or compared (judging),
+  // on a second thread; false runs them one after another (same results).
+  bool overlap = true;
 };
 
 // What the original looked like from one view, kept to judge a LOD from the
