@@ -431,7 +431,8 @@ nlohmann::json settings_json(const BatchConfig& c) {
                                   ? nlohmann::json{{"max_changed", c.target_max_changed},
                                                    {"max_silhouette", c.target_max_silhouette}}
                                   : nlohmann::json(nullptr)},
-          {"cityjson_lod", c.cityjson_lod}, {"tileset", c.tileset}, {"debug_images", c.debug_images}, {"marking_near", c.marking_near},
+          {"cityjson_lod", c.cityjson_lod}, {"tileset", c.tileset}, {"debug_images", c.debug_images},
+          {"marking_near", c.marking_near},
           {"crs_origin", c.crs_origin ? nlohmann::json{{"lat", c.origin_lat}, {"lon", c.origin_lon},
                                                        {"height", c.origin_height}}
                                       : nlohmann::json(nullptr)}};

@@ -53,7 +53,8 @@ std::vector<std::string> write_marking_images(Renderer& renderer, const Scene& s
   if (!job.marking_near) return files;
   const Bounds bounds = scene_bounds(scene);
   for (const auto& view : job.views) {
-    RenderOutput o = renderer.render(view_camera(bounds, job.up, view, job.distance * job.closer_factor, job.display), opt);
+    const Camera closer = view_camera(bounds, job.up, view, job.distance * job.closer_factor, job.display);
+    RenderOutput o = renderer.render(closer, opt);
     files.push_back(job.out.view(view, job.distance, "_marking_near.png"));
     write_png_via(job.images, files.back(), o.width, o.height, 3, std::move(o.rgb));
   }
