@@ -175,10 +175,6 @@ Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_lumina
   return img;
 }
 
-}  // namespace
-
-namespace {
-
 // One judged view's figures from the LOD's render of it (and its picture).
 struct ViewComparer {
   PerceptionSettings ps;
