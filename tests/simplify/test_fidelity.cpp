@@ -131,9 +131,10 @@ TEST(SimplifyFidelity, DeletesUndisplayableTrianglesAndKeepsTheVisibleOnesInPlac
   EXPECT_EQ(kst.undisplayable_faces_deleted, 0u);
   EXPECT_LT(kst.triangles_after[2], kst.triangles_before[2] / 2);
   EXPECT_GT(kst.triangles_after[0], 0u);
-  for (size_t t = 0; t < kept.triangle_count(); ++t)
-    if (labels[src[t]] == Label::Perceptible)
-      for (int k = 0; k < 3; ++k) EXPECT_EQ(kept.positions[3 * size_t(kept.indices[3 * t + k]) + 2], 1.0f);
+  for (size_t t = 0; t < kept.triangle_count(); ++t) {
+    if (labels[src[t]] != Label::Perceptible) continue;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(kept.positions[3 * size_t(kept.indices[3 * t + k]) + 2], 1.0f);
+  }
 }
 
 TEST(SimplifyFidelity, AreaRuleKeepsALongPartThinnerThanTheBound) {
