@@ -225,7 +225,7 @@ TEST(Render, ShadeIdsMatchesARenderInTheSameColours) {
     far += d > 2;
   }
   EXPECT_GT(covered, 10000u);
-  EXPECT_LT(double(off) / double(covered), 0.005);  // rounding of the normal: 0.16% of pixels, by one level
+  EXPECT_LT(double(off) / double(covered), 0.005);  // rounding of the normal: 0.16% of the drawn pixels
   EXPECT_EQ(far, 0u);
   EXPECT_THROW(shade_ids(s, c, std::vector<uint32_t>(7), opt.triangle_colors), RenderError);
   EXPECT_THROW(shade_ids(s, c, plain.ids, {1.f, 0.f}), RenderError);
