@@ -13,8 +13,8 @@
 int main(int argc, char** argv) {
 #if defined(__GLIBC__)
   // Buffers of 1 MB and more (renders, ID buffers, perception images) are
-  // mapped and unmapped, not kept in the heap when freed: a run's peak
-  // memory at 1M triangles falls from 1.09 to 0.96 GiB (README, Figures).
+  // mapped and unmapped, not kept in the heap when freed, so one stage's
+  // freed buffers do not raise the next stage's peak (README, Figures).
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
 #endif
   CLI::App app{

@@ -360,15 +360,17 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       }
     }
     nlohmann::json per = nlohmann::json::array();
+    size_t views = 0;  // of the building being labelled
+    double seconds = 0;
+    ViewPipeline pipeline(job.overlap, [](size_t, ViewOutcome&) {},
+                          [&](size_t, ViewOutcome& o) {
+                            ++views;
+                            for (const auto& [k, v] : o.report["seconds"].items()) seconds += v.get<double>();
+                          });
     for (uint32_t b = 0; b < buildings.names.size(); ++b) {
       if (!(box[b].lo[0] <= box[b].hi[0])) continue;  // a building without triangles
-      size_t views = 0;
-      double seconds = 0;
-      ViewPipeline pipeline(job.overlap, [](size_t, ViewOutcome&) {},
-                            [&](size_t, ViewOutcome& o) {
-                              ++views;
-                              for (const auto& [k, v] : o.report["seconds"].items()) seconds += v.get<double>();
-                            });
+      views = 0;
+      seconds = 0;
       for (const auto& view : job.views)
         for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display))
           pipeline.add([&, camera = tile.camera](ViewOutcome& o) { see_view(renderer, ps, camera, o); },

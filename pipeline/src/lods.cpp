@@ -113,19 +113,11 @@ namespace {
 // so a building far away is as readable as one close by.
 Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_luminance,
                        const std::vector<uint8_t>& lod_background, const std::vector<uint8_t>& changed, int w, int h) {
-  auto original_background = [&v](int x, int y) {
-    const long k = v.kept(x, y);
-    return k < 0 || v.background[size_t(k)] != 0;
-  };
-  auto original_luminance = [&v](int x, int y) {
-    const long k = v.kept(x, y);
-    return k < 0 ? v.background_luminance : v.luminance[size_t(k)];
-  };
   int x0 = w, y0 = h, x1 = -1, y1 = -1;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
-      if (original_background(x, y) && lod_background[i]) continue;
+      if (v.background_at(x, y) && lod_background[i]) continue;
       x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
     }
   if (x1 < 0) x0 = 0, y0 = 0, x1 = w - 1, y1 = h - 1;  // nothing drawn: the whole view
@@ -150,9 +142,9 @@ Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_lumina
       for (int yy = sy0; yy < sy1; ++yy)
         for (int xx = sx0; xx < sx1; ++xx, ++n) {
           const size_t i = size_t(yy) * size_t(w) + size_t(xx);
-          a += original_luminance(xx, yy), b += lod_luminance[i];
+          a += v.luminance_at(xx, yy), b += lod_luminance[i];
           red |= changed[i] != 0;
-          blue |= (lod_background[i] != 0) != original_background(xx, yy);
+          blue |= (lod_background[i] != 0) != v.background_at(xx, yy);
         }
       n = std::max(n, 1);
       const auto put = [&](int panel, double l, uint8_t r, uint8_t g, uint8_t bl) {
@@ -251,10 +243,9 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
   for (size_t k = 0; k < original.size(); ++k) {
     img[k % 2] = renderer.render(original[k].camera);
     if (pending.valid()) views.push_back(pending.get());
-    pending = std::async(job.overlap ? std::launch::async : std::launch::deferred, [&, k] {
-      return compare(original[k], img[k % 2], pictures ? &shots[k] : nullptr);
-    });
-    if (!job.overlap) views.push_back(pending.get());
+    auto work = [&, k] { return compare(original[k], img[k % 2], pictures ? &shots[k] : nullptr); };
+    if (job.overlap) pending = std::async(std::launch::async, work);
+    else views.push_back(work());
   }
   if (pending.valid()) views.push_back(pending.get());
   if (pictures)
@@ -408,7 +399,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     }
     for (size_t k = 0; k < pictures.size(); ++k) {
       const std::string file = out.view(views[k]["view"].get<std::string>(), d, "_lod_vs_original.png");
-      images.png(file, pictures[k].width, pictures[k].height, 3, std::move(pictures[k].pixels));
+      write_png_via(lj.images, file, pictures[k].width, pictures[k].height, 3, std::move(pictures[k].pixels));
       views[k]["comparison_image"] = file;
     }
     entry["lod_vs_original"] = std::move(views);

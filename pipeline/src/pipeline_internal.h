@@ -43,15 +43,17 @@ inline ViewRecord view_record(const std::string& name, const Camera& camera, con
   const int W = camera.width, H = camera.height;
   auto lum8 = [&](size_t i) { return uint8_t(std::lround(std::clamp(pr.luminance[i], 0.f, 255.f))); };
   int x0 = W, y0 = H, x1 = -1, y1 = -1;
+  size_t undrawn = background.size();  // some undrawn pixel, for the background's luminance
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const size_t i = size_t(y) * size_t(W) + size_t(x);
       if (background[i]) {
-        r.background_luminance = lum8(i);
+        undrawn = i;
         continue;
       }
       x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = y;
     }
+  if (undrawn < background.size()) r.background_luminance = lum8(undrawn);
   if (x1 < 0) return r;  // nothing drawn: nothing kept
   r.x0 = std::max(0, x0 - kRecordMargin), r.y0 = std::max(0, y0 - kRecordMargin);
   r.w = std::min(W - 1, x1 + kRecordMargin) - r.x0 + 1, r.h = std::min(H - 1, y1 + kRecordMargin) - r.y0 + 1;

@@ -63,6 +63,10 @@ GLuint compile(GLenum type, const char* src) {
   return s;
 }
 
+// Towards the key light: above and to the left of the eye, so facade relief
+// casts shading (render() and shade_ids()).
+Eigen::Vector3d key_light(const Camera& cam) { return (-cam.forward + 0.8 * cam.up - 0.5 * cam.right).normalized(); }
+
 }  // namespace
 
 std::array<float, 3> component_color(uint32_t c) {
@@ -242,8 +246,7 @@ RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
   glUseProgram(I.program);
   Eigen::Matrix4f vp = (cam.projection() * cam.view()).cast<float>();
   glUniformMatrix4fv(glGetUniformLocation(I.program, "view_proj"), 1, GL_FALSE, vp.data());  // column-major
-  // Key light from above and to the left of the eye, so facade relief casts shading.
-  Eigen::Vector3d L = (-cam.forward + 0.8 * cam.up - 0.5 * cam.right).normalized();
+  const Eigen::Vector3d L = key_light(cam);
   glUniform3f(glGetUniformLocation(I.program, "light_dir"), float(L.x()), float(L.y()), float(L.z()));
   glUniform3f(glGetUniformLocation(I.program, "eye"), float(cam.eye.x()), float(cam.eye.y()), float(cam.eye.z()));
   glUniform1f(glGetUniformLocation(I.program, "ambient"), float(opt.ambient));
@@ -299,7 +302,7 @@ std::vector<uint8_t> shade_ids(const Scene& scene, const Camera& cam, const std:
     throw RenderError("shade_ids: the ID buffer is not the camera's size");
   if (colors.size() != 3 * nt) throw RenderError("shade_ids: triangle_colors must hold 3 floats per triangle");
   // The fragment shader's light and its float -> 8-bit conversion (round to nearest).
-  const Eigen::Vector3d L = (-cam.forward + 0.8 * cam.up - 0.5 * cam.right).normalized();
+  const Eigen::Vector3d L = key_light(cam);
   auto corner = [&](size_t t, int k) {
     const float* p = &scene.positions[3 * size_t(scene.indices[3 * t + k])];
     return Eigen::Vector3d(p[0], p[1], p[2]);

@@ -108,7 +108,8 @@ std::string relative(const std::string& path, const OutputNames& names) {
   return file_name(path);
 }
 
-// "front_t3" -> "front": tiles share their view's marking renders.
+// "front_t3" -> "front": a view's tiles are shown together, beside the
+// view's near marking.
 std::string untiled(const std::string& view) {
   const size_t p = view.rfind("_t");
   if (p == std::string::npos || p + 2 == view.size()) return view;

@@ -130,6 +130,14 @@ struct ViewRecord {
   long kept(int x, int y) const {
     return x >= x0 && x < x0 + w && y >= y0 && y < y0 + h ? long(y - y0) * w + (x - x0) : -1;
   }
+  bool background_at(int x, int y) const {
+    const long k = kept(x, y);
+    return k < 0 || background[size_t(k)] != 0;
+  }
+  uint8_t luminance_at(int x, int y) const {
+    const long k = kept(x, y);
+    return k < 0 ? background_luminance : luminance[size_t(k)];
+  }
 };
 
 // A labelling render's triangle IDs, kept to colour its marking image once
