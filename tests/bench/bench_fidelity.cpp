@@ -8,9 +8,12 @@
 // 45 degrees up, and az0el75). Each LOD is rendered from all of them and
 // judged with compare_lod_views: changed fraction (after vision simulation),
 // SSIM over the covered region, silhouette mismatch; the table prints the
-// worst view of each set.
+// worst view of each set, and the sampled Hausdorff distance to the original
+// over its bounding-box diagonal (hausdorff.h).
 //
-// Rows: fidelity at e_P = 0.5 px and several e_I, paper, bounded (k = 1);
+// Rows: fidelity at e_P = 0.5 px and several e_I, paper, bounded (k = 1),
+// cluster (k = 1), and plain qem and OpenMesh's stock Decimater (quadric +
+// aspect ratio 10, as bench_simplify) at each fidelity row's count;
 // meshoptimizer (meshopt_simplify, meshopt_simplifySloppy when it stalls
 // above 1.1x the count) at each fidelity row's count; and "meshopt for the
 // same SSIM": meshoptimizer swept over target counts (error limit 1, i.e.
@@ -23,9 +26,23 @@
 // every output triangle keeps its colour and the renders compare like with
 // like.
 //
-// Usage: bench_fidelity [--models demo,han,block,facade] [--distances 56,132,427]
+// Usage: bench_fidelity [--models demo,han,sibenik,sponza,block,facade] [--distances 56,132,427]
 //                       [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]
 //                       [--no-meshopt] [--keep-undisplayable] [--dump DIR] [--facade-triangles N] [--e-area A]
+//                       [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]
+//   --set: a labelling setting for the sweeps of scripts/bench.py: levels (DWT),
+//   csf_k, csf (fir|weights|kakadu), threshold (grey levels), ratio (label),
+//   samples, views, spins, resolution (a factor: 1.5 = 1920x1536 at 1.5x the
+//   pixel density, same screen). --only-fidelity: the fidelity rows only.
+//   --pairs DIR: writes DIR/<model>_<d>m_original.png and one
+//   <model>_<d>m_<method>.png per row, all from the held-out view az22.5el45
+//   and cropped to the same rectangle, for an independent image metric
+//   (scripts/bench.py runs butteraugli on them).
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -33,6 +50,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -41,6 +59,7 @@
 #endif
 
 #include "bench_common.h"
+#include "hausdorff.h"
 #include "perclod/facade.h"
 #include "perclod/image_io.h"
 #include "perclod/load.h"
@@ -61,7 +80,42 @@ std::vector<double> numbers(const std::string& s) {
 
 using bench::held_out_views;
 
-std::string g_dump;  // --dump DIR: original | LOD | difference of each LOD's worst held-out view
+std::string g_dump;   // --dump DIR: original | LOD | difference of each LOD's worst held-out view
+std::string g_pairs;  // --pairs DIR: original and LOD from kPairView, for butteraugli
+const Scene* g_original = nullptr;  // the model being judged (Hausdorff distance)
+std::vector<std::pair<std::string, std::string>> g_settings;  // --set KEY=VALUE, in order
+bool g_only_fidelity = false;
+double g_label_seconds = 0;  // labelling time of the current model and distance
+
+// Applies --set KEY=VALUE to a labelling job; throws on an unknown key.
+void apply_settings(LabelJob& job) {
+  for (const auto& [key, value] : g_settings) {
+    const double v = std::atof(value.c_str());
+    if (key == "resolution") {  // before the perception keys: it resets ppd
+      job.display.width = int(std::lround(job.display.width * v));
+      job.display.height = int(std::lround(job.display.height * v));
+      job.display.dpi *= v;
+      const PerceptionSettings old = job.perception;
+      job.perception = perception_settings_for(job.display);
+      job.perception.spins = old.spins;
+    } else if (key == "levels") job.perception.levels = int(v);
+    else if (key == "csf_k") job.perception.k = v;
+    else if (key == "threshold") job.perception.threshold = v;
+    else if (key == "spins") job.perception.spins = int(v);
+    else if (key == "ratio") job.ratio = v;
+    else if (key == "samples") job.samples = int(v);
+    else if (key == "views") job.views = parse_views(value, job.up);
+    else if (key == "csf") {
+      if (value == "fir") job.perception.csf = PerceptionSettings::CsfMode::Fir;
+      else if (value == "weights") job.perception.csf = PerceptionSettings::CsfMode::Weights;
+      else if (value == "kakadu") job.perception.csf = PerceptionSettings::CsfMode::Kakadu;
+      else throw std::invalid_argument("--set csf=" + value + ": fir, weights or kakadu");
+    } else {
+      throw std::invalid_argument("--set " + key + ": unknown setting");
+    }
+  }
+}
+constexpr const char* kPairView = "az22.5el45";
 
 // Worst figures of one set of views.
 struct Worst {
@@ -72,6 +126,7 @@ struct Judged {
   size_t triangles = 0;
   double seconds = 0;  // simplification
   Worst labelling, held_out;
+  double hausdorff = 0;  // sampled, symmetric, / the original's bounding-box diagonal
   double ssim_all() const { return std::min(labelling.ssim, held_out.ssim); }
 };
 
@@ -104,11 +159,51 @@ void dump(Renderer& renderer, const Scene& original, const Scene& lod, const Cam
   write_png(g_dump + "/" + name + ".png", 3 * cw, ch, 3, out.data());
 }
 
+// Crop rectangle of the original's render from kPairView (what it draws,
+// plus 8 px), fixed per model and distance so every LOD is cut the same.
+struct Crop {
+  int x0 = 0, y0 = 0, w = 0, h = 0;
+};
+
+// Writes `g_pairs/<name>.png`: `scene` rendered from `cam`, cut to `crop`.
+void write_pair(Renderer& renderer, const Scene& scene, const Camera& cam, const Crop& crop, const std::string& name) {
+  renderer.set_scene(scene);
+  const RenderOutput r = renderer.render(cam);
+  std::vector<uint8_t> out(size_t(3) * crop.w * crop.h);
+  for (int y = 0; y < crop.h; ++y)
+    std::memcpy(&out[size_t(y) * 3 * crop.w], &r.rgb[(size_t(y + crop.y0) * r.width + crop.x0) * 3],
+                size_t(3) * crop.w);
+  write_png(g_pairs + "/" + name + ".png", crop.w, crop.h, 3, out.data());
+}
+
+// The pair view of the model and distance being judged (camera null: none).
+struct PairView {
+  const Camera* camera = nullptr;
+  Crop crop;
+} g_pair;
+
+Crop pair_crop(Renderer& renderer, const Scene& original, const Camera& cam) {
+  renderer.set_scene(original);
+  const RenderOutput r = renderer.render(cam);
+  int x0 = r.width, x1 = -1, y0 = r.height, y1 = -1;
+  for (int y = 0; y < r.height; ++y)
+    for (int x = 0; x < r.width; ++x)
+      if (r.ids[size_t(y) * r.width + x])
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  if (x1 < 0) return Crop{0, 0, r.width, r.height};
+  const int m = 8;
+  x0 = std::max(0, x0 - m), y0 = std::max(0, y0 - m);
+  x1 = std::min(r.width - 1, x1 + m), y1 = std::min(r.height - 1, y1 + m);
+  return Crop{x0, y0, x1 - x0 + 1, y1 - y0 + 1};
+}
+
 Judged judge(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& records, const LabelJob& job,
              const Scene* original = nullptr, const std::string& dump_name = "") {
   Judged j;
   j.triangles = lod.triangle_count();
+  if (g_original) j.hausdorff = bench::hausdorff_relative(*g_original, lod);
   const nlohmann::json views = compare_lod_views(renderer, lod, records, job);
+  if (g_pair.camera && !dump_name.empty()) write_pair(renderer, lod, *g_pair.camera, g_pair.crop, dump_name);
   if (!g_dump.empty() && original) {
     size_t worst = 0;
     double worst_changed = -1;
@@ -187,6 +282,70 @@ Scene meshopt_lod(const Scene& s, const MeshoptInput& in, size_t target, bool sl
   }
   return lod;
 }
+
+// OpenMesh's stock Decimater (ModQuadric, no error limit, + ModAspectRatio
+// 10) to `target` faces, on meshoptimizer's welded input so every face keeps
+// its component and material. Faces OpenMesh refuses (non-manifold) are
+// added with their own vertices, as its reader does.
+struct DTraits : OpenMesh::DefaultTraits {
+  VertexAttributes(OpenMesh::Attributes::Status);
+  EdgeAttributes(OpenMesh::Attributes::Status);
+  FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
+};
+using DMesh = OpenMesh::TriMesh_ArrayKernelT<DTraits>;
+
+Scene decimater_lod(const Scene& s, const MeshoptInput& in, size_t target, double& seconds) {
+  auto t0 = std::chrono::steady_clock::now();
+  omerr().disable();
+  DMesh mesh;
+  std::vector<uint32_t> source;  // DMesh vertex -> welded vertex of `in`
+  const size_t nv = in.positions.size() / 3;
+  for (size_t i = 0; i < nv; ++i) {
+    mesh.add_vertex(DMesh::Point(in.positions[3 * i], in.positions[3 * i + 1], in.positions[3 * i + 2]));
+    source.push_back(uint32_t(i));
+  }
+  for (size_t t = 0; t < in.indices.size() / 3; ++t) {
+    const unsigned v[3] = {in.indices[3 * t], in.indices[3 * t + 1], in.indices[3 * t + 2]};
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;  // degenerate: OpenMesh cannot hold it
+    if (!mesh.add_face(DMesh::VertexHandle(int(v[0])), DMesh::VertexHandle(int(v[1])), DMesh::VertexHandle(int(v[2])))
+             .is_valid()) {
+      DMesh::VertexHandle d[3];
+      for (int k = 0; k < 3; ++k) {
+        d[k] = mesh.add_vertex(mesh.point(DMesh::VertexHandle(int(v[k]))));
+        source.push_back(v[k]);
+      }
+      mesh.add_face(d[0], d[1], d[2]);
+    }
+  }
+  mesh.update_face_normals();
+  OpenMesh::Decimater::DecimaterT<DMesh> dec(mesh);
+  OpenMesh::Decimater::ModQuadricT<DMesh>::Handle hq;
+  OpenMesh::Decimater::ModAspectRatioT<DMesh>::Handle ha;
+  dec.add(hq);
+  dec.add(ha);
+  dec.module(hq).unset_max_err();
+  dec.module(ha).set_aspect_ratio(10.0f);
+  dec.initialize();
+  dec.decimate_to_faces(0, target);
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  Scene lod;
+  lod.offset = s.offset;
+  lod.component_names = s.component_names;
+  lod.materials = s.materials;
+  lod.positions = in.positions;
+  const uint32_t nm = uint32_t(std::max<size_t>(1, s.materials.size()));
+  for (auto f : mesh.faces()) {
+    if (mesh.status(f).deleted()) continue;
+    uint32_t k = 0;
+    for (auto v : mesh.fv_range(f)) {
+      lod.indices.push_back(source[size_t(v.idx())]);
+      k = in.key[source[size_t(v.idx())]];
+    }
+    if (!s.component.empty()) lod.component.push_back(k / nm);
+    if (!s.material.empty()) lod.material.push_back(k % nm);
+  }
+  return lod;
+}
 #endif
 
 struct Model {
@@ -203,21 +362,23 @@ double g_area = kDefaultBoundAreaPx2;  // --e-area: fidelity's area budget, px^2
   // --keep-undisplayable: fidelity collapses them instead
 
 void row(const Model& m, double d, const std::string& method, const Judged& j, const std::string& note = "") {
-  std::printf("%-6s %4.0f  %-26s %8zu  %7.3f  | %6.2f%% %6.4f %6.2f%% | %6.2f%% %6.4f %6.2f%%  %s\n", m.key.c_str(), d,
-              method.c_str(), j.triangles, j.seconds, 100 * j.labelling.changed, j.labelling.ssim,
+  std::printf("%-6s %4.0f  %-26s %8zu  %7.3f  | %6.2f%% %6.4f %6.2f%% | %6.2f%% %6.4f %6.2f%% | %7.4f%%  %s\n",
+              m.key.c_str(), d, method.c_str(), j.triangles, j.seconds, 100 * j.labelling.changed, j.labelling.ssim,
               100 * j.labelling.silhouette, 100 * j.held_out.changed, j.held_out.ssim, 100 * j.held_out.silhouette,
-              note.c_str());
+              100 * j.hausdorff, note.c_str());
   std::fflush(stdout);
   if (g_csv) {
-    std::fprintf(g_csv, "%s,%g,%s,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%s\n", m.key.c_str(), d, method.c_str(),
-                 j.triangles, j.seconds, j.labelling.changed, j.labelling.ssim, j.labelling.silhouette,
-                 j.held_out.changed, j.held_out.ssim, j.held_out.silhouette, note.c_str());
+    std::fprintf(g_csv, "%s,%g,%s,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.3f,%s\n", m.key.c_str(), d,
+                 method.c_str(), j.triangles, j.seconds, j.labelling.changed, j.labelling.ssim, j.labelling.silhouette,
+                 j.held_out.changed, j.held_out.ssim, j.held_out.silhouette, j.hausdorff, g_label_seconds,
+                 note.c_str());
     std::fflush(g_csv);
   }
 }
 
 void run_model(const Model& m, const std::vector<double>& distances, const std::vector<double>& e_i, double e_p) {
   const Scene& scene = m.scene;
+  g_original = &scene;
   OctreeTracer tracer(scene);
   Renderer renderer;
   for (double d : distances) {
@@ -230,25 +391,39 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     job.per_building = m.per_building;
     job.distance = d;
     job.write_perception_images = false;
+    apply_settings(job);
+    const auto label_start = std::chrono::steady_clock::now();
     LabelResult lr = label_scene(renderer, scene, tracer, job);
+    g_label_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - label_start).count();
     std::vector<ViewRecord> records = std::move(lr.views);
     for (auto& r : record_views(renderer, scene, held_out_views(), job, "held_out")) records.push_back(std::move(r));
     const double p = display_pixel_footprint(job.display, d);
+    g_pair = PairView{};
+    std::ostringstream tag_ss;
+    tag_ss << m.key << "_" << d << "m";
+    const std::string tag = tag_ss.str();
+    if (!g_pairs.empty())
+      for (const auto& r : records)
+        if (r.view == kPairView) {
+          g_pair = PairView{&r.camera, pair_crop(renderer, scene, r.camera)};
+          write_pair(renderer, scene, r.camera, g_pair.crop, tag + "_original");
+        }
     LabelCounts lc = count_labels(lr.labels);
     std::printf("\n%s at %.0f m: %zu triangles (P %zu, I %zu, U %zu), p(d) = %.4f m, %zu labelling + %zu held-out "
                 "views\n",
                 m.key.c_str(), d, scene.triangle_count(), lc.perceptible, lc.imperceptible, lc.undisplayable, p,
                 records.size() - held_out_views().size(), held_out_views().size());
-    std::printf("%-6s %4s  %-26s %8s  %7s  | %-23s | %-23s\n", "model", "d", "method", "tris", "simp s",
-                "labelling: chg  SSIM  sil", "held-out: chg  SSIM  sil");
+    std::printf("%-6s %4s  %-26s %8s  %7s  | %-23s | %-23s | %s\n", "model", "d", "method", "tris", "simp s",
+                "labelling: chg  SSIM  sil", "held-out: chg  SSIM  sil", "Hausdorff/diag");
 
-    auto simplified = [&](SimplifyOptions so) {
+    auto simplified = [&](SimplifyOptions so, const std::string& suffix = "") {
       so.pixel_footprint = p;
       SimplifyStats st;
       Scene lod = simplify(scene, lr.labels, so, &st);
       std::ostringstream name;
-      name << m.key << "_" << d << "m_" << simplify_mode_name(so.mode);
+      name << tag << "_" << simplify_mode_name(so.mode);
       if (so.mode == SimplifyMode::Fidelity) name << "_eI" << so.bound_imperceptible_px;
+      name << suffix;
       Judged j = judge(renderer, lod, records, job, &scene, name.str());
       j.seconds = st.seconds;
       return j;
@@ -266,6 +441,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       name << "fidelity e_I=" << ei;
       row(m, d, name.str(), fidelity.back());
     }
+    if (g_only_fidelity) continue;
     {
       SimplifyOptions so;
       so.mode = SimplifyMode::Paper;
@@ -273,17 +449,30 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       so.mode = SimplifyMode::Bounded;
       so.k = 1;
       row(m, d, "bounded k=1", simplified(so));
+      so.mode = SimplifyMode::Cluster;
+      row(m, d, "cluster k=1", simplified(so));
+      // Plain quadric collapse, labels ignored, at each fidelity row's count.
+      for (size_t i = 0; i < fidelity.size(); ++i) {
+        so.mode = SimplifyMode::Qem;
+        so.target_triangles = fidelity[i].triangles;
+        std::ostringstream name;
+        name << "qem @e_I=" << e_i[i];
+        std::ostringstream suffix;
+        suffix << "_eI" << e_i[i];
+        row(m, d, name.str(), simplified(so, suffix.str()));
+      }
     }
 #ifdef PERCLOD_HAVE_MESHOPTIMIZER
     if (!g_meshopt) continue;
     const MeshoptInput in = meshopt_input(scene);
     // meshopt_simplify, and sloppy too when simplify stalls above 1.1x the target.
-    auto mesh_opt = [&](size_t target, const std::string& name, std::vector<std::pair<size_t, double>>* sweep) {
+    auto mesh_opt = [&](size_t target, const std::string& name, std::vector<std::pair<size_t, double>>* sweep,
+                        const std::string& pair_name = "") {
       for (bool sloppy : {false, true}) {
         double sec = 0;
         Scene lod = meshopt_lod(scene, in, std::max<size_t>(1, target), sloppy, sec);
         const bool stalled = lod.triangle_count() > target + target / 10 + 1;
-        Judged j = judge(renderer, lod, records, job);
+        Judged j = judge(renderer, lod, records, job, nullptr, pair_name.empty() ? "" : pair_name + (sloppy ? "_sloppy" : ""));
         j.seconds = sec;
         row(m, d, name, j, sloppy ? "sloppy" : (stalled ? "stalled" : ""));
         if (sweep) sweep->push_back({j.triangles, j.ssim_all()});
@@ -291,9 +480,21 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       }
     };
     for (size_t i = 0; i < fidelity.size(); ++i) {
+      double sec = 0;
+      Scene lod = decimater_lod(scene, in, fidelity[i].triangles, sec);
+      std::ostringstream name, pair_name;
+      name << "decimater @e_I=" << e_i[i];
+      pair_name << tag << "_decimater_eI" << e_i[i];
+      Judged j = judge(renderer, lod, records, job, nullptr, pair_name.str());
+      j.seconds = sec;
+      row(m, d, name.str(), j);
+    }
+    for (size_t i = 0; i < fidelity.size(); ++i) {
       std::ostringstream name;
       name << "meshopt @e_I=" << e_i[i];
-      mesh_opt(fidelity[i].triangles, name.str(), nullptr);
+      std::ostringstream pair_name;
+      pair_name << tag << "_meshopt_eI" << e_i[i];
+      mesh_opt(fidelity[i].triangles, name.str(), nullptr, pair_name.str());
     }
     // The sweep: worst-view SSIM (both sets) against meshoptimizer's count.
     std::vector<std::pair<size_t, double>> sweep;
@@ -338,7 +539,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
                   m.key.c_str(), d, goal, e_i[i], fidelity[i].triangles, need,
                   need > 0 ? double(fidelity[i].triangles) / need : 0.0);
       if (g_csv)
-        std::fprintf(g_csv, "%s,%g,same_ssim e_I=%g,%zu,,%.5f,,,,,,meshopt %.0f ratio %.3f\n", m.key.c_str(), d,
+        std::fprintf(g_csv, "%s,%g,same_ssim e_I=%g,%zu,,%.5f,,,,,,,,meshopt %.0f ratio %.3f\n", m.key.c_str(), d,
                      e_i[i], fidelity[i].triangles, goal, need, need > 0 ? double(fidelity[i].triangles) / need : 0.0);
     }
 #endif
@@ -363,11 +564,18 @@ int main(int argc, char** argv) {
     else if (a == "--e-area" && i + 1 < argc) g_area = std::atof(argv[++i]);
     else if (a == "--facade-triangles" && i + 1 < argc) facade_triangles = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--dump" && i + 1 < argc) g_dump = argv[++i];
+    else if (a == "--pairs" && i + 1 < argc) g_pairs = argv[++i];
+    else if (a == "--only-fidelity") g_only_fidelity = true;
+    else if (a == "--set" && i + 1 < argc && std::strchr(argv[i + 1], '=')) {
+      const std::string kv = argv[++i];
+      g_settings.push_back({kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1)});
+    }
     else if (a == "--keep-undisplayable") g_keep_undisplayable = true;
     else {
-      std::fprintf(stderr, "usage: bench_fidelity [--models demo,han,block,facade] [--distances 56,132,427]\n"
+      std::fprintf(stderr, "usage: bench_fidelity [--models demo,han,sibenik,sponza,block,facade] [--distances 56,132,427]\n"
                            "                      [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]\n"
-                           "                      [--no-meshopt] [--keep-undisplayable] [--dump DIR] [--facade-triangles N] [--e-area A]\n");
+                           "                      [--no-meshopt] [--keep-undisplayable] [--dump DIR] [--facade-triangles N] [--e-area A]\n"
+                           "                      [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]\n");
       return 2;
     }
   }
@@ -378,7 +586,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::fprintf(g_csv, "model,distance,method,triangles,seconds,lab_changed,lab_ssim,lab_silhouette,"
-                        "held_changed,held_ssim,held_silhouette,note\n");
+                        "held_changed,held_ssim,held_silhouette,hausdorff_rel,label_seconds,note\n");
   }
 #ifndef PERCLOD_HAVE_MESHOPTIMIZER
   std::fprintf(stderr, "bench_fidelity: built without meshoptimizer: perclod rows only\n");
@@ -393,6 +601,9 @@ int main(int argc, char** argv) {
     } else if (key == "han") {
       m.scene = load_scene(data + "/han/han_ministry.obj");
       m.up = UpAxis::Y, m.per_building = PerBuilding::Off;
+    } else if (key == "sibenik" || key == "sponza") {  // Y-up interiors, judged from outside like a building
+      m.scene = load_scene(data + "/" + key + "/" + key + ".obj");
+      m.up = UpAxis::Y, m.per_building = PerBuilding::Off;
     } else if (key == "block") {
       m.scene = load_scene(data + "/ingolstadt/ingolstadt_lod3_all53.obj");
       m.up = UpAxis::Z, m.per_building = PerBuilding::On;
@@ -400,10 +611,16 @@ int main(int argc, char** argv) {
       m.scene = generate_facade(facade_params_for_triangles(facade_triangles));
       m.up = UpAxis::Z, m.per_building = PerBuilding::Off;
     } else {
-      std::fprintf(stderr, "bench_fidelity: unknown model '%s' (demo, han, block, facade)\n", key.c_str());
+      std::fprintf(stderr, "bench_fidelity: unknown model '%s' (demo, han, sibenik, sponza, block, facade)\n",
+                   key.c_str());
       return 2;
     }
-    run_model(m, distances, e_i, e_p);
+    try {
+      run_model(m, distances, e_i, e_p);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench_fidelity: error: %s: %s\n", key.c_str(), e.what());
+      return 1;
+    }
   }
   if (g_csv) std::fclose(g_csv);
   return 0;

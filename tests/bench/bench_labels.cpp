@@ -29,12 +29,15 @@
 //   experiments: [--spins 1|2|4] (perception cycle spinning) [--threshold T] (grey levels)
 //                [--shift-scale 0] (relabel without moving: the noise floor, 0 when deterministic)
 //                [--per-building true|false|auto] (the block runs per building unless told otherwise)
+//   [--csv FILE]: the stability section's rows as CSV (flips in percent).
+//   [--perturb shift|noise|resolution]: see g_perturb.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -52,6 +55,20 @@ int g_spins = 0;  // 0 = the job's default
 double g_shift_scale = 1.0;  // --shift-scale 0: the noise floor (relabel without moving)
 std::string g_per_building;  // --per-building true|false|auto: overrides the model's setting
 double g_threshold = -1;  // --threshold T: perception threshold (grey levels)
+FILE* g_csv = nullptr;    // --csv FILE: the stability rows, one per model, distance, view set and spp
+// --perturb: what the stability section changes between the two labellings.
+//   shift       the geometry by +-0.25 px (x --shift-scale) along both screen axes
+//   noise       every vertex by uniform noise of +-1e-6 of the bounding-box diagonal (x --shift-scale)
+//   resolution  the display: 1920x1536 at 1.5x the pixel density (same screen, same field of view)
+std::string g_perturb = "shift";
+
+// The perturbation as the tables name it: "shift", "shift x4" (one pixel), "noise", "resolution".
+std::string perturb_name() {
+  if (g_perturb == "resolution" || g_shift_scale == 1.0) return g_perturb;
+  std::ostringstream ss;
+  ss << g_perturb << " x" << g_shift_scale;
+  return ss.str();
+}
 
 struct Model {
   std::string key, path;
@@ -164,13 +181,40 @@ void stability(const Model& m, const Scene& scene, const std::vector<double>& di
     };
     LabelResult base = label(ref);
     Flips f;
+    double weight_scale = 1.0;  // the moved labelling's samples in the base's units
     for (double sign : {1.0, -1.0}) {
-      LabelResult moved = label(shifted(scene, g_shift_scale * sign * s, s));
+      LabelResult moved;
+      if (g_perturb == "noise") {
+        Scene noisy = ref;
+        const Bounds b = scene_bounds(scene);
+        const double diag = std::sqrt(double(b.hi[0] - b.lo[0]) * (b.hi[0] - b.lo[0]) +
+                                      double(b.hi[1] - b.lo[1]) * (b.hi[1] - b.lo[1]) +
+                                      double(b.hi[2] - b.lo[2]) * (b.hi[2] - b.lo[2]));
+        std::mt19937 rng(sign > 0 ? 1 : 2);
+        std::uniform_real_distribution<double> u(-1.0, 1.0);
+        const size_t n = 3 * (noisy.positions.size() / 3 - 2);  // the two anchors stay
+        for (size_t i = 0; i < n; ++i)
+          noisy.positions[i] = float(double(noisy.positions[i]) + g_shift_scale * 1e-6 * diag * u(rng));
+        moved = label(noisy);
+      } else if (g_perturb == "resolution") {
+        if (sign < 0) break;  // one other display, not two
+        LabelJob hi = job;
+        hi.display.width = 1920, hi.display.height = 1536, hi.display.dpi *= 1.5;
+        hi.display.name += "-x1.5";
+        hi.perception = perception_settings_for(hi.display);
+        if (g_spins) hi.perception.spins = g_spins;
+        if (g_threshold >= 0) hi.perception.threshold = g_threshold;
+        OctreeTracer tracer(ref);
+        moved = label_scene(renderer, ref, tracer, hi);
+        weight_scale = (1280.0 * 1024.0) / (1920.0 * 1536.0);
+      } else {
+        moved = label(shifted(scene, g_shift_scale * sign * s, s));
+      }
       for (size_t t = 0; t < nt; ++t) {
         const Label a = base.labels[t], b = moved.labels[t];
         const bool va = a != Label::Undisplayable, vb = b != Label::Undisplayable;
         if (!va && !vb) continue;
-        const double w = std::max(base.totals.traced[t], moved.totals.traced[t]);
+        const double w = std::max(double(base.totals.traced[t]), weight_scale * double(moved.totals.traced[t]));
         const int c = size_class(scene, t, p);
         f.visible += 1, f.w_visible += w, f.cls_visible[c] += 1;
         if (a == b) continue;
@@ -181,17 +225,27 @@ void stability(const Model& m, const Scene& scene, const std::vector<double>& di
           f.vu += 1, f.w_vu += w;
       }
     }
+    const double pairs = g_perturb == "resolution" ? 1 : 2;  // labellings compared with the base
     auto pct = [](double a, double b) { return b > 0 ? 100 * a / b : 0.0; };
-    std::printf("%-6s %5.0f  %-28s spp %d  visible %7.0f  flips by count: P<->I %5.2f%% vis<->U %5.2f%% all %5.2f%%  "
+    std::printf("%-6s %-10s %5.0f  %-28s spp %d  visible %7.0f  flips by count: P<->I %5.2f%% vis<->U %5.2f%% all %5.2f%%  "
                 "by samples: P<->I %5.2f%% vis<->U %5.2f%% all %5.2f%%  by size <1/1-10/10-100/>=100 px: "
                 "%5.1f%% %5.1f%% %5.1f%% %5.1f%% (of %.0f/%.0f/%.0f/%.0f)\n",
-                m.key.c_str(), d, views.c_str(), samples, f.visible / 2,
+                m.key.c_str(), perturb_name().c_str(), d, views.c_str(), samples, f.visible / pairs,
                 pct(f.pi, f.visible), pct(f.vu, f.visible), pct(f.pi + f.vu, f.visible), pct(f.w_pi, f.w_visible),
                 pct(f.w_vu, f.w_visible), pct(f.w_pi + f.w_vu, f.w_visible), pct(f.cls_flip[0], f.cls_visible[0]),
                 pct(f.cls_flip[1], f.cls_visible[1]), pct(f.cls_flip[2], f.cls_visible[2]),
-                pct(f.cls_flip[3], f.cls_visible[3]), f.cls_visible[0] / 2, f.cls_visible[1] / 2,
-                f.cls_visible[2] / 2, f.cls_visible[3] / 2);
+                pct(f.cls_flip[3], f.cls_visible[3]), f.cls_visible[0] / pairs, f.cls_visible[1] / pairs,
+                f.cls_visible[2] / pairs, f.cls_visible[3] / pairs);
     std::fflush(stdout);
+    if (g_csv) {
+      std::fprintf(g_csv, "%s,%s,%g,%s,%d,%.0f,%.4f,%.4f,%.4f,%.4f", m.key.c_str(), perturb_name().c_str(), d,
+                   views.c_str(), samples, f.visible / pairs, pct(f.pi, f.visible), pct(f.vu, f.visible), pct(f.w_pi, f.w_visible),
+                   pct(f.w_vu, f.w_visible));
+      for (int c = 0; c < 4; ++c)
+        std::fprintf(g_csv, ",%.0f,%.4f", f.cls_visible[c] / pairs, pct(f.cls_flip[c], f.cls_visible[c]));
+      std::fprintf(g_csv, "\n");
+      std::fflush(g_csv);
+    }
   }
 }
 
@@ -266,6 +320,23 @@ int main(int argc, char** argv) {
     else if (a == "--threshold") g_threshold = std::stod(next());
     else if (a == "--per-building") g_per_building = next();
     else if (a == "--facade-triangles") facade_triangles = std::stoul(next());
+    else if (a == "--perturb") {
+      g_perturb = next();
+      if (g_perturb != "shift" && g_perturb != "noise" && g_perturb != "resolution") {
+        std::fprintf(stderr, "bench_labels: --perturb must be shift, noise or resolution\n");
+        return 2;
+      }
+    } else if (a == "--csv") {
+      const std::string path = next();
+      g_csv = std::fopen(path.c_str(), "w");
+      if (!g_csv) {
+        std::perror(path.c_str());
+        return 1;
+      }
+      std::fprintf(g_csv, "model,perturb,distance,views,samples,visible,flip_pi_count,flip_vu_count,flip_pi_weighted,"
+                          "flip_vu_weighted,visible_lt1px,flip_lt1px,visible_1_10px,flip_1_10px,visible_10_100px,"
+                          "flip_10_100px,visible_ge100px,flip_ge100px\n");
+    }
     else if (a == "--distances") {
       distances.clear();
       for (auto& s : split(next(), ',')) distances.push_back(std::stod(s));
@@ -276,7 +347,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]\n"
                            "  [--distances 56,132,427] [--samples 1,4] [--views \"facades;facades,ring8el30\"]\n"
                            "  [--runs R] [--facade-triangles N] [--spins S] [--threshold T] [--shift-scale F]\n"
-                           "  [--per-building true|false|auto]\n");
+                           "  [--per-building true|false|auto] [--csv FILE] (stability rows)\n"
+                           "  [--perturb shift|noise|resolution] (what the stability section changes)\n");
       return 2;
     }
   }
@@ -284,12 +356,14 @@ int main(int argc, char** argv) {
   const std::vector<Model> all = {
       {"demo", data + "/ingolstadt/bldg_4018215.obj", UpAxis::Z, PerBuilding::Off},
       {"han", data + "/han/han_ministry.obj", UpAxis::Y, PerBuilding::Off},
+      {"sponza", data + "/sponza/sponza.obj", UpAxis::Y, PerBuilding::Off},
+      {"sibenik", data + "/sibenik/sibenik.obj", UpAxis::Y, PerBuilding::Off},
       {"block", data + "/ingolstadt/ingolstadt_lod3_all53.obj", UpAxis::Z, PerBuilding::On}};
   const std::vector<std::string> view_sets = split(views_arg, ';');
   for (const auto& key : split(models_arg, ',')) {
     auto it = std::find_if(all.begin(), all.end(), [&](const Model& m) { return m.key == key; });
     if (it == all.end()) {
-      std::fprintf(stderr, "bench_labels: unknown model '%s' (demo, han, block)\n", key.c_str());
+      std::fprintf(stderr, "bench_labels: unknown model '%s' (demo, han, sponza, sibenik, block)\n", key.c_str());
       return 2;
     }
     Scene scene = load_scene(it->path);
@@ -307,5 +381,6 @@ int main(int argc, char** argv) {
     std::printf("# generated facade: %zu triangles\n", f.triangle_count());
     for (double d : distances) cost("facade", f, UpAxis::Z, d, std::max(1, runs / 2));
   }
+  if (g_csv) std::fclose(g_csv);
   return 0;
 }

@@ -4,15 +4,21 @@
 // thread count (tbb::global_control at 1 and 2). Prints, per scene: build
 // times and index memory, Mrays/s medians of several runs for the octree,
 // Embree rtcIntersect1 (EmbreeMode::Single), rtcIntersect16 (Fast) and the
-// verify mode, the ratio octree / rtcIntersect16, and the octree-vs-Embree
-// agreement. Scenes: a ~1M-triangle generated facade and
+// verify mode, the OSMesa ID buffer (a render of the same view: IDs and
+// colour, read back, as Mrays/s-equivalent pixels per second), the ratio
+// octree / rtcIntersect16, and the octree-vs-Embree agreement. Scenes:
+// generated facades of the sizes asked for (default ~1M triangles) and
 // ingolstadt_lod3_all53.obj (loaded with perclod/load.h).
 //
-//   bench_raycast [runs=5] [--quick]     (--quick: 200k-triangle facade only)
+//   bench_raycast [runs=5] [--quick] [--sizes 10000,100000,...] [--no-real] [--csv FILE]
+//     --quick: 200k-triangle facade only; --csv: one row per scene, view,
+//     thread count and tracer (BENCHMARKS.md's tracer chart reads it).
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <stdexcept>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -22,6 +28,7 @@
 #include "perclod/facade.h"
 #include "perclod/load.h"
 #include "perclod/raycast.h"
+#include "perclod/render.h"
 #include "perclod/views.h"
 
 using namespace perclod;
@@ -32,6 +39,17 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+FILE* g_csv = nullptr;
+
+// One CSV row: scene,triangles,view,threads,tracer,mrays,build_s,memory_mb.
+void csv_row(const std::string& scene, size_t tris, const std::string& view, int threads, const char* tracer,
+             double mrays, double build_s, double memory_mb) {
+  if (!g_csv) return;
+  std::fprintf(g_csv, "%s,%zu,%s,%d,%s,%.4f,%.4f,%.2f\n", scene.c_str(), tris, view.c_str(), threads, tracer, mrays,
+               build_s, memory_mb);
+  std::fflush(g_csv);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -52,6 +70,21 @@ double mrays(const Tracer& tracer, const Camera& cam, int runs, std::vector<uint
   return median(rates);
 }
 
+// Median megapixels/s of OSMesa renders of `cam` (IDs and colour read back),
+// after one warm-up render. The renderer runs on one thread whatever TBB is
+// allowed: Mesa's llvmpipe threads are its own (LP_NUM_THREADS).
+double id_buffer_mrays(Renderer& renderer, const Camera& cam, int runs) {
+  const size_t n = size_t(cam.width) * size_t(cam.height);
+  renderer.render(cam);
+  std::vector<double> rates;
+  for (int r = 0; r < runs; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    RenderOutput out = renderer.render(cam);
+    rates.push_back(double(n) / seconds_since(t0) * 1e-6);
+  }
+  return median(rates);
+}
+
 // The views: the -y facade (Z up) at the distance where the model fills the
 // image width, and at a quarter of it (the closer marking-render view).
 std::vector<std::pair<std::string, Camera>> bench_cameras(const Scene& s) {
@@ -65,7 +98,7 @@ std::vector<std::pair<std::string, Camera>> bench_cameras(const Scene& s) {
           {"-y facade, a quarter of that distance", facade_camera(b, UpAxis::Z, "-y", d / 4, display)}};
 }
 
-void bench_scene(const std::string& name, const Scene& scene, int runs) {
+void bench_scene(const std::string& name, const Scene& scene, int runs, Renderer& renderer) {
   std::printf("\n== %s: %zu triangles, %zu components\n", name.c_str(), scene.triangle_count(),
               scene.component_count());
 
@@ -88,8 +121,13 @@ void bench_scene(const std::string& name, const Scene& scene, int runs) {
               st.depth_reached, st.leaf_references, st.components, st.bvh_nodes);
   std::printf("embree device memory (its monitor, robust BVH + buffers): %.1f MB = %.1f bytes/triangle\n",
               fast.memory_bytes() / 1e6, fast.memory_bytes() / tris);
+  const auto r0 = std::chrono::steady_clock::now();
+  renderer.set_scene(scene);
+  const double upload = seconds_since(r0);
 
+  const size_t nt = scene.triangle_count();
   for (const auto& [view, cam] : bench_cameras(scene)) {
+    const std::string vkey = view.find("quarter") != std::string::npos ? "quarter" : "fills";
     std::printf("-- view: %s, %dx%d, eye %.1f m from the centre, znear %.3f zfar %.1f\n", view.c_str(), cam.width,
                 cam.height, (scene_bounds(scene).center()[1] - cam.eye.y()), cam.znear, cam.zfar);
     std::vector<uint32_t> a, b;
@@ -102,7 +140,15 @@ void bench_scene(const std::string& name, const Scene& scene, int runs) {
       std::printf("threads %d: Mrays/s octree %6.2f | embree rtcIntersect1 %6.2f | rtcIntersect16 %6.2f | "
                   "verify %6.2f || octree/embree16 %.2f, octree/embree1 %.2f\n",
                   threads, o, e1, e16, ev, o / e16, o / e1);
+      csv_row(name, nt, vkey, threads, "octree", o, median(ob), octree.memory_bytes() / 1e6);
+      csv_row(name, nt, vkey, threads, "embree_intersect1", e1, median(eb), single.memory_bytes() / 1e6);
+      csv_row(name, nt, vkey, threads, "embree_intersect16", e16, median(eb), fast.memory_bytes() / 1e6);
+      csv_row(name, nt, vkey, threads, "embree_verify", ev, median(eb), verify.memory_bytes() / 1e6);
     }
+    const double idb = id_buffer_mrays(renderer, cam, runs);
+    std::printf("OSMesa ID buffer (render + read back, its own threads): %6.2f Mpixels/s, upload %.3f s\n", idb,
+                upload);
+    csv_row(name, nt, vkey, 0, "osmesa_id_buffer", idb, upload, 0.0);
 
     const size_t n = size_t(cam.width) * size_t(cam.height);
     a.assign(n, 0);
@@ -127,24 +173,52 @@ void bench_scene(const std::string& name, const Scene& scene, int runs) {
 
 int main(int argc, char** argv) {
   int runs = 5;
-  bool quick = false;
+  bool real = true;
+  std::vector<size_t> sizes = {1000000};
+  std::string csv;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--quick") == 0)
-      quick = true;
-    else
-      runs = std::max(1, std::atoi(argv[i]));
+    const std::string a = argv[i];
+    if (a == "--quick") {
+      sizes = {200000};
+      real = false;
+    } else if (a == "--no-real") {
+      real = false;
+    } else if (a == "--sizes" && i + 1 < argc) {
+      sizes.clear();
+      std::string list = argv[++i];
+      for (size_t p = 0; p <= list.size();) {
+        const size_t q = std::min(list.find(',', p), list.size());
+        if (q > p) sizes.push_back(std::strtoull(list.substr(p, q - p).c_str(), nullptr, 10));
+        p = q + 1;
+      }
+    } else if (a == "--csv" && i + 1 < argc) {
+      csv = argv[++i];
+    } else if (!a.empty() && std::isdigit(static_cast<unsigned char>(a[0]))) {
+      runs = std::max(1, std::atoi(a.c_str()));
+    } else {
+      std::fprintf(stderr, "usage: bench_raycast [runs=5] [--quick] [--sizes N,N,...] [--no-real] [--csv FILE]\n");
+      return 2;
+    }
   }
   try {
-    const size_t target = quick ? 200000 : 1000000;
-    const auto t0 = std::chrono::steady_clock::now();
-    const Scene facade = generate_facade(facade_params_for_triangles(target));
-    std::printf("generated facade in %.2f s\n", seconds_since(t0));
-    bench_scene("generated facade (~" + std::to_string(target / 1000) + "k)", facade, runs);
-    if (!quick) {
+    if (!csv.empty()) {
+      g_csv = std::fopen(csv.c_str(), "w");
+      if (!g_csv) throw std::runtime_error(csv + ": cannot write");
+      std::fprintf(g_csv, "scene,triangles,view,threads,tracer,mrays,build_s,memory_mb\n");
+    }
+    Renderer renderer;
+    for (size_t target : sizes) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const Scene facade = generate_facade(facade_params_for_triangles(target));
+      std::printf("generated facade in %.2f s\n", seconds_since(t0));
+      bench_scene("facade_" + std::to_string(target), facade, runs, renderer);
+    }
+    if (real) {
       const std::string path = std::string(PERCLOD_SHARED_DATA) + "/ingolstadt/ingolstadt_lod3_all53.obj";
       const Scene city = load_scene(path);
-      bench_scene("ingolstadt_lod3_all53.obj", city, runs);
+      bench_scene("ingolstadt_lod3_all53", city, runs, renderer);
     }
+    if (g_csv) std::fclose(g_csv);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_raycast: error: %s\n", e.what());
     return 1;

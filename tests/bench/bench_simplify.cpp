@@ -26,7 +26,8 @@
 // docs/method.md section 5), ours in paper and bounded mode, meshoptimizer and the stock
 // Decimater (ModQuadric + ModAspectRatio) at bounded's count.
 //
-// Usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater]
+// Usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater] [--no-city] [--csv FILE]
+//   --csv FILE: one row per model and method (median seconds, triangles, peak MB).
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
@@ -254,6 +255,16 @@ size_t decimater_locked(const Scene& s, const std::vector<Label>& labels) {
 
 // ---- one model ---------------------------------------------------------------
 
+FILE* g_csv = nullptr;
+
+void csv_rows(const std::string& model, size_t input, const std::vector<Row>& rows) {
+  if (!g_csv) return;
+  for (const Row& r : rows)
+    std::fprintf(g_csv, "%s,%zu,%s,%.5f,%zu,%.1f\n", model.c_str(), input, r.name.c_str(), r.seconds, r.triangles,
+                 r.peak_kb / 1024.0);
+  std::fflush(g_csv);
+}
+
 void bench_model(const std::string& title, const Scene& scene, int runs, bool with_decimater) {
   const double p = pixel_footprint(56.0);
   std::vector<Label> labels = pipeline_labels(scene, 56.0);
@@ -295,6 +306,7 @@ void bench_model(const std::string& title, const Scene& scene, int runs, bool wi
     std::printf("%-18s %10.3f %10zu %10.0f %9.2f %14.0f\n", r.name.c_str(), r.seconds, r.triangles,
                 r.peak_kb / 1024.0, ours.seconds > 0 ? r.seconds / ours.seconds : 0.0,
                 r.seconds > 0 ? scene.triangle_count() / r.seconds : 0.0);
+  csv_rows(title, scene.triangle_count(), rows);
   std::printf("target N = %zu (perclod paper's output); ratio column = method time / perclod paper time\n"
               "(meshoptimizer and the Decimater may stop short of their target: see the triangles column)\n",
               target);
@@ -333,6 +345,7 @@ void bench_flat_wall(int runs, bool with_decimater) {
     rows.push_back(measure("decimater stock", 1, [&] { return decimater_stock_to(s, ours_b.triangles); }));
   for (const Row& r : rows)
     std::printf("%-18s %10.3f s %10zu triangles %8.0f MB\n", r.name.c_str(), r.seconds, r.triangles, r.peak_kb / 1024.0);
+  csv_rows("flat wall", s.triangle_count(), rows);
 }
 
 }  // namespace
@@ -340,14 +353,24 @@ void bench_flat_wall(int runs, bool with_decimater) {
 int main(int argc, char** argv) {
   int runs = 5;
   size_t facade_triangles = 1000000;
-  bool with_decimater = true;
+  bool with_decimater = true, with_city = true;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--runs" && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--no-city") with_city = false;
+    else if (a == "--csv" && i + 1 < argc) {
+      g_csv = std::fopen(argv[++i], "w");
+      if (!g_csv) {
+        std::perror(argv[i]);
+        return 1;
+      }
+      std::fprintf(g_csv, "model,input_triangles,method,seconds,triangles,peak_mb\n");
+    }
     else if (a == "--facade-triangles" && i + 1 < argc) facade_triangles = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--skip-decimater") with_decimater = false;
     else {
-      std::fprintf(stderr, "usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater]\n");
+      std::fprintf(stderr, "usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater] [--no-city] "
+                           "[--csv FILE]\n");
       return 2;
     }
   }
@@ -361,8 +384,11 @@ int main(int argc, char** argv) {
   bench_model("generated facade", facade, runs, with_decimater);
   facade = Scene{};
 
-  std::string path = std::string(PERCLOD_SHARED_DATA) + "/ingolstadt/ingolstadt_lod3_all53.obj";
-  Scene city = load_scene(path);
-  bench_model("ingolstadt_lod3_all53.obj", city, runs, with_decimater);
+  if (with_city) {
+    std::string path = std::string(PERCLOD_SHARED_DATA) + "/ingolstadt/ingolstadt_lod3_all53.obj";
+    Scene city = load_scene(path);
+    bench_model("ingolstadt_lod3_all53.obj", city, runs, with_decimater);
+  }
+  if (g_csv) std::fclose(g_csv);
   return 0;
 }
