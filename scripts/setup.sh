@@ -23,6 +23,8 @@ PACKAGES=(
   libmeshoptimizer-dev    # peer simplifier for benchmarks
   clang libclang-rt-dev   # ASan/UBSan and libFuzzer stages (build-asan/); the runtimes are only a Recommends of clang
   python3 python3-matplotlib  # charts in scripts/
+  butteraugli             # independent image metric in scripts/bench.py
+  time                    # /usr/bin/time for the run-time benchmarks
 )
 
 missing=()
