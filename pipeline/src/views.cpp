@@ -110,7 +110,7 @@ std::vector<std::string> parse_views(const std::vector<std::string>& list, UpAxi
       add("top");
     } else if (f == "held_out") {
       // Between the default set's azimuths (half its 45-degree step), low and
-      // high in turn, and one steep view: none is a view of facades,ring8el30.
+      // high in turn, and one steep view: none is a view of the default set.
       for (int i = 0; i < 8; ++i) add("az" + fmt_deg(22.5 + 45.0 * i) + "el" + (i % 2 ? "45" : "15"));
       add("az0el75");
     } else if (parse_ring(f, n, elevations)) {
