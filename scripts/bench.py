@@ -167,7 +167,7 @@ def run_simplifiers(a, out):
 
 def run_sweeps(a, out):
     sweeps = SWEEPS[:2] if a.smoke else SWEEPS
-    args = ["--models", "demo", "--distances", "427" if a.smoke else "56,132,427", "--e-imperceptible", "1",
+    args = ["--models", "demo", "--distances", "427" if a.smoke else "56,132,427", "--e-imperceptible", "0.5",
             "--only-fidelity"]
     merged, header = [], None
     with open(out("sweeps.txt"), "w") as txt:
@@ -180,7 +180,7 @@ def run_sweeps(a, out):
             with open(part) as f:
                 lines = f.read().splitlines()
             header = "setting," + lines[0]
-            merged += [f"{name},{line}" for line in lines[1:]]
+            merged += [f'"{name}",{line}' for line in lines[1:]]  # names hold commas
             with open(out("sweep_part.txt")) as f:
                 txt.write(f"## {name}\n" + f.read())
             os.remove(part)
@@ -582,7 +582,7 @@ def chart_sweeps(rows, path):
     settings = list(dict.fromkeys(r["setting"] for r in rows))
     for k, name in enumerate(settings):
         pts = [r for r in rows if r["setting"] == name]
-        for ax, xkey, xlab in ((axes[0], "triangles", "LOD triangles (fidelity, e_I = 1 px)"),
+        for ax, xkey, xlab in ((axes[0], "triangles", "LOD triangles (default fidelity LOD)"),
                                (axes[1], "label_seconds", "labelling time, s (all views of one distance)")):
             ax.scatter([float(r[xkey]) for r in pts],
                        [min(float(r["lab_ssim"]), float(r["held_ssim"])) for r in pts],
@@ -632,7 +632,8 @@ def chart_scaling(rows, path):
     h1, l1 = ax.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
     ax.legend(h1 + h2, l1 + l2, fontsize=8, loc="upper left")
-    ax.set_title("perclod run against input size (12 views, 3 distances)")
+    size_views = next(r["views"] for r in rows if r["kind"] == "triangles")
+    ax.set_title(f"perclod run against input size ({view_count(size_views)} views per distance)")
     ax.grid(True, which="both", alpha=0.3)
     ax = axes[1]
     if views:
@@ -766,7 +767,7 @@ def summarize(out, charts, exponents):
             [[r["model"], r["input_triangles"], r["method"], r["seconds"], r["triangles"], r["peak_mb"]] for r in st]))
     sw = read_csv(out("sweeps.csv"))
     if sw:
-        parts.append("## Settings of the perceptual pipeline, one at a time (demo, fidelity e_I = 1 px)\n\n" + md_table(
+        parts.append("## Settings of the perceptual pipeline, one at a time (demo, default fidelity LOD)\n\n" + md_table(
             ["setting", "d m", "label s", "triangles", "worst changed", "worst SSIM", "worst silhouette"],
             [[r["setting"], r["distance"], r["label_seconds"], r["triangles"],
               f"{100 * max(float(r['lab_changed']), float(r['held_changed'])):.2f}%",

@@ -238,7 +238,7 @@ void stability(const Model& m, const Scene& scene, const std::vector<double>& di
                 f.cls_visible[2] / pairs, f.cls_visible[3] / pairs);
     std::fflush(stdout);
     if (g_csv) {
-      std::fprintf(g_csv, "%s,%s,%g,%s,%d,%.0f,%.4f,%.4f,%.4f,%.4f", m.key.c_str(), perturb_name().c_str(), d,
+      std::fprintf(g_csv, "%s,%s,%g,\"%s\",%d,%.0f,%.4f,%.4f,%.4f,%.4f", m.key.c_str(), perturb_name().c_str(), d,
                    views.c_str(), samples, f.visible / pairs, pct(f.pi, f.visible), pct(f.vu, f.visible), pct(f.w_pi, f.w_visible),
                    pct(f.w_vu, f.w_visible));
       for (int c = 0; c < 4; ++c)
