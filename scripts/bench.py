@@ -427,6 +427,14 @@ def read_obj_parts(path):
 
 # ---- charts --------------------------------------------------------------------
 
+def save(fig, path, dpi, rect=None):
+    """Lays out (tight, within `rect`), writes and closes `fig`; returns `path`."""
+    fig.tight_layout(rect=rect)
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    return path
+
+
 TRACER_STYLE = {"octree": ("perclod octree", "C0"), "embree_intersect1": ("Embree rtcIntersect1", "C1"),
                 "embree_intersect16": ("Embree rtcIntersect16", "C2"), "embree_verify": ("Embree verify", "C3"),
                 "osmesa_id_buffer": ("OSMesa ID buffer", "C4")}
@@ -452,10 +460,7 @@ def chart_tracers(rows, path):
     ax.set_title("Primary-ray throughput")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save(fig, path, 110)
 
 
 METHOD_STYLE = [  # prefix, label, colour, marker
@@ -543,10 +548,7 @@ def chart_fidelity(rows, path, measure):
     ncol = 3 if len(dists) >= 3 else 1
     fig.legend(handles, labels, loc="lower center", ncol=ncol, fontsize=8)
     rows_of_legend = math.ceil(len(labels) / ncol)
-    fig.tight_layout(rect=(0, min(0.5, 0.25 * rows_of_legend / (3.3 * len(models))), 1, 1))
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return path
+    return save(fig, path, 90, rect=(0, min(0.5, 0.25 * rows_of_legend / (3.3 * len(models))), 1, 1))
 
 
 def chart_fidelity_time(rows, path):
@@ -567,10 +569,7 @@ def chart_fidelity_time(rows, path):
     ax.set_title("Fidelity against simplification time")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save(fig, path, 110)
 
 
 def chart_sweeps(rows, path):
@@ -595,10 +594,7 @@ def chart_sweeps(rows, path):
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_title(f"Settings one at a time (demo; {', '.join(f'{d:g}' for d in dists)} m)", fontsize=10)
     axes[1].legend(fontsize=7, ncol=2)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save(fig, path, 100)
 
 
 def fit_exponent(xs, ys):
@@ -645,10 +641,7 @@ def chart_scaling(rows, path):
         ax.set_ylabel("wall s")
         ax.set_title(f"perclod run against the view set ({views[0]['triangles']} triangles)")
         ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path, {"time": k_time, "memory": k_mem}
+    return save(fig, path, 110), {"time": k_time, "memory": k_mem}
 
 
 def view_count(spec):
@@ -701,10 +694,7 @@ def chart_stability(rows, path):
     ax.set_title("Flips weighted by traced samples, every perturbation", fontsize=10)
     ax.grid(True, axis="y", alpha=0.3)
     ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save(fig, path, 110)
 
 
 # ---- summary ---------------------------------------------------------------------

@@ -38,11 +38,6 @@
 //   <model>_<d>m_<method>.png per row, all from the held-out view az22.5el45
 //   and cropped to the same rectangle, for an independent image metric
 //   (scripts/bench.py runs butteraugli on them).
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
-#include <OpenMesh/Tools/Decimater/ModAspectRatioT.hh>
-#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -59,6 +54,7 @@
 #endif
 
 #include "bench_common.h"
+#include "decimater.h"
 #include "hausdorff.h"
 #include "perclod/facade.h"
 #include "perclod/image_io.h"
@@ -256,6 +252,24 @@ MeshoptInput meshopt_input(const Scene& s) {
   return in;
 }
 
+// A LOD of `s` made of triangles over the welded vertices of `in`: each
+// triangle takes the component and material its corners were welded by.
+Scene lod_from_welded(const Scene& s, const MeshoptInput& in, const std::vector<unsigned>& tris) {
+  Scene lod;
+  lod.offset = s.offset;
+  lod.component_names = s.component_names;
+  lod.materials = s.materials;
+  lod.positions = in.positions;
+  lod.indices.assign(tris.begin(), tris.end());
+  const uint32_t nm = uint32_t(std::max<size_t>(1, s.materials.size()));
+  for (size_t t = 0; t < tris.size() / 3; ++t) {
+    const uint32_t k = in.key[tris[3 * t]];
+    if (!s.component.empty()) lod.component.push_back(k / nm);
+    if (!s.material.empty()) lod.material.push_back(k % nm);
+  }
+  return lod;
+}
+
 // target_error: meshoptimizer's error limit relative to the mesh extent
 // (1 = none: simplify to the count).
 Scene meshopt_lod(const Scene& s, const MeshoptInput& in, size_t target, bool sloppy, double& seconds,
@@ -268,31 +282,15 @@ Scene meshopt_lod(const Scene& s, const MeshoptInput& in, size_t target, bool sl
                     : meshopt_simplify(out.data(), in.indices.data(), in.indices.size(), in.positions.data(), nv,
                                        3 * sizeof(float), 3 * target, target_error, 0, nullptr);
   seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  Scene lod;
-  lod.offset = s.offset;
-  lod.component_names = s.component_names;
-  lod.materials = s.materials;
-  lod.positions = in.positions;
-  lod.indices.assign(out.begin(), out.begin() + n);
-  const uint32_t nm = uint32_t(std::max<size_t>(1, s.materials.size()));
-  for (size_t t = 0; t < n / 3; ++t) {
-    const uint32_t k = in.key[out[3 * t]];
-    if (!s.component.empty()) lod.component.push_back(k / nm);
-    if (!s.material.empty()) lod.material.push_back(k % nm);
-  }
-  return lod;
+  out.resize(n);
+  return lod_from_welded(s, in, out);
 }
 
 // OpenMesh's stock Decimater (ModQuadric, no error limit, + ModAspectRatio
 // 10) to `target` faces, on meshoptimizer's welded input so every face keeps
 // its component and material. Faces OpenMesh refuses (non-manifold) are
 // added with their own vertices, as its reader does.
-struct DTraits : OpenMesh::DefaultTraits {
-  VertexAttributes(OpenMesh::Attributes::Status);
-  EdgeAttributes(OpenMesh::Attributes::Status);
-  FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
-};
-using DMesh = OpenMesh::TriMesh_ArrayKernelT<DTraits>;
+using bench::DMesh;
 
 Scene decimater_lod(const Scene& s, const MeshoptInput& in, size_t target, double& seconds) {
   auto t0 = std::chrono::steady_clock::now();
@@ -318,33 +316,14 @@ Scene decimater_lod(const Scene& s, const MeshoptInput& in, size_t target, doubl
     }
   }
   mesh.update_face_normals();
-  OpenMesh::Decimater::DecimaterT<DMesh> dec(mesh);
-  OpenMesh::Decimater::ModQuadricT<DMesh>::Handle hq;
-  OpenMesh::Decimater::ModAspectRatioT<DMesh>::Handle ha;
-  dec.add(hq);
-  dec.add(ha);
-  dec.module(hq).unset_max_err();
-  dec.module(ha).set_aspect_ratio(10.0f);
-  dec.initialize();
-  dec.decimate_to_faces(0, target);
+  bench::decimate_stock(mesh, target);
   seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  Scene lod;
-  lod.offset = s.offset;
-  lod.component_names = s.component_names;
-  lod.materials = s.materials;
-  lod.positions = in.positions;
-  const uint32_t nm = uint32_t(std::max<size_t>(1, s.materials.size()));
+  std::vector<unsigned> tris;
   for (auto f : mesh.faces()) {
     if (mesh.status(f).deleted()) continue;
-    uint32_t k = 0;
-    for (auto v : mesh.fv_range(f)) {
-      lod.indices.push_back(source[size_t(v.idx())]);
-      k = in.key[source[size_t(v.idx())]];
-    }
-    if (!s.component.empty()) lod.component.push_back(k / nm);
-    if (!s.material.empty()) lod.material.push_back(k % nm);
+    for (auto v : mesh.fv_range(f)) tris.push_back(source[size_t(v.idx())]);
   }
-  return lod;
+  return lod_from_welded(s, in, tris);
 }
 #endif
 

@@ -51,6 +51,7 @@
 #include <meshoptimizer.h>
 #endif
 
+#include "decimater.h"
 #include "perclod/display.h"
 #include "perclod/facade.h"
 #include "perclod/load.h"
@@ -177,12 +178,7 @@ size_t meshopt_to(const Scene& s, size_t target) {
 }
 #endif
 
-struct DTraits : OpenMesh::DefaultTraits {
-  VertexAttributes(OpenMesh::Attributes::Status);
-  EdgeAttributes(OpenMesh::Attributes::Status);
-  FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
-};
-using DMesh = OpenMesh::TriMesh_ArrayKernelT<DTraits>;
+using bench::DMesh;
 
 // A TriMesh from the scene, vertices welded exactly; refused (non-manifold)
 // faces are re-added with their own vertices, like OpenMesh's reader does.
@@ -217,15 +213,7 @@ size_t decimater_stock_to(const Scene& s, size_t target) {
   DMesh mesh;
   std::vector<uint32_t> src;
   build_dmesh(s, mesh, src);
-  OpenMesh::Decimater::DecimaterT<DMesh> dec(mesh);
-  OpenMesh::Decimater::ModQuadricT<DMesh>::Handle hq;
-  OpenMesh::Decimater::ModAspectRatioT<DMesh>::Handle ha;
-  dec.add(hq);
-  dec.add(ha);
-  dec.module(hq).unset_max_err();
-  dec.module(ha).set_aspect_ratio(10.0f);
-  dec.initialize();
-  dec.decimate_to_faces(0, target);
+  bench::decimate_stock(mesh, target);
   mesh.garbage_collection();
   return mesh.n_faces();
 }
