@@ -339,9 +339,12 @@ def run_case(a, work, name, stem, model, distances, views=DEFAULT_VIEWS, extra="
     with open(cfg, "w") as f:
         f.write(f"model: {model}\nup: z\ndistances: [{', '.join(str(d) for d in distances)}]\nviews: {views}\n"
                 f"samples: 4\ndebug_images: false\nout: {out_dir}\n{extra}")
+    timing = os.path.join(work, "time.txt")
     t0 = time.time()
-    r = subprocess.run([a.bin("perclod"), "run", cfg], capture_output=True, text=True)
-    row = {"case": name, "exit": r.returncode, "seconds": round(time.time() - t0, 1)}
+    r = subprocess.run(["/usr/bin/time", "-f", "%M", "-o", timing, a.bin("perclod"), "run", cfg], capture_output=True,
+                       text=True)
+    row = {"case": name, "exit": r.returncode, "seconds": round(time.time() - t0, 1),
+           "peak_mib": round(int(open(timing).read().split()[-1]) / 1024)}
     if r.returncode != 0:
         row["error"] = r.stderr.strip().splitlines()[-1][:200] if r.stderr.strip() else ""
         return [row]
@@ -369,6 +372,8 @@ def run_case(a, work, name, stem, model, distances, views=DEFAULT_VIEWS, extra="
 
 
 def run_failures(a, out):
+    if not os.access("/usr/bin/time", os.X_OK):
+        fail("/usr/bin/time is missing (apt-get install time, or scripts/setup.sh)")
     work = out("failures-work")
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
@@ -785,7 +790,7 @@ def summarize(out, charts, exponents):
     if fc:
         cols = ["case", "exit", "distance", "triangles", "perceptible", "imperceptible", "undisplayable",
                 "outside_views", "labelling_views", "min_covered_px", "lod_triangles", "worst_changed", "worst_ssim",
-                "worst_silhouette", "real_disagreements", "warnings", "seconds", "error"]
+                "worst_silhouette", "real_disagreements", "warnings", "seconds", "peak_mib", "error"]
         cols = [c for c in cols if c in fc[0]]
         parts.append("## Failure cases (perclod run, 4 samples; worst held-out view)\n\n" + md_table(
             cols, [[r.get(c, "") for c in cols] for r in fc]))
