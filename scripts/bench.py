@@ -241,12 +241,18 @@ def timed_run(a, work, model, views, distances, name):
             sum(len(x["lod_vs_original"]) for x in lods))
 
 
-def run_scaling(a, out):
+def timed_workdir(out, name):
+    """A fresh scratch folder for a section that times perclod with /usr/bin/time."""
     if not os.access("/usr/bin/time", os.X_OK):
         fail("/usr/bin/time is missing (apt-get install time, or scripts/setup.sh)")
-    work = out("scaling-work")
+    work = out(name)
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
+    return work
+
+
+def run_scaling(a, out):
+    work = timed_workdir(out, "scaling-work")
     sizes = [2000, 5000] if a.smoke else [10000, 30000, 100000, 300000, 1000000, 2000000]
     distances = [427] if a.smoke else [56, 132, 427]
     view_sets = ["facades"] if a.smoke else ["facades", "facades,obliques", "facades,ring8el30", DEFAULT_VIEWS,
@@ -372,11 +378,7 @@ def run_case(a, work, name, stem, model, distances, views=DEFAULT_VIEWS, extra="
 
 
 def run_failures(a, out):
-    if not os.access("/usr/bin/time", os.X_OK):
-        fail("/usr/bin/time is missing (apt-get install time, or scripts/setup.sh)")
-    work = out("failures-work")
-    shutil.rmtree(work, ignore_errors=True)
-    os.makedirs(work)
+    work = timed_workdir(out, "failures-work")
     demo = os.path.join(ROOT, "data/ingolstadt/bldg_4018215.obj")
     demo_parts = read_obj_parts(demo)
     d = [427] if a.smoke else [56, 132, 427]
