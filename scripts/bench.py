@@ -131,6 +131,9 @@ def run_tracers(a, out):
 
 
 def run_simplifiers(a, out):
+    butteraugli = shutil.which("butteraugli")  # checked first: the benches take minutes
+    if not butteraugli:
+        fail("butteraugli is missing (apt-get install butteraugli, or scripts/setup.sh)")
     pairs = out("pairs")
     shutil.rmtree(pairs, ignore_errors=True)
     os.makedirs(pairs)
@@ -142,9 +145,6 @@ def run_simplifiers(a, out):
         simp = ["--runs", "3"]
     run([a.bin("bench_fidelity")] + fid + ["--csv", out("fidelity.csv"), "--pairs", pairs], out("fidelity.txt"))
     run([a.bin("bench_simplify")] + simp + ["--csv", out("simplify_time.csv")], out("simplify_time.txt"))
-    butteraugli = shutil.which("butteraugli")
-    if not butteraugli:
-        fail("butteraugli is missing (apt-get install butteraugli, or scripts/setup.sh)")
     rows = []
     for name in sorted(os.listdir(pairs)):
         if not name.endswith("_original.png"):
