@@ -78,7 +78,7 @@ using bench::held_out_views;
 
 std::string g_dump;   // --dump DIR: original | LOD | difference of each LOD's worst held-out view
 std::string g_pairs;  // --pairs DIR: original and LOD from kPairView, for butteraugli
-const Scene* g_original = nullptr;  // the model being judged (Hausdorff distance)
+const bench::HausdorffReference* g_hausdorff = nullptr;  // from the model being judged, in run_model
 std::vector<std::pair<std::string, std::string>> g_settings;  // --set KEY=VALUE, in order
 bool g_only_fidelity = false;
 double g_label_seconds = 0;  // labelling time of the current model and distance
@@ -87,13 +87,11 @@ double g_label_seconds = 0;  // labelling time of the current model and distance
 void apply_settings(LabelJob& job) {
   for (const auto& [key, value] : g_settings) {
     const double v = std::atof(value.c_str());
-    if (key == "resolution") {  // before the perception keys: it resets ppd
+    if (key == "resolution") {  // the display's pixels per degree follow
       job.display.width = int(std::lround(job.display.width * v));
       job.display.height = int(std::lround(job.display.height * v));
       job.display.dpi *= v;
-      const PerceptionSettings old = job.perception;
-      job.perception = perception_settings_for(job.display);
-      job.perception.spins = old.spins;
+      job.perception.ppd = perception_settings_for(job.display).ppd;
     } else if (key == "levels") job.perception.levels = int(v);
     else if (key == "csf_k") job.perception.k = v;
     else if (key == "threshold") job.perception.threshold = v;
@@ -161,15 +159,19 @@ struct Crop {
   int x0 = 0, y0 = 0, w = 0, h = 0;
 };
 
-// Writes `g_pairs/<name>.png`: `scene` rendered from `cam`, cut to `crop`.
-void write_pair(Renderer& renderer, const Scene& scene, const Camera& cam, const Crop& crop, const std::string& name) {
-  renderer.set_scene(scene);
-  const RenderOutput r = renderer.render(cam);
+// Writes `g_pairs/<name>.png`: the render `r` cut to `crop`.
+void write_cropped(const RenderOutput& r, const Crop& crop, const std::string& name) {
   std::vector<uint8_t> out(size_t(3) * crop.w * crop.h);
   for (int y = 0; y < crop.h; ++y)
     std::memcpy(&out[size_t(y) * 3 * crop.w], &r.rgb[(size_t(y + crop.y0) * r.width + crop.x0) * 3],
                 size_t(3) * crop.w);
   write_png(g_pairs + "/" + name + ".png", crop.w, crop.h, 3, out.data());
+}
+
+// Writes `g_pairs/<name>.png`: `scene` rendered from `cam`, cut to `crop`.
+void write_pair(Renderer& renderer, const Scene& scene, const Camera& cam, const Crop& crop, const std::string& name) {
+  renderer.set_scene(scene);
+  write_cropped(renderer.render(cam), crop, name);
 }
 
 // The pair view of the model and distance being judged (camera null: none).
@@ -178,9 +180,8 @@ struct PairView {
   Crop crop;
 } g_pair;
 
-Crop pair_crop(Renderer& renderer, const Scene& original, const Camera& cam) {
-  renderer.set_scene(original);
-  const RenderOutput r = renderer.render(cam);
+// What the original's render `r` draws, plus 8 px.
+Crop pair_crop(const RenderOutput& r) {
   int x0 = r.width, x1 = -1, y0 = r.height, y1 = -1;
   for (int y = 0; y < r.height; ++y)
     for (int x = 0; x < r.width; ++x)
@@ -197,7 +198,7 @@ Judged judge(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>
              const Scene* original = nullptr, const std::string& dump_name = "") {
   Judged j;
   j.triangles = lod.triangle_count();
-  if (g_original) j.hausdorff = bench::hausdorff_relative(*g_original, lod);
+  if (g_hausdorff) j.hausdorff = g_hausdorff->relative(lod);
   const nlohmann::json views = compare_lod_views(renderer, lod, records, job);
   if (g_pair.camera && !dump_name.empty()) write_pair(renderer, lod, *g_pair.camera, g_pair.crop, dump_name);
   if (!g_dump.empty() && original) {
@@ -357,7 +358,8 @@ void row(const Model& m, double d, const std::string& method, const Judged& j, c
 
 void run_model(const Model& m, const std::vector<double>& distances, const std::vector<double>& e_i, double e_p) {
   const Scene& scene = m.scene;
-  g_original = &scene;
+  const bench::HausdorffReference hausdorff(scene);
+  g_hausdorff = &hausdorff;
   OctreeTracer tracer(scene);
   Renderer renderer;
   for (double d : distances) {
@@ -384,8 +386,10 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     if (!g_pairs.empty())
       for (const auto& r : records)
         if (r.view == kPairView) {
-          g_pair = PairView{&r.camera, pair_crop(renderer, scene, r.camera)};
-          write_pair(renderer, scene, r.camera, g_pair.crop, tag + "_original");
+          renderer.set_scene(scene);
+          const RenderOutput original = renderer.render(r.camera);
+          g_pair = PairView{&r.camera, pair_crop(original)};
+          write_cropped(original, g_pair.crop, tag + "_original");
         }
     LabelCounts lc = count_labels(lr.labels);
     std::printf("\n%s at %.0f m: %zu triangles (P %zu, I %zu, U %zu), p(d) = %.4f m, %zu labelling + %zu held-out "
@@ -523,6 +527,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     }
 #endif
   }
+  g_hausdorff = nullptr;
 }
 
 }  // namespace

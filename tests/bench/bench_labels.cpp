@@ -186,10 +186,7 @@ void stability(const Model& m, const Scene& scene, const std::vector<double>& di
       LabelResult moved;
       if (g_perturb == "noise") {
         Scene noisy = ref;
-        const Bounds b = scene_bounds(scene);
-        const double diag = std::sqrt(double(b.hi[0] - b.lo[0]) * (b.hi[0] - b.lo[0]) +
-                                      double(b.hi[1] - b.lo[1]) * (b.hi[1] - b.lo[1]) +
-                                      double(b.hi[2] - b.lo[2]) * (b.hi[2] - b.lo[2]));
+        const double diag = scene_bounds(scene).diagonal();
         std::mt19937 rng(sign > 0 ? 1 : 2);
         std::uniform_real_distribution<double> u(-1.0, 1.0);
         const size_t n = 3 * (noisy.positions.size() / 3 - 2);  // the two anchors stay
@@ -201,9 +198,7 @@ void stability(const Model& m, const Scene& scene, const std::vector<double>& di
         LabelJob hi = job;
         hi.display.width = 1920, hi.display.height = 1536, hi.display.dpi *= 1.5;
         hi.display.name += "-x1.5";
-        hi.perception = perception_settings_for(hi.display);
-        if (g_spins) hi.perception.spins = g_spins;
-        if (g_threshold >= 0) hi.perception.threshold = g_threshold;
+        hi.perception.ppd = perception_settings_for(hi.display).ppd;
         OctreeTracer tracer(ref);
         moved = label_scene(renderer, ref, tracer, hi);
         weight_scale = (1280.0 * 1024.0) / (1920.0 * 1536.0);

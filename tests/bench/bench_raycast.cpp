@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_common.h"
 #include "perclod/display.h"
 #include "perclod/facade.h"
 #include "perclod/load.h"
@@ -185,12 +186,7 @@ int main(int argc, char** argv) {
       real = false;
     } else if (a == "--sizes" && i + 1 < argc) {
       sizes.clear();
-      std::string list = argv[++i];
-      for (size_t p = 0; p <= list.size();) {
-        const size_t q = std::min(list.find(',', p), list.size());
-        if (q > p) sizes.push_back(std::strtoull(list.substr(p, q - p).c_str(), nullptr, 10));
-        p = q + 1;
-      }
+      for (const auto& n : bench::split(argv[++i], ',')) sizes.push_back(std::strtoull(n.c_str(), nullptr, 10));
     } else if (a == "--csv" && i + 1 < argc) {
       csv = argv[++i];
     } else if (!a.empty() && std::isdigit(static_cast<unsigned char>(a[0]))) {

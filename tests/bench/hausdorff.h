@@ -108,23 +108,29 @@ inline std::vector<V3> surface_points(const Scene& s, size_t samples) {
   return pts;
 }
 
-// The largest distance from a point of `from` to the surface of `to`.
-inline double one_sided(RTCDevice device, const Scene& from, const Scene& to, size_t samples, double radius) {
-  if (to.triangle_count() == 0) return radius;
+// `s`'s triangles as an Embree scene for closest-point queries.
+inline RTCScene point_query_scene(RTCDevice device, const Scene& s) {
   RTCScene scene = rtcNewScene(device);
   RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   float* vb = static_cast<float*>(
-      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), to.positions.size() / 3));
-  std::copy(to.positions.begin(), to.positions.end(), vb);
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), s.positions.size() / 3));
+  std::copy(s.positions.begin(), s.positions.end(), vb);
   unsigned* ib = static_cast<unsigned*>(
-      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), to.triangle_count()));
-  std::copy(to.indices.begin(), to.indices.end(), ib);
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), s.triangle_count()));
+  std::copy(s.indices.begin(), s.indices.end(), ib);
   rtcCommitGeometry(g);
   rtcAttachGeometry(scene, g);
   rtcReleaseGeometry(g);
   rtcCommitScene(scene);
+  return scene;
+}
+
+// The largest distance from `points` to the surface of `to` (its query scene
+// `scene`), each distance capped at `radius`.
+inline double one_sided(const std::vector<V3>& points, RTCScene scene, const Scene& to, double radius) {
+  if (to.triangle_count() == 0) return radius;
   double worst = 0;
-  for (const V3& p : surface_points(from, samples)) {
+  for (const V3& p : points) {
     RTCPointQuery pq;
     pq.x = float(p.x), pq.y = float(p.y), pq.z = float(p.z), pq.time = 0, pq.radius = float(radius);
     RTCPointQueryContext ctx;
@@ -133,25 +139,53 @@ inline double one_sided(RTCDevice device, const Scene& from, const Scene& to, si
     rtcPointQuery(scene, &pq, &ctx, closest, &q);
     worst = std::max(worst, std::sqrt(q.best2));
   }
-  rtcReleaseScene(scene);
   return worst;
 }
 
 }  // namespace hausdorff_detail
 
-// Symmetric sampled Hausdorff distance between `a` and `b`, divided by the
-// diagonal of a's bounding box (an empty `b` scores the whole diagonal, 1).
-inline double hausdorff_relative(const Scene& a, const Scene& b, size_t samples = 20000) {
-  const Bounds box = scene_bounds(a);
-  const double dx = box.hi[0] - box.lo[0], dy = box.hi[1] - box.lo[1], dz = box.hi[2] - box.lo[2];
-  const double diag = std::sqrt(dx * dx + dy * dy + dz * dz);
-  if (!(diag > 0)) return 0.0;
-  RTCDevice device = rtcNewDevice(nullptr);
-  if (!device) throw std::runtime_error("hausdorff: cannot create an Embree device");
-  const double h = std::max(hausdorff_detail::one_sided(device, a, b, samples, diag),
-                            hausdorff_detail::one_sided(device, b, a, samples, diag));
-  rtcReleaseDevice(device);
-  return std::min(1.0, h / diag);
-}
+// Sampled Hausdorff distances from one reference scene (an original) to the
+// scenes it is compared with: the reference's query scene and surface points
+// are built once, not once per comparison.
+class HausdorffReference {
+ public:
+  explicit HausdorffReference(const Scene& a, size_t samples = 20000)
+      : a_(a), samples_(samples), diag_(scene_bounds(a).diagonal()) {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw std::runtime_error("hausdorff: cannot create an Embree device");
+    if (diag_ > 0) {
+      scene_a_ = hausdorff_detail::point_query_scene(device_, a);
+      points_a_ = hausdorff_detail::surface_points(a, samples);
+    }
+  }
+  ~HausdorffReference() {
+    if (scene_a_) rtcReleaseScene(scene_a_);
+    rtcReleaseDevice(device_);
+  }
+  HausdorffReference(const HausdorffReference&) = delete;
+  HausdorffReference& operator=(const HausdorffReference&) = delete;
+
+  // Symmetric sampled Hausdorff distance between the reference and `b`,
+  // divided by the diagonal of the reference's bounding box (an empty `b`
+  // scores the whole diagonal, 1).
+  double relative(const Scene& b) const {
+    if (!(diag_ > 0)) return 0.0;
+    if (b.triangle_count() == 0) return 1.0;
+    RTCScene scene_b = hausdorff_detail::point_query_scene(device_, b);
+    const double h = std::max(hausdorff_detail::one_sided(points_a_, scene_b, b, diag_),
+                              hausdorff_detail::one_sided(hausdorff_detail::surface_points(b, samples_), scene_a_, a_,
+                                                          diag_));
+    rtcReleaseScene(scene_b);
+    return std::min(1.0, h / diag_);
+  }
+
+ private:
+  const Scene& a_;
+  size_t samples_;
+  double diag_;
+  RTCDevice device_ = nullptr;
+  RTCScene scene_a_ = nullptr;
+  std::vector<hausdorff_detail::V3> points_a_;
+};
 
 }  // namespace perclod::bench
