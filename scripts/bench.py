@@ -55,6 +55,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+from obj_to_cityjson import read_obj  # noqa: E402  (the scripts' one OBJ reader)
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_VIEWS = "facades,ring8el30,top"  # perclod's default view set (pipeline/include/perclod/views.h)
 SECTIONS = ("tracers", "simplifiers", "sweeps", "stability", "scaling", "failures")
@@ -413,23 +415,9 @@ def run_failures(a, out):
 
 
 def read_obj_parts(path):
-    """An OBJ's triangles grouped by `o`/`g` name (fans for polygons): for the failure cases."""
-    verts, parts, current = [], {}, "default"
-    with open(path) as f:
-        for line in f:
-            w = line.split()
-            if not w:
-                continue
-            if w[0] == "v":
-                verts.append(tuple(float(x) for x in w[1:4]))
-            elif w[0] in ("o", "g") and len(w) > 1:
-                current = w[1]
-            elif w[0] == "f":
-                ids = [int(x.split("/")[0]) for x in w[1:]]
-                ids = [i - 1 if i > 0 else len(verts) + i for i in ids]
-                for k in range(1, len(ids) - 1):
-                    parts.setdefault(current, []).append((verts[ids[0]], verts[ids[k]], verts[ids[k + 1]]))
-    return list(parts.items())
+    """A triangulated OBJ's triangles grouped by `o`/`g` name, in file order: for the failure cases."""
+    vertices, groups, order = read_obj(path)
+    return [(name, [tuple(vertices[c] for c in face) for face in groups[name]]) for name in order if groups[name]]
 
 
 # ---- charts --------------------------------------------------------------------
