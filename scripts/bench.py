@@ -748,8 +748,9 @@ def summarize(out, charts, exponents):
     st = read_csv(out("simplify_time.csv"))
     if st:
         parts.append("## Simplification time and memory (bench_simplify, medians)\n\n" + md_table(
-            ["model", "input", "method", "s", "triangles", "peak MB"],
-            [[r["model"], r["input_triangles"], r["method"], r["seconds"], r["triangles"], r["peak_mb"]] for r in st]))
+            ["model", "input", "method", "s", "CPU s", "triangles", "peak MB"],
+            [[r["model"], r["input_triangles"], r["method"], r["seconds"], r.get("cpu_seconds", ""), r["triangles"],
+              r["peak_mb"]] for r in st]))
     sw = read_csv(out("sweeps.csv"))
     if sw:
         parts.append("## Settings of the perceptual pipeline, one at a time (demo, default fidelity LOD)\n\n" + md_table(

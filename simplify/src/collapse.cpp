@@ -23,6 +23,9 @@
 #include <queue>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "quadric.h"
 #include "simplify_internal.h"
 
@@ -92,8 +95,8 @@ struct QuietOpenMesh {
   bool was;
 };
 
+// OpenMesh's error stream is switched off by the caller (QuietOpenMesh).
 void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, SimplifyStats& stats) {
-  QuietOpenMesh quiet;
   std::vector<int> vh_of(w.weld.positions.size() / 3, -1);
   m.mesh.reserve(faces.size(), 3 * faces.size() / 2, faces.size());
   m.vert_welded.reserve(faces.size());
@@ -368,7 +371,11 @@ Legality legality(const Model& m, HH h, const Limits& lim, std::vector<VH>& ring
 
 // A binary min-heap of half-edges keyed by cost, indexed so a cost can change
 // in place: a collapse re-keys its few affected half-edges instead of piling
-// stale entries onto the queue.
+// stale entries onto the queue. Equal costs (flat walls collapse at cost 0
+// plus an edge-length tie-break that regular grids repeat) are ordered by
+// half-edge index, so the order of collapses depends on the mesh alone and
+// not on the heap's history: a chunk of pieces simplified on its own then
+// makes exactly the collapses it makes as part of the whole mesh.
 class HalfedgeHeap {
  public:
   explicit HalfedgeHeap(size_t n) : pos_(n, -1) {}
@@ -391,7 +398,7 @@ class HalfedgeHeap {
       size_t i = size_t(pos_[h]);
       double old = heap_[i].cost;
       heap_[i].cost = cost;
-      if (cost < old) up(i); else down(i);
+      if (cost < old) up(i); else if (old < cost) down(i);
     }
   }
   void remove(uint32_t h) {
@@ -412,6 +419,7 @@ class HalfedgeHeap {
     double cost;
     uint32_t h;
   };
+  static bool before(const Node& a, const Node& b) { return a.cost < b.cost || (a.cost == b.cost && a.h < b.h); }
   void place(size_t i, const Node& n) {
     heap_[i] = n;
     pos_[n.h] = int(i);
@@ -420,7 +428,7 @@ class HalfedgeHeap {
     Node n = heap_[i];
     while (i > 0) {
       size_t p = (i - 1) / 2;
-      if (!(n.cost < heap_[p].cost)) break;
+      if (!before(n, heap_[p])) break;
       place(i, heap_[p]);
       i = p;
     }
@@ -432,8 +440,8 @@ class HalfedgeHeap {
     for (;;) {
       size_t c = 2 * i + 1;
       if (c >= size) break;
-      if (c + 1 < size && heap_[c + 1].cost < heap_[c].cost) ++c;
-      if (!(heap_[c].cost < n.cost)) break;
+      if (c + 1 < size && before(heap_[c + 1], heap_[c])) ++c;
+      if (!before(heap_[c], n)) break;
       place(i, heap_[c]);
       i = c;
     }
@@ -736,26 +744,34 @@ void write_result(Model& m, const Work& w, bool keep_perceptible_exact, Simplify
 }
 
 // Belblidia's measures: each mesh vertex against the vertex it collapsed into
-// (transitively); vertices of removed pieces are not counted.
-void displacement_stats(Model& m, const Work& w, SimplifyStats& stats) {
-  Mesh& mesh = m.mesh;
+// (transitively); vertices of removed pieces are not counted. Sums, so that
+// chunks add up.
+struct Displacement {
+  double sum = 0, max = 0;
+  size_t count = 0;
+  void add(const Displacement& o) {
+    sum += o.sum;
+    max = std::max(max, o.max);
+    count += o.count;
+  }
+};
+
+Displacement displacement(const Model& m) {
+  const Mesh& mesh = m.mesh;
   std::vector<uint8_t> alive(mesh.n_vertices(), 0);
   for (FH f : mesh.faces())
     for (VH v : mesh.fv_range(f)) alive[v.idx()] = 1;
-  double sum = 0, mx = 0;
-  size_t n = 0;
+  Displacement d;
   for (size_t i = 0; i < m.merged_into.size(); ++i) {
     uint32_t r = uint32_t(i);
     while (m.merged_into[r] != r) r = m.merged_into[r];
     if (!alive[r]) continue;
-    double d = (mesh.point(VH(int(i))) - mesh.point(VH(int(r)))).norm();
-    sum += d;
-    mx = std::max(mx, d);
-    ++n;
+    double dist = (mesh.point(VH(int(i))) - mesh.point(VH(int(r)))).norm();
+    d.sum += dist;
+    d.max = std::max(d.max, dist);
+    ++d.count;
   }
-  double diag = w.diagonal > 0 ? w.diagonal : 1.0;
-  stats.max_displacement_rel = mx / diag;
-  stats.mean_displacement_rel = n ? sum / n / diag : 0.0;
+  return d;
 }
 
 }  // namespace
@@ -784,32 +800,57 @@ void init_tolerances(Model& m, const Work& w, const SimplifyOptions& opt) {
   }
 }
 
-void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats& stats,
-                       Result& out) {
-  const bool labelled = simplify_mode_uses_labels(opt.mode);  // collapse modes: paper, bounded, fidelity, qem
-  const bool keep_perceptible = simplify_mode_keeps_perceptible(opt.mode);
+namespace {
+
+// Splits `faces` into chunks of whole connected pieces (faces sharing a
+// welded vertex): each piece goes to the chunk that is open when its first
+// face comes, and a chunk closes once it holds chunk_faces faces or more.
+// Faces keep their input order within a chunk. No collapse, piece removal
+// or face refused by OpenMesh reaches outside its piece, so each chunk can be
+// simplified on its own.
+std::vector<std::vector<uint32_t>> split_into_chunks(const Work& w, const std::vector<uint32_t>& faces,
+                                                     size_t chunk_faces) {
+  if (chunk_faces == 0 || faces.size() <= chunk_faces) return {faces};
+  DisjointSets sets(w.weld.positions.size() / 3);
+  auto corner = [&](uint32_t t, int k) { return w.weld.corner[3 * size_t(t) + k]; };
+  for (uint32_t t : faces)
+    for (int k = 1; k < 3; ++k) sets.unite(corner(t, 0), corner(t, k));
+  std::vector<uint32_t> piece_faces(w.weld.positions.size() / 3, 0);
+  for (uint32_t t : faces) piece_faces[sets.find(corner(t, 0))]++;
+  std::vector<uint32_t> chunk_of(piece_faces.size(), UINT32_MAX);
+  std::vector<std::vector<uint32_t>> chunks(1);
+  size_t filled = 0;
+  for (uint32_t t : faces) {
+    const uint32_t root = sets.find(corner(t, 0));
+    if (chunk_of[root] == UINT32_MAX) {
+      if (filled >= chunk_faces) {
+        chunks.emplace_back();
+        filled = 0;
+      }
+      chunk_of[root] = uint32_t(chunks.size() - 1);
+      filled += piece_faces[root];
+    }
+    chunks[chunk_of[root]].push_back(t);
+  }
+  return chunks;
+}
+
+struct Chunk {
+  std::vector<uint32_t> faces;
+  Result result;
+  SimplifyStats stats;  // this chunk's counts
+  Displacement moved;
+};
+
+// Everything after welding, for one chunk of pieces (or the whole mesh).
+void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance, Chunk& c) {
+  const bool labelled = simplify_mode_uses_labels(opt.mode);
   const bool bounded = opt.mode == SimplifyMode::Bounded || opt.mode == SimplifyMode::Fidelity;
-  double tolerance = -1;  // pieces without a perceptible face within this are removed
-  if (opt.mode == SimplifyMode::Bounded) tolerance = stats.tolerance = opt.k * opt.pixel_footprint;
-  if (opt.mode == SimplifyMode::Fidelity) {
-    tolerance = stats.tolerance = opt.bound_imperceptible_px * opt.pixel_footprint;
-    stats.tolerance_perceptible = opt.bound_perceptible_px * opt.pixel_footprint;
-  }
-  std::vector<uint32_t> faces = w.faces;
-  // Paper: undisplayable triangles go outright (no pixel centre of any
-  // labelling view reaches them, so those views render the same without
-  // them). Collapsing them instead would move the vertices they share with
-  // imperceptible triangles, which the views do show, and would still leave
-  // every one whose corners all sit on perceptible triangles.
-  // Fidelity does the same: the held-out views judge whether that was safe.
-  if ((opt.mode == SimplifyMode::Paper || opt.mode == SimplifyMode::Fidelity) && opt.delete_undisplayable) {
-    std::erase_if(faces, [&](uint32_t t) { return (*w.labels)[t] == Label::Undisplayable; });
-    stats.undisplayable_faces_deleted = w.faces.size() - faces.size();
-  }
-  // Pieces that will be removed anyway are neither built nor collapsed.
-  if (labelled) faces = drop_pieces_early(w, faces, opt.mode, tolerance, stats);
+  const bool keep_perceptible = simplify_mode_keeps_perceptible(opt.mode);
+  SimplifyStats& stats = c.stats;
   Model m;
-  build_mesh(m, w, faces, stats);
+  build_mesh(m, w, c.faces, stats);
+  std::vector<uint32_t>().swap(c.faces);
   stats.vertices_before = m.mesh.n_vertices();
   m.locked.assign(m.mesh.n_vertices(), 0);
   init_quadrics(m, opt, bounded);
@@ -826,8 +867,65 @@ void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats&
   Collapser(m, lim, target).run(stats);
 
   if (labelled) remove_pieces(m, w, opt.mode, tolerance, stats);
-  displacement_stats(m, w, stats);
-  write_result(m, w, keep_perceptible, stats, out);
+  c.moved = displacement(m);
+  write_result(m, w, keep_perceptible, stats, c.result);
+}
+
+// Appends a chunk's triangles (vertex indices shifted past those already
+// there) and adds up its counts.
+void merge_chunk(Chunk& c, SimplifyStats& stats, Result& out) {
+  const uint32_t base = uint32_t(out.positions.size() / 3);
+  out.positions.insert(out.positions.end(), c.result.positions.begin(), c.result.positions.end());
+  for (uint32_t i : c.result.indices) out.indices.push_back(base + i);
+  out.source.insert(out.source.end(), c.result.source.begin(), c.result.source.end());
+  c.result = Result{};
+  const SimplifyStats& s = c.stats;
+  stats.vertices_before += s.vertices_before;
+  stats.vertices_after += s.vertices_after;
+  stats.pieces_removed += s.pieces_removed;
+  stats.pieces_triangles_removed += s.pieces_triangles_removed;
+  stats.nonmanifold_faces_duplicated += s.nonmanifold_faces_duplicated;
+  stats.degenerate_faces += s.degenerate_faces;
+  stats.collapses += s.collapses;
+  stats.max_error = std::max(stats.max_error, s.max_error);
+  if (!s.target_reached) {
+    stats.target_reached = false;
+    stats.stop_reason = s.stop_reason;
+  }
+}
+
+}  // namespace
+
+void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats& stats,
+                       Result& out) {
+  const bool labelled = simplify_mode_uses_labels(opt.mode);  // collapse modes: paper, bounded, fidelity, qem
+  double tolerance = -1;  // pieces without a perceptible face within this are removed
+  if (opt.mode == SimplifyMode::Bounded) tolerance = stats.tolerance = opt.k * opt.pixel_footprint;
+  if (opt.mode == SimplifyMode::Fidelity) {
+    tolerance = stats.tolerance = opt.bound_imperceptible_px * opt.pixel_footprint;
+    stats.tolerance_perceptible = opt.bound_perceptible_px * opt.pixel_footprint;
+  }
+  // Pieces that will be removed anyway are neither built nor collapsed.
+  std::vector<uint32_t> faces = labelled ? drop_pieces_early(w, w.faces, opt.mode, tolerance, stats) : w.faces;
+  // Qem's target counts the whole mesh: one chunk.
+  std::vector<std::vector<uint32_t>> parts =
+      split_into_chunks(w, faces, opt.mode == SimplifyMode::Qem ? 0 : opt.chunk_faces);
+  std::vector<uint32_t>().swap(faces);
+  stats.chunks = parts.size();
+  std::vector<Chunk> chunks(parts.size());
+  for (size_t i = 0; i < parts.size(); ++i) chunks[i].faces = std::move(parts[i]);
+  QuietOpenMesh quiet;  // once for every thread: the switch is global
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) simplify_chunk(w, opt, tolerance, chunks[i]);
+  });
+  Displacement moved;
+  for (Chunk& c : chunks) {
+    merge_chunk(c, stats, out);
+    moved.add(c.moved);
+  }
+  const double diag = w.diagonal > 0 ? w.diagonal : 1.0;
+  stats.max_displacement_rel = moved.max / diag;
+  stats.mean_displacement_rel = moved.count ? moved.sum / moved.count / diag : 0.0;
 }
 
 }  // namespace perclod::detail

@@ -97,9 +97,17 @@ void check_input(const Scene& s, const std::vector<Label>& labels, const Simplif
 }
 
 // Triangles in play: in the labelled modes, components whose triangles are
-// all undisplayable are dropped outright.
-std::vector<uint32_t> faces_in_play(const Scene& s, const std::vector<Label>& labels, bool labelled,
+// all undisplayable are dropped outright; Paper and Fidelity (with
+// delete_undisplayable) also drop every undisplayable triangle. No pixel
+// centre of any labelling view reaches those, so the labelling views render
+// the same without them; collapsing them instead would move the vertices they
+// share with imperceptible triangles, which the views do show, and would
+// still leave every one whose corners all sit on perceptible triangles. In
+// Fidelity the held-out views judge whether deleting them was safe. Dropped
+// before welding, they cost no welding either.
+std::vector<uint32_t> faces_in_play(const Scene& s, const std::vector<Label>& labels, const SimplifyOptions& opt,
                                     SimplifyStats& stats) {
+  const bool labelled = simplify_mode_uses_labels(opt.mode);
   const size_t nt = s.triangle_count();
   std::vector<uint32_t> faces;
   faces.reserve(nt);
@@ -115,8 +123,15 @@ std::vector<uint32_t> faces_in_play(const Scene& s, const std::vector<Label>& la
     if (labels[t] != Label::Undisplayable) displayable[s.component_of(t)] = 1;
   }
   for (size_t c = 0; c < nc; ++c) stats.components_removed += seen[c] && !displayable[c];
-  for (size_t t = 0; t < nt; ++t)
-    if (displayable[s.component_of(t)]) faces.push_back(uint32_t(t));
+  const bool drop_undisplayable =
+      (opt.mode == SimplifyMode::Paper || opt.mode == SimplifyMode::Fidelity) && opt.delete_undisplayable;
+  for (size_t t = 0; t < nt; ++t) {
+    if (!displayable[s.component_of(t)]) continue;
+    if (drop_undisplayable && labels[t] == Label::Undisplayable)
+      stats.undisplayable_faces_deleted++;
+    else
+      faces.push_back(uint32_t(t));
+  }
   return faces;
 }
 
@@ -128,14 +143,12 @@ Scene simplify(const Scene& scene, const std::vector<Label>& labels, const Simpl
   check_input(scene, labels, opt);
   SimplifyStats stats;
   for (Label l : labels) stats.triangles_before[size_t(l)]++;
-  const bool labelled = simplify_mode_uses_labels(opt.mode);
-
   detail::Work work;
   work.scene = &scene;
   work.labels = &labels;
   work.diagonal = scene_bounds(scene).diagonal();
   stats.bbox_diagonal = work.diagonal;
-  work.faces = faces_in_play(scene, labels, labelled, stats);
+  work.faces = faces_in_play(scene, labels, opt, stats);
   detail::weld_corners(work, opt.weld_per_component, opt.weld_tolerance_rel * work.diagonal);
 
   detail::Result r;

@@ -5,9 +5,11 @@
 // hidden interior (components named interior_*) is undisplayable, as no ray
 // from outside reaches it.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <set>
+#include <utility>
 
 #include "fixtures.h"
 #include "perclod/facade.h"
@@ -80,6 +82,68 @@ TEST(SimplifyFacade, ClusterShrinksAsTheCellGrows) {
     Scene out = simplify(in, labels, opt);
     EXPECT_LT(out.triangle_count(), prev) << cell;
     prev = out.triangle_count();
+  }
+}
+
+// Output triangles with the input triangle each came from, in a canonical
+// order: equal when two runs produce the same LOD in any triangle order.
+std::multiset<std::pair<test::Tri, uint32_t>> triangles_with_source(const Scene& out, const std::vector<uint32_t>& src) {
+  std::multiset<std::pair<test::Tri, uint32_t>> r;
+  for (size_t t = 0; t < out.triangle_count(); ++t) r.insert({test::canonical(test::tri_of(out, t)), src[t]});
+  return r;
+}
+
+// Pieces are simplified in chunks, in parallel: neither the chunk size nor
+// the thread count may change which triangles come out. The scene has many
+// pieces (facade parts) and flat grids whose collapses all tie at cost 0.
+TEST(SimplifyFacade, ChunksAndThreadsDoNotChangeTheResult) {
+  Scene in = small_facade();
+  const size_t facade_triangles = in.triangle_count();
+  for (int g = 0; g < 6; ++g)
+    test::add_grid(in, 12, 2.0, uint32_t(in.component_names.size()), nullptr, 3.0 * g, -5.0);
+  auto labels = test::synthetic_labels(in, {0, 1, 0}, 0.02);
+  // Each grid imperceptible but for one perceptible corner, so that Paper
+  // keeps the grid and collapses the rest of it.
+  for (size_t t = facade_triangles; t < in.triangle_count(); ++t)
+    labels[t] = (t - facade_triangles) % 288 == 0 ? Label::Perceptible : Label::Imperceptible;
+  for (SimplifyMode mode : {SimplifyMode::Paper, SimplifyMode::Bounded, SimplifyMode::Fidelity}) {
+    SimplifyOptions opt;
+    opt.mode = mode;
+    opt.pixel_footprint = 0.03;
+    struct Run {
+      Scene out;
+      std::vector<uint32_t> src;
+      SimplifyStats st;
+    };
+    auto run = [&](size_t chunk_faces, int threads) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      SimplifyOptions o = opt;
+      o.chunk_faces = chunk_faces;
+      Run r;
+      r.out = simplify(in, labels, o, &r.st, &r.src);
+      return r;
+    };
+    const Run whole = run(0, 1), chunked = run(64, 1), parallel = run(64, 2);
+    const char* name = simplify_mode_name(mode);
+    ASSERT_GT(whole.st.collapses, 100u) << name;
+    EXPECT_EQ(whole.st.chunks, 1u) << name;
+    EXPECT_GT(chunked.st.chunks, 4u) << name;
+    EXPECT_TRUE(triangles_with_source(whole.out, whole.src) == triangles_with_source(chunked.out, chunked.src)) << name;
+    for (const Run* r : {&chunked, &parallel}) {
+      EXPECT_EQ(r->st.collapses, whole.st.collapses) << name;
+      EXPECT_EQ(r->st.triangles_after, whole.st.triangles_after) << name;
+      EXPECT_EQ(r->st.vertices_before, whole.st.vertices_before) << name;
+      EXPECT_EQ(r->st.vertices_after, whole.st.vertices_after) << name;
+      EXPECT_EQ(r->st.pieces_removed, whole.st.pieces_removed) << name;
+      EXPECT_EQ(r->st.undisplayable_faces_deleted, whole.st.undisplayable_faces_deleted) << name;
+      EXPECT_EQ(r->st.max_error, whole.st.max_error) << name;
+      EXPECT_EQ(r->st.max_displacement_rel, whole.st.max_displacement_rel) << name;
+      EXPECT_NEAR(r->st.mean_displacement_rel, whole.st.mean_displacement_rel, 1e-12) << name;
+    }
+    // Same chunks on one or two threads: the same file, byte for byte.
+    EXPECT_EQ(parallel.out.positions, chunked.out.positions) << name;
+    EXPECT_EQ(parallel.out.indices, chunked.out.indices) << name;
+    EXPECT_EQ(parallel.src, chunked.src) << name;
   }
 }
 

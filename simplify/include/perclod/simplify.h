@@ -125,6 +125,14 @@ struct SimplifyOptions {
   // stay closed.
   bool delete_undisplayable = true;
 
+  // Paper, Bounded, Fidelity: connected pieces (faces sharing a welded
+  // vertex) are simplified in chunks of about this many faces, in parallel
+  // (oneTBB); 0 = one chunk. Collapses never cross pieces and ties between
+  // equal costs are broken by position in the input, so the output holds
+  // the same triangles whatever the chunk size or thread count; only their
+  // order follows the chunks (and so depends on chunk_faces alone).
+  size_t chunk_faces = 16384;
+
   // Cluster: representative = weighted centre of mass (false: heaviest vertex).
   bool cluster_center_of_mass = true;
   // Cluster (Belblidia): cluster each component on its own and snap
@@ -146,6 +154,7 @@ struct SimplifyStats {
   size_t nonmanifold_faces_duplicated = 0;  // faces added with their own vertices
   size_t degenerate_faces = 0;         // faces whose welded corners repeat (kept, duplicated)
   size_t collapses = 0;
+  size_t chunks = 0;                   // Paper, Bounded, Fidelity, Qem: chunks of pieces simplified apart (chunk_faces)
   size_t cluster_dangling_edges = 0;   // Cluster: edges bounding no kept triangle (not in the Scene)
   size_t cluster_isolated_points = 0;  // Cluster: points bounding nothing (not in the Scene)
   double tolerance = 0.0;              // Bounded: k * p(d); Cluster: cell size; Fidelity: e_imperceptible * p(d)
