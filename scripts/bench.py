@@ -702,7 +702,13 @@ def md_table(header, rows):
 
 
 def summarize(out, charts, exponents):
-    parts = [f"# Benchmark summary\n\nMachine: `{json.dumps(machine())}`\n"]
+    # The machine the run measured on (machine.json, written when the run
+    # started), not the one redrawing the charts (--charts-only).
+    ran_on = machine()
+    if os.path.exists(out("machine.json")):
+        with open(out("machine.json")) as f:
+            ran_on = json.load(f)
+    parts = [f"# Benchmark summary\n\nMachine: `{json.dumps(ran_on)}`\n"]
     tr = read_csv(out("tracers.csv"))
     if tr:
         by = {}
