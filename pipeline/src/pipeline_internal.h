@@ -64,7 +64,7 @@ inline ViewRecord view_record(const std::string& name, const Camera& camera, con
       const size_t i = size_t(y + r.y0) * size_t(W) + size_t(x + r.x0), k = size_t(y) * size_t(r.w) + size_t(x);
       r.simulated[k] = pr.simulated[i];
       r.luminance[k] = lum8(i);
-      r.background[k] = background[i];
+      r.background[k] = background[i] != 0;
     }
   return r;
 }

@@ -122,7 +122,8 @@ struct ViewRecord {
   int x0 = 0, y0 = 0, w = 0, h = 0;       // the kept rectangle of the camera's image
   std::vector<float> simulated;            // vision-simulated luminance of the render, w x h, row 0 top
   std::vector<uint8_t> luminance;          // luminance of the render, rounded to 0..255
-  std::vector<uint8_t> background;         // 1 where no triangle was drawn
+  std::vector<bool> background;            // true where no triangle was drawn (a bit each: at 56 m a
+                                           // 1M-triangle model's 66 judged views fill their frames)
   uint8_t background_luminance = 255;      // the luminance of an undrawn pixel
   std::string set = "labelling";           // "labelling" or "held_out"
 
@@ -132,7 +133,7 @@ struct ViewRecord {
   }
   bool background_at(int x, int y) const {
     const long k = kept(x, y);
-    return k < 0 || background[size_t(k)] != 0;
+    return k < 0 || background[size_t(k)];
   }
   uint8_t luminance_at(int x, int y) const {
     const long k = kept(x, y);
