@@ -203,21 +203,27 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   auto t0 = Clock::now();
 
   const size_t pixels = size_t(out.image.width) * out.image.height;
-  std::vector<uint32_t> rays(pixels);
   TriangleCounts counts;
   counts.traced.assign(nt, 0);
   counts.imperceptible.assign(nt, 0);
   t0 = Clock::now();
-  for (const auto& o : sample_offsets(job.samples)) {
-    Camera c = cam;
-    c.shift_x = o[0];
-    c.shift_y = o[1];
-    tracer.trace(c, rays.data());
+  // Every sample of the view in one call: the octree walks its structure
+  // once for all of them.
+  const std::vector<std::array<double, 2>> offsets = sample_offsets(job.samples);
+  std::vector<std::vector<uint32_t>> traced(offsets.size(), std::vector<uint32_t>(pixels));
+  std::vector<uint32_t*> buffers;
+  for (auto& t : traced) buffers.push_back(t.data());
+  Camera unshifted = cam;  // the offsets are from the pixel centres
+  unshifted.shift_x = unshifted.shift_y = 0;
+  tracer.trace_samples(unshifted, offsets, buffers.data());
+  for (std::vector<uint32_t>& rays : traced) {
     if (owner)
       for (uint32_t& id : rays)
         if (id && (*owner)[id - 1] != building) id = 0;
     add_counts(counts, rays.data(), out.perception.mask.data(), pixels);
   }
+  std::vector<uint32_t> rays = std::move(traced[0]);
+  traced.clear();
   if (job.samples > 1) add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
   const double t_trace = since(t0);
 

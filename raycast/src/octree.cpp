@@ -62,6 +62,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 
@@ -134,6 +135,22 @@ struct OctNode {
 
 constexpr int kTile = 32;
 constexpr int kTilePixels = kTile * kTile;
+constexpr int kMaxSamples = 8;  // sample_offsets' largest pattern
+
+// Per sample s and pixel p of the tile, entry q = s * kTilePixels + p.
+struct Tile {
+  int x0, y0, w, h;
+  ShearedRay ray[kMaxSamples * kTilePixels];
+  float best[kMaxSamples * kTilePixels];    // nearest t so far
+  float bound[kMaxSamples * kTilePixels];   // largest t still accepted
+  uint32_t hit[kMaxSamples * kTilePixels];  // triangle index + 1, 0 = none
+  uint8_t tie[kMaxSamples * kTilePixels];
+  int unhit;  // samples without a hit yet (normal pass)
+  double plane[4][3];  // inward normals of the frustum planes through the eye
+  double centre_dir[3];
+  double tmax;  // widen_far(max over pixels of bound)
+  bool collect;
+};
 
 }  // namespace
 
@@ -150,13 +167,17 @@ struct OctreeTracer::Impl {
   struct Scratch {
     std::vector<uint32_t> stamp;
     uint32_t clock = 0;
+    std::shared_ptr<Tile> tile;  // a tile's rays and hits for every sample (too big for a worker's stack)
   };
   mutable tbb::enumerable_thread_specific<Scratch> scratch;
 
   void build(const Scene& scene);
   void build_bvhs(const Scene& scene);
   void build_octree(const Box& root);
-  void trace(const Camera& camera, uint32_t* out, float* tout) const;
+  // out[s] (and tout[s] when tout is not null) for the camera shifted by
+  // offsets[s]; one walk through the structure per tile serves every sample.
+  void trace(const Camera& camera, const std::array<double, 2>* offsets, int samples, uint32_t* const* out,
+             float* const* tout) const;
 };
 
 // ---------------------------------------------------------------- building
@@ -355,10 +376,15 @@ namespace {
 
 using Scratch = OctreeTracer::Impl::Scratch;
 
-// What a tile needs to know about the camera.
+// What a tile needs to know about the camera. Image points are in the
+// camera's own pixel coordinates; sample s of pixel (x, y) sits at
+// (x + 0.5 + ox[s], y + 0.5 + oy[s]) there, and its ray is dirs[s]'s.
 struct Frame {
   const Camera* cam;
-  const detail::PixelDirections* dirs;
+  int samples;
+  const detail::PixelDirections* dirs[kMaxSamples];
+  double ox[kMaxSamples], oy[kMaxSamples];
+  double ox_min, ox_max, oy_min, oy_max;
   double eye[3], fwd[3], right[3], up[3];
   float eyef[3];
   float znear, zfar;
@@ -367,10 +393,20 @@ struct Frame {
   double fx, fy, cx, cy;  // image point = (cx + fx * x/z, cy - fy * y/z) in camera axes
 };
 
-Frame make_frame(const Camera& cam, const detail::PixelDirections& dirs) {
+Frame make_frame(const Camera& cam, const std::array<double, 2>* offsets,
+                 const std::vector<std::unique_ptr<detail::PixelDirections>>& dirs) {
   Frame f;
   f.cam = &cam;
-  f.dirs = &dirs;
+  f.samples = int(dirs.size());
+  f.ox_min = f.oy_min = INFINITY;
+  f.ox_max = f.oy_max = -INFINITY;
+  for (int s = 0; s < f.samples; ++s) {
+    f.dirs[s] = dirs[size_t(s)].get();
+    f.ox[s] = offsets[s][0];
+    f.oy[s] = offsets[s][1];
+    f.ox_min = std::min(f.ox_min, f.ox[s]), f.ox_max = std::max(f.ox_max, f.ox[s]);
+    f.oy_min = std::min(f.oy_min, f.oy[s]), f.oy_max = std::max(f.oy_max, f.oy[s]);
+  }
   for (int k = 0; k < 3; ++k) {
     f.fwd[k] = cam.forward[k];
     f.right[k] = cam.right[k];
@@ -395,26 +431,14 @@ Frame make_frame(const Camera& cam, const detail::PixelDirections& dirs) {
   return f;
 }
 
-struct Tile {
-  int x0, y0, w, h;
-  ShearedRay ray[kTilePixels];
-  float best[kTilePixels];    // nearest t so far
-  float bound[kTilePixels];   // largest t still accepted
-  uint32_t hit[kTilePixels];  // triangle index + 1, 0 = none
-  uint8_t tie[kTilePixels];
-  int unhit;  // pixels without a hit yet (normal pass)
-  double plane[4][3];  // inward normals of the frustum planes through the eye
-  double centre_dir[3];
-  double tmax;  // widen_far(max over pixels of bound)
-  bool collect;
-};
 
-void update_tile_tmax(Tile& tile) {
-  if (!tile.collect && tile.unhit > 0) return;  // some pixel still accepts up to zfar
+void update_tile_tmax(const Frame& f, Tile& tile) {
+  if (!tile.collect && tile.unhit > 0) return;  // some sample still accepts up to zfar
   float m = 0.0f;
   const int n = tile.w * tile.h;
-  for (int i = 0; i < n; ++i)
-    if (!tile.collect || tile.tie[i]) m = std::max(m, tile.bound[i]);
+  for (int s = 0; s < f.samples; ++s)
+    for (int i = s * kTilePixels; i < s * kTilePixels + n; ++i)
+      if (!tile.collect || tile.tie[i]) m = std::max(m, tile.bound[i]);
   tile.tmax = detail::widen_far(double(m));
 }
 
@@ -425,18 +449,19 @@ void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
   tile.w = std::min(kTile, cam.width - x0);
   tile.h = std::min(kTile, cam.height - y0);
   tile.collect = false;
-  tile.unhit = tile.w * tile.h;
-  for (int j = 0; j < tile.h; ++j)
-    for (int i = 0; i < tile.w; ++i) {
-      const int p = j * tile.w + i;
-      float d[3];
-      f.dirs->direction(x0 + i, y0 + j, d);
-      tile.ray[p] = detail::shear_ray(d);
-      tile.best[p] = f.zfar;
-      tile.bound[p] = f.zfar;
-      tile.hit[p] = 0;
-      tile.tie[p] = 0;
-    }
+  tile.unhit = f.samples * tile.w * tile.h;
+  for (int s = 0; s < f.samples; ++s)
+    for (int j = 0; j < tile.h; ++j)
+      for (int i = 0; i < tile.w; ++i) {
+        const int q = s * kTilePixels + j * tile.w + i;
+        float d[3];
+        f.dirs[s]->direction(x0 + i, y0 + j, d);
+        tile.ray[q] = detail::shear_ray(d);
+        tile.best[q] = f.zfar;
+        tile.bound[q] = f.zfar;
+        tile.hit[q] = 0;
+        tile.tie[q] = 0;
+      }
   // Frustum through the tile's outer pixel edges.
   const Eigen::Vector3d c = cam.ray_direction(x0 + 0.5 * tile.w, y0 + 0.5 * tile.h);
   const Eigen::Vector3d corner[4] = {
@@ -474,7 +499,8 @@ struct PixelRect {
 // within its current t range. A box in front of the eye is projected by
 // interval arithmetic (x = N / D with N and D ranging over the box), and
 // survives only if its projected rectangle (plus pixel_margin()) contains a
-// pixel centre of the tile: sub-pixel geometry that falls between the rays
+// sample point of the tile (rect: the pixels whose sample points it may
+// contain, for any sample): sub-pixel geometry that falls between the rays
 // is dropped here, as a packet tracer's per-ray box tests would. A box
 // reaching the eye plane gets the four frustum planes instead. Sets near (a
 // lower bound on any float hit t inside the box) and rect (the tile's pixels
@@ -507,11 +533,11 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, P
     const double margin = detail::pixel_margin(mag, i0, f.fmax);
     const double pxlo = f.cx + f.fx * xlo, pxhi = f.cx + f.fx * xhi;
     const double pylo = f.cy - f.fy * yhi, pyhi = f.cy - f.fy * ylo;
-    const int xa = ceil_within(pxlo - margin - 0.5, tile.x0, tile.x0 + tile.w);
-    const int xb = floor_within(pxhi + margin - 0.5, tile.x0 - 1, tile.x0 + tile.w - 1);
+    const int xa = ceil_within(pxlo - margin - 0.5 - f.ox_max, tile.x0, tile.x0 + tile.w);
+    const int xb = floor_within(pxhi + margin - 0.5 - f.ox_min, tile.x0 - 1, tile.x0 + tile.w - 1);
     if (xa > xb) return false;
-    const int ya = ceil_within(pylo - margin - 0.5, tile.y0, tile.y0 + tile.h);
-    const int yb = floor_within(pyhi + margin - 0.5, tile.y0 - 1, tile.y0 + tile.h - 1);
+    const int ya = ceil_within(pylo - margin - 0.5 - f.oy_max, tile.y0, tile.y0 + tile.h);
+    const int yb = floor_within(pyhi + margin - 0.5 - f.oy_min, tile.y0 - 1, tile.y0 + tile.h - 1);
     if (ya > yb) return false;
     rect = {xa, xb, ya, yb};
     return true;
@@ -529,8 +555,8 @@ bool box_visible(const Frame& f, const Tile& tile, const Box& b, double& near, P
 
 // ---- the exact test and the tie rule
 
-// The exact test of one pixel's ray and the tie-rule bookkeeping. Returns
-// true when the pixel's nearest hit changed.
+// The exact test of one sample's ray (entry p of the tile) and the tie-rule
+// bookkeeping. Returns true when the sample's nearest hit changed.
 inline bool test_pixel(const Frame& f, Tile& tile, int p, uint32_t id, const float A[3], const float B[3],
                        const float C[3]) {
   float t;
@@ -564,12 +590,16 @@ inline void relative_vertices(const Frame& f, const PackedTri& tri, float A[3], 
   }
 }
 
-// A triangle against a single pixel (its leaf box covers one pixel centre of
-// the tile): no projection needed, the exact test decides.
+// A triangle against a single pixel (its leaf box can hold sample points of
+// one pixel of the tile only): no projection needed, the exact test decides
+// for each sample.
 inline bool test_triangle_at(const Frame& f, Tile& tile, const PackedTri& tri, int x, int y) {
   float A[3], B[3], C[3];
   relative_vertices(f, tri, A, B, C);
-  return test_pixel(f, tile, (y - tile.y0) * tile.w + (x - tile.x0), tri.index + 1, A, B, C);
+  const int p = (y - tile.y0) * tile.w + (x - tile.x0);
+  bool changed = false;
+  for (int s = 0; s < f.samples; ++s) changed |= test_pixel(f, tile, s * kTilePixels + p, tri.index + 1, A, B, C);
+  return changed;
 }
 
 // ---- a triangle's pixels
@@ -628,20 +658,22 @@ inline bool project_triangle(const Frame& f, const Tile& tile, const float* cons
     pymax = std::max(pymax, py);
   }
   const double margin = detail::pixel_margin(mag, izmax, f.fmax);
-  fp.xa = std::max(fp.xa, ceil_within(pxmin - margin - 0.5, tile.x0, tile.x0 + tile.w));
-  fp.xb = std::min(fp.xb, floor_within(pxmax + margin - 0.5, tile.x0 - 1, tile.x0 + tile.w));
-  fp.ya = std::max(fp.ya, ceil_within(pymin - margin - 0.5, tile.y0, tile.y0 + tile.h));
-  fp.yb = std::min(fp.yb, floor_within(pymax + margin - 0.5, tile.y0 - 1, tile.y0 + tile.h));
+  fp.xa = std::max(fp.xa, ceil_within(pxmin - margin - 0.5 - f.ox_max, tile.x0, tile.x0 + tile.w));
+  fp.xb = std::min(fp.xb, floor_within(pxmax + margin - 0.5 - f.ox_min, tile.x0 - 1, tile.x0 + tile.w));
+  fp.ya = std::max(fp.ya, ceil_within(pymin - margin - 0.5 - f.oy_max, tile.y0, tile.y0 + tile.h));
+  fp.yb = std::min(fp.yb, floor_within(pymax + margin - 0.5 - f.oy_min, tile.y0 - 1, tile.y0 + tile.h));
   if (fp.xa > fp.xb || fp.ya > fp.yb) return false;
   if (fp.xa < fp.xb || fp.ya < fp.yb) set_edge_functions(P, margin, fp);  // more than one pixel
   return true;
 }
 
-// Scanline span: on row y the edge functions bound the pixel centres to
-// [xl, xr] (each edge with ea != 0 gives one side; ea == 0 accepts or rejects
-// the whole row). Narrows [x_from, x_to]; returns false for an empty row.
-inline bool row_span(const TriangleFootprint& fp, const Tile& tile, int y, int& x_from, int& x_to) {
-  const double Y = y + 0.5;
+// Scanline span: on row y the edge functions bound the sample points (offset
+// ox, oy from the pixel centres) to [xl, xr] (each edge with ea != 0 gives
+// one side; ea == 0 accepts or rejects the whole row). Narrows [x_from,
+// x_to]; returns false for an empty row.
+inline bool row_span(const TriangleFootprint& fp, const Tile& tile, int y, double ox, double oy, int& x_from,
+                     int& x_to) {
+  const double Y = y + 0.5 + oy;
   double xl = -INFINITY, xr = INFINITY;
   bool empty = false;
   for (int i = 0; i < 3; ++i) {
@@ -651,17 +683,18 @@ inline bool row_span(const TriangleFootprint& fp, const Tile& tile, int y, int& 
     else empty |= r < 0;
   }
   if (empty) return false;
-  // X = x + 0.5 in [xl, xr], widened by the rounding of xl and xr.
+  // X = x + 0.5 + ox in [xl, xr], widened by the rounding of xl and xr.
   const double hair = detail::span_hair(xl, xr);
-  x_from = std::max(x_from, ceil_within(xl - hair - 0.5, tile.x0, tile.x0 + tile.w));
-  x_to = std::min(x_to, floor_within(xr + hair - 0.5, tile.x0 - 1, tile.x0 + tile.w));
+  x_from = std::max(x_from, ceil_within(xl - hair - 0.5 - ox, tile.x0, tile.x0 + tile.w));
+  x_to = std::min(x_to, floor_within(xr + hair - 0.5 - ox, tile.x0 - 1, tile.x0 + tile.w));
   return true;
 }
 
-// The exact per-pixel work for one triangle: only the pixel centres of its
+// The exact per-sample work for one triangle: only the sample points of its
 // footprint whose t window reaches its nearest depth get the exact test. A
 // triangle touching the eye plane is tested against the whole tile. Returns
-// true if any pixel's nearest hit changed.
+// true if any sample's nearest hit changed. The projection and edge
+// functions are computed once for every sample.
 bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   float A[3], B[3], C[3];
   relative_vertices(f, tri, A, B, C);
@@ -687,15 +720,16 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   bool changed = false;
   const uint32_t id = tri.index + 1;
   const float zlow_f = detail::float_at_or_below(zlow);
-  for (int y = fp.ya; y <= fp.yb; ++y) {
-    int x_from = fp.xa, x_to = fp.xb;
-    if (fp.edges && !row_span(fp, tile, y, x_from, x_to)) continue;
-    for (int x = x_from; x <= x_to; ++x) {
-      const int p = (y - tile.y0) * tile.w + (x - tile.x0);
-      if (zlow_f > tile.bound[p]) continue;  // all of the triangle lies beyond this pixel's window
-      changed |= test_pixel(f, tile, p, id, A, B, C);
+  for (int s = 0; s < f.samples; ++s)
+    for (int y = fp.ya; y <= fp.yb; ++y) {
+      int x_from = fp.xa, x_to = fp.xb;
+      if (fp.edges && !row_span(fp, tile, y, f.ox[s], f.oy[s], x_from, x_to)) continue;
+      for (int x = x_from; x <= x_to; ++x) {
+        const int q = s * kTilePixels + (y - tile.y0) * tile.w + (x - tile.x0);
+        if (zlow_f > tile.bound[q]) continue;  // all of the triangle lies beyond this sample's window
+        changed |= test_pixel(f, tile, q, id, A, B, C);
+      }
     }
-  }
   return changed;
 }
 
@@ -734,7 +768,7 @@ void walk_component(const Structure& s, const Frame& f, Tile& tile, uint32_t c, 
     if (e.near > tile.tmax) continue;
     const BvhNode& b = s.bvh[e.node];
     if (b.count() != 0) {
-      if (test_bvh_leaf(s, f, tile, b, e.rect)) update_tile_tmax(tile);
+      if (test_bvh_leaf(s, f, tile, b, e.rect)) update_tile_tmax(f, tile);
       continue;
     }
     double n0, n1;
@@ -796,7 +830,7 @@ void walk_tile(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch)
     std::fill(scratch.stamp.begin(), scratch.stamp.end(), 0u);
     scratch.clock = 1;
   }
-  update_tile_tmax(tile);
+  update_tile_tmax(f, tile);
   double near;
   PixelRect rect;
   uint32_t stack[128];
@@ -816,33 +850,43 @@ void walk_tile(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch)
   }
 }
 
-// A tile from start to finish: the nearest hits, then, only if some pixel
+// A tile from start to finish: the nearest hits, then, only if some sample
 // saw a second hit inside its tie window, a pass over the fixed windows that
-// keeps the lowest index; then the tile's pixels are written out.
-void trace_tile(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch, uint32_t* out, float* tout) {
+// keeps the lowest index; then the tile's samples are written out.
+void trace_tile(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch, uint32_t* const* out,
+                float* const* tout) {
   walk_tile(s, f, tile, scratch);
   bool any_tie = false;
   const int n = tile.w * tile.h;
-  for (int p = 0; p < n; ++p) any_tie |= tile.tie[p] != 0;
+  for (int k = 0; k < f.samples; ++k)
+    for (int p = 0; p < n; ++p) any_tie |= tile.tie[k * kTilePixels + p] != 0;
   if (any_tie) {
     tile.collect = true;
     walk_tile(s, f, tile, scratch);
   }
   const int width = f.cam->width;
-  for (int j = 0; j < tile.h; ++j)
-    for (int i = 0; i < tile.w; ++i) {
-      const int p = j * tile.w + i;
-      const size_t o = size_t(tile.y0 + j) * size_t(width) + size_t(tile.x0 + i);
-      out[o] = tile.hit[p];
-      if (tout) tout[o] = tile.hit[p] ? tile.best[p] : 0.0f;
-    }
+  for (int k = 0; k < f.samples; ++k)
+    for (int j = 0; j < tile.h; ++j)
+      for (int i = 0; i < tile.w; ++i) {
+        const int q = k * kTilePixels + j * tile.w + i;
+        const size_t o = size_t(tile.y0 + j) * size_t(width) + size_t(tile.x0 + i);
+        out[k][o] = tile.hit[q];
+        if (tout) tout[k][o] = tile.hit[q] ? tile.best[q] : 0.0f;
+      }
 }
 
 }  // namespace
 
-void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) const {
-  const detail::PixelDirections dirs(cam);
-  const Frame f = make_frame(cam, dirs);
+void OctreeTracer::Impl::trace(const Camera& cam, const std::array<double, 2>* offsets, int samples,
+                               uint32_t* const* out, float* const* tout) const {
+  std::vector<Camera> shifted(size_t(samples), cam);
+  std::vector<std::unique_ptr<detail::PixelDirections>> dirs;
+  for (int k = 0; k < samples; ++k) {
+    shifted[size_t(k)].shift_x += offsets[k][0];
+    shifted[size_t(k)].shift_y += offsets[k][1];
+    dirs.push_back(std::make_unique<detail::PixelDirections>(shifted[size_t(k)]));
+  }
+  const Frame f = make_frame(cam, offsets, dirs);
   const int tiles_x = (cam.width + kTile - 1) / kTile, tiles_y = (cam.height + kTile - 1) / kTile;
   const uint32_t nc = uint32_t(components.size());
   tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 2), [&](const tbb::blocked_range<int>& r) {
@@ -852,7 +896,8 @@ void OctreeTracer::Impl::trace(const Camera& cam, uint32_t* out, float* tout) co
       s.stamp.assign(nc, 0u);
       s.clock = 0;
     }
-    Tile tile;
+    if (!s.tile) s.tile = std::make_shared<Tile>();
+    Tile& tile = *s.tile;
     for (int ti = r.begin(); ti < r.end(); ++ti) {
       setup_tile(f, tile, (ti % tiles_x) * kTile, (ti / tiles_x) * kTile);
       trace_tile(*this, f, tile, s, out, tout);
@@ -884,7 +929,19 @@ OctreeTracer::~OctreeTracer() = default;
 void OctreeTracer::trace(const Camera& camera, uint32_t* tri_plus_one, float* t) const {
   detail::check_camera(camera);
   if (!tri_plus_one) throw std::invalid_argument("octree trace: output buffer is null");
-  impl_->trace(camera, tri_plus_one, t);
+  const std::array<double, 2> centre = {0.0, 0.0};
+  impl_->trace(camera, &centre, 1, &tri_plus_one, t ? &t : nullptr);
+}
+
+void OctreeTracer::trace_samples(const Camera& camera, const std::vector<std::array<double, 2>>& offsets,
+                                 uint32_t* const* out) const {
+  detail::check_camera(camera);
+  if (offsets.empty() || offsets.size() > size_t(kMaxSamples))
+    throw std::invalid_argument("octree trace: 1 to " + std::to_string(kMaxSamples) + " samples per pixel, not " +
+                                std::to_string(offsets.size()));
+  for (size_t k = 0; k < offsets.size(); ++k)
+    if (!out[k]) throw std::invalid_argument("octree trace: output buffer is null");
+  impl_->trace(camera, offsets.data(), int(offsets.size()), out, nullptr);
 }
 
 size_t OctreeTracer::memory_bytes() const {
@@ -904,6 +961,16 @@ OctreeTracer::Stats OctreeTracer::stats() const {
   s.components = impl_->components.size();
   s.bvh_nodes = impl_->bvh.size();
   return s;
+}
+
+void Tracer::trace_samples(const Camera& camera, const std::vector<std::array<double, 2>>& offsets,
+                           uint32_t* const* out) const {
+  for (size_t k = 0; k < offsets.size(); ++k) {
+    Camera c = camera;
+    c.shift_x += offsets[k][0];
+    c.shift_y += offsets[k][1];
+    trace(c, out[k]);
+  }
 }
 
 std::vector<uint32_t> Tracer::trace(const Camera& camera) const {

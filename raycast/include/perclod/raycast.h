@@ -66,6 +66,12 @@ class Tracer {
   // Throws std::invalid_argument for a camera with a non-positive size or
   // clip range that is not 0 <= znear < zfar.
   virtual void trace(const Camera& camera, uint32_t* tri_plus_one, float* t = nullptr) const = 0;
+  // Several samples per pixel: out[k] (W*H each) receives what trace() gives
+  // for the camera shifted by offsets[k] (added to Camera::shift_x,
+  // shift_y; see sample_offsets). This default traces the shifted cameras
+  // one after another; the octree walks its structure once for all of them.
+  virtual void trace_samples(const Camera& camera, const std::vector<std::array<double, 2>>& offsets,
+                             uint32_t* const* out) const;
   // Bytes held by the acceleration structure (and its copy of the geometry);
   // for Embree, what its device memory monitor reports.
   virtual size_t memory_bytes() const = 0;
@@ -91,6 +97,11 @@ class OctreeTracer final : public Tracer {
   explicit OctreeTracer(const Scene& scene, const OctreeOptions& options = {});
   ~OctreeTracer() override;
   void trace(const Camera& camera, uint32_t* tri_plus_one, float* t = nullptr) const override;
+  // One walk per tile for every sample (up to 8): the same buffers as
+  // tracing each shifted camera, bit for bit, for the cost of one
+  // traversal and one projection of each triangle reached.
+  void trace_samples(const Camera& camera, const std::vector<std::array<double, 2>>& offsets,
+                     uint32_t* const* out) const override;
   using Tracer::trace;
   size_t memory_bytes() const override;
   double build_seconds() const override;
