@@ -7,14 +7,20 @@
 namespace perclod::test {
 namespace {
 
-TEST(RaycastAgreement, GeneratedFacadeOctreeVsEmbree) {
+// A facade with the hard cases: coplanar panels (ties), sub-pixel studs and
+// a hidden interior.
+Scene hard_facade(int floors, int bays) {
   FacadeParams p;
-  p.floors = 3;
-  p.bays = 5;
+  p.floors = floors;
+  p.bays = bays;
   p.hidden_interior = true;
   p.coplanar_panels = true;
   p.subpixel_ornaments = true;
-  const Scene s = generate_facade(p);
+  return generate_facade(p);
+}
+
+TEST(RaycastAgreement, GeneratedFacadeOctreeVsEmbree) {
+  const Scene s = hard_facade(3, 5);
   ASSERT_GT(s.triangle_count(), 5000u);
   const OctreeTracer oct(s);
   const EmbreeTracer emb(s, EmbreeMode::Verify);
@@ -45,13 +51,7 @@ TEST(RaycastAgreement, GeneratedFacadeOctreeVsEmbree) {
 // hidden interior; the views are near, oblique and far, and one camera is
 // itself shifted (the offsets add to its shift).
 TEST(RaycastAgreement, SamplesInOneWalkEqualOneTracePerSample) {
-  FacadeParams p;
-  p.floors = 2;
-  p.bays = 3;
-  p.hidden_interior = true;
-  p.coplanar_panels = true;
-  p.subpixel_ornaments = true;
-  const Scene s = generate_facade(p);
+  const Scene s = hard_facade(2, 3);
   const OctreeTracer oct(s);
   const BruteForceTracer brute(s);
   Camera shifted = facade_view(s, 40.0, 3.0, 160, 120);
