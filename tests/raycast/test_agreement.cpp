@@ -62,24 +62,25 @@ TEST(RaycastAgreement, SamplesInOneWalkEqualOneTracePerSample) {
   size_t compared = 0;
   for (const Camera& cam : views)
     for (int n : {1, 2, 4, 8}) {
+      // The oracle (Tracer's default: one trace per shifted camera) for the
+      // default pattern on the near and the shifted view; it is slow.
+      const bool oracle = n == 4 && (&cam == &views[0] || &cam == &views[3]);
       const auto offsets = sample_offsets(n);
       const size_t pixels = size_t(cam.width) * size_t(cam.height);
       std::vector<std::vector<uint32_t>> walked(offsets.size(), std::vector<uint32_t>(pixels, 7u));
       std::vector<uint32_t*> out;
       for (auto& w : walked) out.push_back(w.data());
       oct.trace_samples(cam, offsets, out.data());
-      // The oracle (Tracer's default: one trace per shifted camera) for the
-      // default pattern; it is slow.
-      std::vector<std::vector<uint32_t>> each(n == 4 ? offsets.size() : 0, std::vector<uint32_t>(pixels));
+      std::vector<std::vector<uint32_t>> each(oracle ? offsets.size() : 0, std::vector<uint32_t>(pixels));
       std::vector<uint32_t*> each_out;
       for (auto& e : each) each_out.push_back(e.data());
-      if (n == 4) brute.trace_samples(cam, offsets, each_out.data());
+      if (oracle) brute.trace_samples(cam, offsets, each_out.data());
       for (size_t k = 0; k < offsets.size(); ++k) {
         Camera c = cam;
         c.shift_x += offsets[k][0];
         c.shift_y += offsets[k][1];
         EXPECT_EQ(walked[k], oct.trace(c)) << n << " samples, sample " << k;
-        if (n == 4) {
+        if (oracle) {
           EXPECT_EQ(walked[k], each[k]) << "sample " << k << " against brute force";
         }
         compared += count_nonzero(walked[k]);
