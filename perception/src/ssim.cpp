@@ -66,19 +66,26 @@ void blur(std::vector<double>* maps, int nmaps, int w, int h) {
       for (int x = inner_end; x < w; ++x) at(x);
       std::copy(line.begin(), line.begin() + w, row);
     }
-    std::vector<double> out(size_t(w) * h);
+    // The y pass in place: row y is overwritten once it is filtered, so the
+    // rows above it that later rows still read (the last kRadius + 1) are kept
+    // in a ring; no second image-sized buffer (a 1280x1024 view's five maps
+    // would need 52 MB more, all page-faulted afresh for every judged view).
+    constexpr int kRing = kRadius + 1;
+    std::vector<double> ring(static_cast<size_t>(kRing) * static_cast<size_t>(w));
+    std::vector<double> o(static_cast<size_t>(w));
     for (int y = 0; y < h; ++y) {
-      double* o = out.data() + size_t(y) * w;
-      for (int x = 0; x < w; ++x) o[x] = 0;
+      for (int x = 0; x < w; ++x) o[size_t(x)] = 0;
       for (int i = -kRadius; i <= kRadius; ++i) {
         if (y + i < 0 || y + i >= h) continue;
-        const double* r = img + size_t(y + i) * w;
+        // Rows above y are read from the ring (their originals), the rest from the image.
+        const double* r = i < 0 ? ring.data() + size_t((y + i) % kRing) * w : img + size_t(y + i) * w;
         const double t = g.taps[i + kRadius];
-        for (int x = 0; x < w; ++x) o[x] += t * r[x];
+        for (int x = 0; x < w; ++x) o[size_t(x)] += t * r[x];
       }
-      for (int x = 0; x < w; ++x) o[x] /= ny[size_t(y)];
+      double* row = img + size_t(y) * w;
+      std::copy(row, row + w, ring.data() + size_t(y % kRing) * w);
+      for (int x = 0; x < w; ++x) row[x] = o[size_t(x)] / ny[size_t(y)];
     }
-    maps[m].swap(out);
   });
 }
 

@@ -112,6 +112,7 @@ struct ViewOutcome {
   PerceptionResult perception;
   std::vector<uint8_t> background;
   RenderOutput image;
+  std::vector<std::vector<uint32_t>> samples;  // the traced samples, kept for the slot's next view
   double t_render = 0, t_perceive = 0;
   nlohmann::json report;
 };
@@ -184,7 +185,7 @@ void add_drawn_but_missed(const uint32_t* ids, const uint8_t* mask, size_t pixel
 // context: render and perceive one camera.
 void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& cam, ViewOutcome& out) {
   auto t0 = Clock::now();
-  out.image = renderer.render(cam);
+  renderer.render(cam, out.image);
   out.t_render = since(t0);
   background_of(out.image, out.background);
   t0 = Clock::now();
@@ -210,9 +211,13 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   // Every sample of the view in one call: the octree walks its structure
   // once for all of them.
   const std::vector<std::array<double, 2>> offsets = sample_offsets(job.samples);
-  std::vector<std::vector<uint32_t>> traced(offsets.size(), std::vector<uint32_t>(pixels));
+  std::vector<std::vector<uint32_t>>& traced = out.samples;
+  traced.resize(offsets.size());
   std::vector<uint32_t*> buffers;
-  for (auto& t : traced) buffers.push_back(t.data());
+  for (auto& t : traced) {
+    t.resize(pixels);  // every pixel is written by the trace
+    buffers.push_back(t.data());
+  }
   Camera unshifted = cam;  // the offsets are from the pixel centres
   unshifted.shift_x = unshifted.shift_y = 0;
   tracer.trace_samples(unshifted, offsets, buffers.data());
@@ -222,8 +227,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
         if (id && (*owner)[id - 1] != building) id = 0;
     add_counts(counts, rays.data(), out.perception.mask.data(), pixels);
   }
-  std::vector<uint32_t> rays = std::move(traced[0]);
-  traced.clear();
+  const std::vector<uint32_t>& rays = traced[0];
   if (job.samples > 1) add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
   const double t_trace = since(t0);
 
@@ -254,21 +258,23 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
     // Embree: both at the pixel centres, where the rasteriser samples. With
     // one sample per pixel that is the trace above; otherwise verify traces
     // the centres once more, and without verify the comparison is left out.
-    std::vector<uint32_t> centre;
+    std::vector<uint32_t> traced_centre;
+    const uint32_t* centre = nullptr;
     if (job.samples == 1) {
-      centre = std::move(rays);  // the one sample is the centre
+      centre = rays.data();  // the one sample is the centre
     } else if (reference) {
-      centre.resize(pixels);
-      tracer.trace(cam, centre.data());
+      traced_centre.resize(pixels);
+      tracer.trace(cam, traced_centre.data());
+      centre = traced_centre.data();
     }
-    if (!centre.empty())
-      out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, cam, centre.data(), out.image.ids.data()));
+    if (centre)
+      out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, cam, centre, out.image.ids.data()));
     if (reference) {
       std::vector<uint32_t> ref(pixels);
       t0 = Clock::now();
       reference->trace(cam, ref.data());
       out.report["seconds"]["trace_embree_verify"] = since(t0);
-      out.report["octree_vs_embree"] = to_json(compare_traced(scene, cam, centre.data(), ref.data()));
+      out.report["octree_vs_embree"] = to_json(compare_traced(scene, cam, centre, ref.data()));
     }
   }
 }

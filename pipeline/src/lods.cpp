@@ -94,9 +94,10 @@ std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, con
   std::vector<ViewRecord> records;
   PerceptionResult pr;
   std::vector<uint8_t> background;
+  RenderOutput img;  // one set of buffers for every view
   for (const auto& view : views)
     for (const ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) {
-      RenderOutput img = renderer.render(tile.camera);
+      renderer.render(tile.camera, img);
       background_of(img, background);
       perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
       records.push_back(view_record(tile.name, tile.camera, pr, background, set));
@@ -242,7 +243,7 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
     }
   } wait{pending};
   for (size_t k = 0; k < original.size(); ++k) {
-    img[k % 2] = renderer.render(original[k].camera);
+    renderer.render(original[k].camera, img[k % 2]);  // reuses the buffers of view k-2, compared by now
     if (pending.valid()) views.push_back(pending.get());
     auto work = [&, k] { return compare(original[k], img[k % 2], pictures ? &shots[k] : nullptr); };
     if (job.overlap) pending = std::async(std::launch::async, work);

@@ -95,6 +95,9 @@ struct Renderer::Impl {
   // Which colours the buffer texture holds: a render in the same colours as
   // the last one uploads nothing (12 MB per render at 1M triangles).
   enum class Colors { None, Material, Component, Custom } uploaded = Colors::None;
+  // Read-back scratch, kept between renders.
+  std::vector<uint8_t> rgba;
+  std::vector<float> z;
 
   void make_current() {
     if (!OSMesaMakeCurrent(ctx, dummy.data(), GL_UNSIGNED_BYTE, 1, 1))
@@ -209,6 +212,12 @@ void Renderer::set_scene(const Scene& s) {
 }
 
 RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
+  RenderOutput out;
+  render(cam, out, opt);
+  return out;
+}
+
+void Renderer::render(const Camera& cam, RenderOutput& out, const RenderOptions& opt) {
   Impl& I = *impl_;
   if (!I.has_scene) throw RenderError("render() before set_scene()");
   if (cam.width <= 0 || cam.height <= 0 || cam.width > 16384 || cam.height > 16384)
@@ -257,11 +266,11 @@ RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
   glBindVertexArray(I.vao);
   glDrawElements(GL_TRIANGLES, GLsizei(I.index_count), GL_UNSIGNED_INT, nullptr);
 
-  RenderOutput out;
   int w = cam.width, h = cam.height;
   out.width = w;
   out.height = h;
-  std::vector<uint8_t> rgba(size_t(w) * h * 4);
+  std::vector<uint8_t>& rgba = I.rgba;
+  rgba.resize(size_t(w) * h * 4);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
@@ -274,6 +283,8 @@ RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
     for (int y = 0; y < h / 2; ++y)
       std::swap_ranges(v.begin() + long(y) * w, v.begin() + long(y + 1) * w, v.begin() + long(h - 1 - y) * w);
   };
+  out.ids.clear();
+  out.depth.clear();
   if (opt.want_ids) {
     out.ids.resize(size_t(w) * h);
     glReadBuffer(GL_COLOR_ATTACHMENT1);
@@ -281,7 +292,8 @@ RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
     flip(out.ids);
   }
   if (opt.want_depth) {
-    std::vector<float> z(size_t(w) * h);
+    std::vector<float>& z = I.z;
+    z.resize(size_t(w) * h);
     glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
     flip(z);
     // Reversed-Z window depth -> eye depth: z_w = n (f - d) / (d (f - n))  =>  d = n f / (z_w (f - n) + n).
@@ -292,7 +304,6 @@ RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
   if (GLenum err = glGetError(); err != GL_NO_ERROR)
     throw RenderError("OpenGL error " + std::to_string(err) + " while rendering");
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return out;
 }
 
 std::vector<uint8_t> shade_ids(const Scene& scene, const Camera& cam, const std::vector<uint32_t>& ids,
