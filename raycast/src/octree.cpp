@@ -21,7 +21,11 @@
 //
 // Traversal: all primary rays of a camera share one origin, the eye. The
 // image is cut into 32x32-pixel tiles; each tile walks the structure once for
-// its 1024 rays (a tile is the "packet"; tiles are spread over oneTBB threads):
+// its 1024 rays (a tile is the "packet"; tiles are spread over oneTBB threads),
+// or for its 1024 rays per sample when several sub-pixel samples are traced
+// together (trace_samples: a box or triangle is kept when it may hold any
+// sample point, a triangle is projected once, each sample keeps its own ray,
+// window and tie state, so each sample's hits are those of its own trace):
 //   * a box in front of the eye is projected to the image by interval
 //     arithmetic and skipped unless its rectangle (plus a float-rounding
 //     margin, see float_bounds.h) contains one of the tile's pixel centres, so geometry that falls
