@@ -638,31 +638,40 @@ struct Piece {
   }
 };
 
-// Before the mesh is built: drops the faces of removable pieces of the welded
-// triangle list, so no time goes into building and collapsing them.
-std::vector<uint32_t> drop_pieces_early(const Work& w, const std::vector<uint32_t>& faces,
-                                        SimplifyMode mode, double tolerance, SimplifyStats& stats) {
-  const size_t nv = w.weld.positions.size() / 3;
-  DisjointSets sets(nv);
+// The connected piece (faces sharing a welded vertex) of each of `faces`,
+// named by a welded vertex of it: piece[i] is faces[i]'s.
+std::vector<uint32_t> pieces_of(const Work& w, const std::vector<uint32_t>& faces) {
+  DisjointSets sets(w.weld.positions.size() / 3);
   auto corner = [&](uint32_t t, int k) { return w.weld.corner[3 * size_t(t) + k]; };
   for (uint32_t t : faces)
     for (int k = 1; k < 3; ++k) sets.unite(corner(t, 0), corner(t, k));
-  std::vector<Piece> piece(nv);
-  for (uint32_t t : faces)
+  std::vector<uint32_t> piece(faces.size());
+  for (size_t i = 0; i < faces.size(); ++i) piece[i] = sets.find(corner(faces[i], 0));
+  return piece;
+}
+
+// Before the mesh is built: drops the faces of removable pieces of the welded
+// triangle list (and their entries of `piece`, pieces_of's), so no time goes
+// into building and collapsing them.
+void drop_pieces_early(const Work& w, std::vector<uint32_t>& faces, std::vector<uint32_t>& piece, SimplifyMode mode,
+                       double tolerance, SimplifyStats& stats) {
+  const size_t nv = w.weld.positions.size() / 3;
+  std::vector<Piece> pieces(nv);
+  for (size_t i = 0; i < faces.size(); ++i)
     for (int k = 0; k < 3; ++k)
-      piece[sets.find(corner(t, 0))].add((*w.labels)[t], &w.weld.positions[3 * size_t(corner(t, k))]);
+      pieces[piece[i]].add((*w.labels)[faces[i]], &w.weld.positions[3 * size_t(w.weld.corner[3 * size_t(faces[i]) + k])]);
   std::vector<uint8_t> drop(nv, 0);
-  for (size_t i = 0; i < nv; ++i)
-    if (piece[i].removable(mode, tolerance)) {
-      drop[i] = 1;
+  for (size_t v = 0; v < nv; ++v)
+    if (pieces[v].removable(mode, tolerance)) {
+      drop[v] = 1;
       stats.pieces_removed++;
     }
-  std::vector<uint32_t> kept;
-  kept.reserve(faces.size());
-  for (uint32_t t : faces)
-    if (!drop[sets.find(corner(t, 0))]) kept.push_back(t);
-  stats.pieces_triangles_removed += faces.size() - kept.size();
-  return kept;
+  size_t kept = 0;
+  for (size_t i = 0; i < faces.size(); ++i)
+    if (!drop[piece[i]]) faces[kept] = faces[i], piece[kept] = piece[i], ++kept;
+  stats.pieces_triangles_removed += faces.size() - kept;
+  faces.resize(kept);
+  piece.resize(kept);
 }
 
 // After collapsing: deletes the removable pieces of the mesh (collapses can
@@ -802,26 +811,22 @@ void init_tolerances(Model& m, const Work& w, const SimplifyOptions& opt) {
 
 namespace {
 
-// Splits `faces` into chunks of whole connected pieces (faces sharing a
-// welded vertex): each piece goes to the chunk that is open when its first
-// face comes, and a chunk closes once it holds chunk_faces faces or more.
-// Faces keep their input order within a chunk. No collapse, piece removal
-// or face refused by OpenMesh reaches outside its piece, so each chunk can be
-// simplified on its own.
+// Splits `faces` into chunks of whole connected pieces (piece: pieces_of's):
+// each piece goes to the chunk that is open when its first face comes, and a
+// chunk closes once it holds chunk_faces faces or more. Faces keep their
+// input order within a chunk. No collapse, piece removal or face refused by
+// OpenMesh reaches outside its piece, so each chunk can be simplified on its
+// own.
 std::vector<std::vector<uint32_t>> split_into_chunks(const Work& w, const std::vector<uint32_t>& faces,
-                                                     size_t chunk_faces) {
+                                                     const std::vector<uint32_t>& piece, size_t chunk_faces) {
   if (chunk_faces == 0 || faces.size() <= chunk_faces) return {faces};
-  DisjointSets sets(w.weld.positions.size() / 3);
-  auto corner = [&](uint32_t t, int k) { return w.weld.corner[3 * size_t(t) + k]; };
-  for (uint32_t t : faces)
-    for (int k = 1; k < 3; ++k) sets.unite(corner(t, 0), corner(t, k));
   std::vector<uint32_t> piece_faces(w.weld.positions.size() / 3, 0);
-  for (uint32_t t : faces) piece_faces[sets.find(corner(t, 0))]++;
+  for (uint32_t root : piece) piece_faces[root]++;
   std::vector<uint32_t> chunk_of(piece_faces.size(), UINT32_MAX);
   std::vector<std::vector<uint32_t>> chunks(1);
   size_t filled = 0;
-  for (uint32_t t : faces) {
-    const uint32_t root = sets.find(corner(t, 0));
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const uint32_t root = piece[i];
     if (chunk_of[root] == UINT32_MAX) {
       if (filled >= chunk_faces) {
         chunks.emplace_back();
@@ -830,7 +835,7 @@ std::vector<std::vector<uint32_t>> split_into_chunks(const Work& w, const std::v
       chunk_of[root] = uint32_t(chunks.size() - 1);
       filled += piece_faces[root];
     }
-    chunks[chunk_of[root]].push_back(t);
+    chunks[chunk_of[root]].push_back(faces[i]);
   }
   return chunks;
 }
@@ -905,12 +910,16 @@ void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats&
     tolerance = stats.tolerance = opt.bound_imperceptible_px * opt.pixel_footprint;
     stats.tolerance_perceptible = opt.bound_perceptible_px * opt.pixel_footprint;
   }
+  std::vector<uint32_t> faces = w.faces;
+  // Qem's target counts the whole mesh: one chunk, and no piece is dropped.
+  const size_t chunk_faces = opt.mode == SimplifyMode::Qem ? 0 : opt.chunk_faces;
+  std::vector<uint32_t> piece;
+  if (labelled || chunk_faces > 0) piece = pieces_of(w, faces);
   // Pieces that will be removed anyway are neither built nor collapsed.
-  std::vector<uint32_t> faces = labelled ? drop_pieces_early(w, w.faces, opt.mode, tolerance, stats) : w.faces;
-  // Qem's target counts the whole mesh: one chunk.
-  std::vector<std::vector<uint32_t>> parts =
-      split_into_chunks(w, faces, opt.mode == SimplifyMode::Qem ? 0 : opt.chunk_faces);
+  if (labelled) drop_pieces_early(w, faces, piece, opt.mode, tolerance, stats);
+  std::vector<std::vector<uint32_t>> parts = split_into_chunks(w, faces, piece, chunk_faces);
   std::vector<uint32_t>().swap(faces);
+  std::vector<uint32_t>().swap(piece);
   stats.chunks = parts.size();
   std::vector<Chunk> chunks(parts.size());
   for (size_t i = 0; i < parts.size(); ++i) chunks[i].faces = std::move(parts[i]);
