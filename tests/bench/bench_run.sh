@@ -14,6 +14,9 @@
 #   run, no debug images      debug_images: false
 #   run, no held-out views    judge_views: none, debug_images: false
 #   run, verify               verify: true (Embree beside the octree on every view)
+#   render: + LODs, every view  every render a run makes: row 2, then each LOD
+#                             of a run from the labelling and held-out views
+#                             at its distance (the judging renders)
 set -euo pipefail
 
 triangles=1000000
@@ -26,7 +29,7 @@ while [ $# -gt 0 ]; do
     --build) build="$2"; shift 2 ;;
     --work) work="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "bench_run.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -72,14 +75,30 @@ time_it "run" "$perclod" run "$work/run.yaml" >>"$results"
 time_it "run, no debug images" "$perclod" run "$work/nodebug.yaml" >>"$results"
 time_it "run, no held-out views" "$perclod" run "$work/noheld.yaml" >>"$results"
 time_it "run, verify" "$perclod" run "$work/verify.yaml" >>"$results"
+# Every render a run makes: the original from the labelling and held-out
+# views (row 2) and each LOD of the run from the same views at its distance
+# (the judging renders), the LODs kept from a run of run.yaml.
+rm -rf "$work"/out-* "$work/lods"
+"$perclod" run "$work/run.yaml" >/dev/null 2>"$work/stderr.txt" ||
+  { echo "bench_run.sh: run failed:" >&2; tail -5 "$work/stderr.txt" >&2; exit 1; }
+mkdir -p "$work/lods"
+cp "$work"/out-run/facade_lod_*m.obj "$work/lods/"
+cat >"$work/render_all.sh" <<EOF
+set -e
+"$perclod" render "$model" --up z -d 56,132,427 --views "$views,held_out" -o "$work/out-render"
+for d in 56 132 427; do
+  "$perclod" render "$work/lods/facade_lod_\${d}m.obj" --up z -d "\$d" --views "$views,held_out" -o "$work/out-render"
+done
+EOF
+time_it "render: + LODs, every view" bash "$work/render_all.sh" >>"$results"
 
 awk -F'|' '
-  NR == 1 { r1 = $2 } NR == 2 { r2 = $2 } NR == 3 { run = $2 }
+  NR == 1 { r1 = $2 } NR == 2 { r2 = $2 } NR == 3 { run = $2 } NR == 7 { every = $2 }
   { rows[NR] = $0; wall[NR] = $2 }
   END {
-    printf "| %-26s | %8s | %5s | %9s | %14s | %14s | %8s |\n", "row", "wall s", "CPU", "peak MiB", "/ render label", "/ render all", "/ run"
+    printf "| %-26s | %8s | %5s | %9s | %14s | %14s | %14s | %8s |\n", "row", "wall s", "CPU", "peak MiB", "/ render label", "/ render all", "/ every render", "/ run"
     for (i = 1; i <= NR; ++i) {
       split(rows[i], f, "|")
-      printf "| %-26s | %8.1f | %4d%% | %9.0f | %14.2f | %14.2f | %8.2f |\n", f[1], f[2], f[3], f[4] / 1024, f[2] / r1, f[2] / r2, f[2] / run
+      printf "| %-26s | %8.1f | %4d%% | %9.0f | %14.2f | %14.2f | %14.2f | %8.2f |\n", f[1], f[2], f[3], f[4] / 1024, f[2] / r1, f[2] / r2, f[2] / every, f[2] / run
     }
   }' "$results"
