@@ -45,14 +45,14 @@ void register_render(CLI::App& app) {
     job.write_depth = a->depth;
     job.color_by = a->by_component ? ColorBy::Component : ColorBy::Material;
     auto views = render_views(s, job, [](const ViewFiles& v, size_t done, size_t total) {
-      std::fprintf(stderr, "[%zu/%zu] %s (%.0f ms, %zu px covered)\n", done, total, v.color.c_str(),
-                   v.render_seconds * 1e3, v.covered_pixels);
+      std::fprintf(stderr, "[%zu/%zu] %s (%.0f ms, %zu px covered, %zu triangles drawn)\n", done, total,
+                   v.color.c_str(), v.render_seconds * 1e3, v.covered_pixels, v.drawn_triangles);
     });
     if (a->json) {
       nlohmann::json j = {{"model", a->model.path}, {"triangles", s.triangle_count()}, {"views", nlohmann::json::array()}};
       for (const auto& v : views)
         j["views"].push_back({{"view", v.view}, {"distance", v.distance}, {"color", v.color}, {"ids", v.ids},
-                              {"depth", v.depth}, {"covered_pixels", v.covered_pixels},
+                              {"depth", v.depth}, {"covered_pixels", v.covered_pixels}, {"drawn_triangles", v.drawn_triangles},
                               {"render_seconds", v.render_seconds}});
       print_json(j);
     }

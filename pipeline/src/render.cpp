@@ -5,6 +5,16 @@
 // screen-space derivatives of the world position. Per-triangle colours live in
 // a buffer texture read with gl_PrimitiveID, which also gives the ID buffer,
 // so one draw produces colour, IDs and depth.
+//
+// Culling: the triangles are cut, in their own order, into chunks of
+// kChunkTriangles with a bounding box each. A render skips every chunk whose
+// box lies wholly outside one of the view's four side planes (widened by two
+// pixels) and draws the remaining runs of consecutive chunks in order, one
+// draw each (`base` restores the triangle index that gl_PrimitiveID restarts).
+// A skipped triangle could have drawn no fragment, and the drawn ones keep
+// their order, so depth ties resolve as in one draw: the images, IDs and
+// depth are the same bit for bit (test RenderTest.CullingChangesNoPixel). It
+// pays where a view sees part of the model: the tiles of a near view.
 #include "perclod/render.h"
 
 #include <GL/osmesa.h>
@@ -86,6 +96,8 @@ struct Renderer::Impl {
   GLuint fbo = 0, rb_color = 0, rb_id = 0, rb_depth = 0;
   int fb_w = 0, fb_h = 0;
   size_t index_count = 0;
+  static constexpr size_t kChunkTriangles = 2048;
+  std::vector<std::array<float, 6>> chunk_box;  // lo xyz, hi xyz of each chunk's triangles
   // Copies of what colouring needs, so nothing points into the caller's scene.
   bool has_scene = false;
   size_t triangle_count = 0;
@@ -196,6 +208,18 @@ void Renderer::set_scene(const Scene& s) {
                GL_STATIC_DRAW);
   impl_->index_count = s.indices.size();
   const size_t nt = s.triangle_count();
+  const size_t chunks = (nt + Impl::kChunkTriangles - 1) / Impl::kChunkTriangles;
+  impl_->chunk_box.assign(chunks, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+  for (size_t t = 0; t < nt; ++t) {
+    auto& b = impl_->chunk_box[t / Impl::kChunkTriangles];
+    for (int c = 0; c < 3; ++c) {
+      const float* p = &s.positions[3 * size_t(s.indices[3 * t + c])];
+      for (int k = 0; k < 3; ++k) {
+        b[k] = std::min(b[k], p[k]);
+        b[3 + k] = std::max(b[3 + k], p[k]);
+      }
+    }
+  }
   impl_->triangle_count = nt;
   impl_->component.resize(nt);
   auto& mc = impl_->material_colors;
@@ -259,12 +283,52 @@ void Renderer::render(const Camera& cam, RenderOutput& out, const RenderOptions&
   glUniform3f(glGetUniformLocation(I.program, "light_dir"), float(L.x()), float(L.y()), float(L.z()));
   glUniform3f(glGetUniformLocation(I.program, "eye"), float(cam.eye.x()), float(cam.eye.y()), float(cam.eye.z()));
   glUniform1f(glGetUniformLocation(I.program, "ambient"), float(opt.ambient));
-  glUniform1ui(glGetUniformLocation(I.program, "base"), 0u);
   glUniform1i(glGetUniformLocation(I.program, "colors"), 0);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_BUFFER, I.color_tex);
   glBindVertexArray(I.vao);
-  glDrawElements(GL_TRIANGLES, GLsizei(I.index_count), GL_UNSIGNED_INT, nullptr);
+  const GLint base = glGetUniformLocation(I.program, "base");
+  out.drawn_triangles = 0;
+  auto draw = [&](size_t first, size_t end) {  // triangles [first, end)
+    out.drawn_triangles += end - first;
+    glUniform1ui(base, GLuint(first));
+    glDrawElements(GL_TRIANGLES, GLsizei(3 * (end - first)), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(3 * first * sizeof(uint32_t)));
+  };
+  if (!opt.cull) {
+    draw(0, I.triangle_count);
+  } else {
+    // The side planes of the clip volume, -w <= x, y <= w, from the rows of
+    // view_proj (in double), widened by two pixels.
+    const Eigen::Matrix4d m = cam.projection() * cam.view();
+    const double wx = 1.0 + 4.0 / cam.width, wy = 1.0 + 4.0 / cam.height;
+    const Eigen::Vector4d planes[4] = {wx * m.row(3).transpose() + m.row(0).transpose(),
+                                       wx * m.row(3).transpose() - m.row(0).transpose(),
+                                       wy * m.row(3).transpose() + m.row(1).transpose(),
+                                       wy * m.row(3).transpose() - m.row(1).transpose()};
+    // A box is skipped when even its corner farthest along a plane's normal
+    // lies outside by more than the float rounding of the shader's clip
+    // coordinates (1e-5 of the terms' magnitudes, about 80 float epsilons):
+    // coordinates far from the origin never lose a triangle the GPU draws.
+    auto visible = [&](const std::array<float, 6>& b) {
+      for (const auto& pl : planes) {
+        double v = pl[3], mag = std::fabs(pl[3]);
+        for (int k = 0; k < 3; ++k) {
+          v += pl[k] * double(pl[k] >= 0 ? b[3 + k] : b[k]);
+          mag += std::fabs(pl[k]) * std::max(std::fabs(double(b[k])), std::fabs(double(b[3 + k])));
+        }
+        if (v < -1e-5 * mag) return false;
+      }
+      return true;
+    };
+    size_t run = 0;  // first chunk of the current run of visible chunks
+    const size_t chunks = I.chunk_box.size();
+    for (size_t c = 0; c <= chunks; ++c) {
+      if (c < chunks && visible(I.chunk_box[c])) continue;
+      if (c > run) draw(run * Impl::kChunkTriangles, std::min(c * Impl::kChunkTriangles, I.triangle_count));
+      run = c + 1;
+    }
+  }
 
   int w = cam.width, h = cam.height;
   out.width = w;

@@ -32,6 +32,7 @@ std::vector<ViewFiles> render_views(const Scene& scene, const RenderViewsJob& jo
     v.distance = d;
     v.render_seconds = r.seconds;
     for (uint32_t id : r.ids) v.covered_pixels += id != 0;
+    v.drawn_triangles = r.drawn_triangles;
     v.color = job.out.view(f, d, ".png");
     write_png(v.color, r.width, r.height, 3, r.rgb.data());
     if (job.write_ids) {

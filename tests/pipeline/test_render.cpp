@@ -168,6 +168,52 @@ TEST(Render, UtmOffsetRendersTheSameImageToThePixel) {
   }
 }
 
+// Culling skips whole chunks of triangles outside the view and draws the
+// rest in their order: a view of part of a scene of many chunks, with
+// coplanar copies in different chunks (depth ties, first drawn wins) and
+// quads across the image border, gives the same colours, IDs and depth as
+// one draw of everything, while fewer triangles are drawn.
+TEST(Render, CullingChangesNoPixel) {
+  Scene s;
+  // 80 x 40 quads of 0.25 m (6,400 triangles, 4 chunks of 2,048), then a
+  // coplanar copy of a band of them (later chunk, higher index: must lose).
+  for (int j = 0; j < 40; ++j)
+    for (int i = 0; i < 80; ++i) add_quad(s, 0.25f * i, 0.25f * j, 0.25f * i + 0.24f, 0.25f * j + 0.24f, 0.0f);
+  for (int j = 10; j < 14; ++j)
+    for (int i = 0; i < 80; ++i) add_quad(s, 0.25f * i, 0.25f * j, 0.25f * i + 0.24f, 0.25f * j + 0.24f, 0.0f);
+  s.materials[0].color = {0.6f, 0.6f, 0.6f};
+  Renderer& r = shared_renderer();
+  r.set_scene(s);
+  size_t views = 0;
+  // Chunks are bands of about 3.2 m in y (the copies' chunk also spans
+  // y 2.5-3.5); each view sees a few metres of the 20 m x 10 m field. The
+  // last sees neither the first chunk nor the copies: its draw starts at a
+  // later chunk, so the IDs check the restored triangle index.
+  for (auto [cx, cy] : {std::pair{2.0, 3.0}, {10.0, 3.0}, {17.5, 8.5}}) {
+    const Camera cam = look_at({cx, cy, 4.0}, {cx, cy, 0.0}, {0, 1, 0}, 0.9, 160, 120, 0.5, 50);
+    RenderOptions all, culled;
+    all.cull = false;
+    all.want_depth = culled.want_depth = true;
+    all.color_by = culled.color_by = ColorBy::Component;
+    const RenderOutput a = r.render(cam, all), b = r.render(cam, culled);
+    EXPECT_EQ(a.drawn_triangles, s.triangle_count());
+    EXPECT_LT(b.drawn_triangles, s.triangle_count()) << "camera at x " << cx << ", y " << cy;
+    EXPECT_GT(b.drawn_triangles, 0u);
+    EXPECT_EQ(a.rgb, b.rgb) << "camera at x " << cx << ", y " << cy;
+    EXPECT_EQ(a.ids, b.ids) << "camera at x " << cx << ", y " << cy;
+    EXPECT_EQ(a.depth, b.depth) << "camera at x " << cx << ", y " << cy;
+    size_t covered = 0, copies = 0;
+    for (uint32_t id : b.ids) {
+      covered += id != 0;
+      copies += id > 6400;
+    }
+    EXPECT_GT(covered, size_t(160 * 120 / 2));
+    EXPECT_EQ(copies, 0u) << "a coplanar copy drawn later must not win a depth tie";
+    ++views;
+  }
+  EXPECT_EQ(views, 3u);
+}
+
 // The renderer keeps its own copies: a scene without component or material
 // arrays (Scene's contract: one component, the default material) draws, and
 // the scene may be destroyed between set_scene and render.

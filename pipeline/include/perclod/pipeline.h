@@ -38,6 +38,7 @@ struct ViewFiles {
   double distance = 0;
   std::string color, ids, depth;  // paths written ("" = not requested)
   size_t covered_pixels = 0;      // pixels showing geometry
+  size_t drawn_triangles = 0;     // sent to OpenGL after culling what lies outside the view
   double render_seconds = 0;
 };
 

@@ -34,6 +34,9 @@ struct RenderOptions {
   // When non-empty (3 floats per triangle, 0..1): flat per-triangle colours
   // instead of materials, e.g. marking colours. Shading still applies.
   std::vector<float> triangle_colors;
+  // Skip chunks of triangles outside the view (render.cpp); the output is the
+  // same either way. false draws everything in one call (tests compare).
+  bool cull = true;
 };
 
 struct RenderOutput {
@@ -42,6 +45,7 @@ struct RenderOutput {
   std::vector<uint32_t> ids;   // per pixel, triangle index + 1 (0 = background)
   std::vector<float> depth;    // per pixel, eye depth in metres (0 = background)
   double seconds = 0;          // draw + read back
+  size_t drawn_triangles = 0;  // sent to OpenGL: all but the chunks culled (RenderOptions::cull)
 };
 
 class Renderer {
