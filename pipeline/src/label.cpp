@@ -28,6 +28,7 @@ nlohmann::json to_json(const Agreement& a) {
   return {{"covered", a.covered},
           {"identical", a.identical},
           {"ties", a.ties},
+          {"edge_grazes", a.edge_grazes},
           {"real_disagreements", a.real_disagreements},
           {"identical_rate", a.identical_rate()}};
 }

@@ -44,7 +44,7 @@ DoubleHit intersect_pixel_double(const Scene& scene, const Camera& cam, int x, i
   // Moller-Trumbore in double, no culling. The edges are widened by the
   // rounding of a float test (kGrazeLateralRel of the vertex distance from
   // the eye, relative to the triangle's size): a pixel centre that float
-  // tracers may put on either side of an edge counts as inside.
+  // tracers may put on either side of an edge counts as a hit, on the edge.
   const Eigen::Vector3d e1 = v[1] - v[0], e2 = v[2] - v[0];
   const Eigen::Vector3d p = d.cross(e2);
   const double det = e1.dot(p);
@@ -61,7 +61,11 @@ DoubleHit intersect_pixel_double(const Scene& scene, const Camera& cam, int x, i
   if (w < -slack || u + w > 1.0 + slack) return DoubleHit::Miss;
   t = e2.dot(q) / det;
   if (!(t >= cam.znear && t <= cam.zfar)) return DoubleHit::Miss;
-  return (u >= 0.0 && w >= 0.0 && u + w <= 1.0) ? DoubleHit::Inside : DoubleHit::Edge;
+  // Inside only when no float rounding can put the ray outside: a pixel
+  // centre within the slack of an edge, on either side, is an edge graze (a
+  // float ray, its direction rounded, may cross a shared edge the double ray
+  // does not).
+  return (u >= slack && w >= slack && u + w <= 1.0 - slack) ? DoubleHit::Inside : DoubleHit::Edge;
 }
 
 namespace {

@@ -32,6 +32,10 @@ TEST(CliPipeline, LabelWritesLabelsMarkingRendersAndAgreement) {
   for (const auto& v : j["views"]) {
     EXPECT_GE(v["octree_vs_embree"]["identical_rate"].get<double>(), 0.9999);
     EXPECT_EQ(v["octree_vs_embree"]["real_disagreements"], 0);
+    const auto& g = v["octree_vs_embree"];  // every mismatch is classified
+    EXPECT_EQ(g["covered"].get<uint64_t>(), g["identical"].get<uint64_t>() + g["ties"].get<uint64_t>() +
+                                                g["edge_grazes"].get<uint64_t>() +
+                                                g["real_disagreements"].get<uint64_t>());
     EXPECT_GE(v["rays_vs_id_buffer"]["identical_rate"].get<double>(), 0.998);
   }
   auto lf = perclod::read_labels(j["labels_file"].get<std::string>());

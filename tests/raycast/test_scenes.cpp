@@ -245,6 +245,31 @@ TEST(RaycastScenes, StackedNearTiesEqualTheOracle) {
   EXPECT_GT(stacked, 1000u) << "the stacks must overfill the remembered ties";
 }
 
+// The double re-test's three answers, with a pixel centre placed inside or
+// outside a triangle's edge by d (in barycentric units along that edge's
+// altitude): Inside only beyond the float rounding (about 4e-6 here: 1e-6 of
+// the 10 m reach over the triangle's 2.5 m size), Edge within it on either
+// side (the vertices' float rounding is 5e-7), Miss beyond it outside.
+TEST(RaycastScenes, DoubleRetestCallsTheRoundingBandAroundAnEdgeAGraze) {
+  const Camera cam = front_camera(64, 48);
+  const double cx = 32.5, cy = 24.5;  // centre of pixel (32, 24)
+  struct Case {
+    double d;
+    DoubleHit want;
+  };
+  for (const Case c : {Case{1e-2, DoubleHit::Inside}, Case{2e-6, DoubleHit::Edge}, Case{-2e-6, DoubleHit::Edge},
+                       Case{-1e-2, DoubleHit::Miss}}) {
+    // Apex 10 px above the centre; the base edge 10 d px below it (inside
+    // by d of the 10 px altitude), 20 px wide.
+    const double base_y = cy + 10.0 * c.d;
+    Scene s;
+    add_triangle(s, add_vertex(s, at_pixel(cam, cx - 10, base_y, 10.0)), add_vertex(s, at_pixel(cam, cx + 10, base_y, 10.0)),
+                 add_vertex(s, at_pixel(cam, cx, cy - 10, 10.0)), 0);
+    double t = 0;
+    EXPECT_EQ(intersect_pixel_double(s, cam, 32, 24, 0, t), c.want) << "d = " << c.d;
+  }
+}
+
 bool hits_floor(const Scene& s, const Camera& c, int x, int y, double& t) {
   return intersect_pixel_double(s, c, x, y, 4, t) != DoubleHit::Miss ||
          intersect_pixel_double(s, c, x, y, 5, t) != DoubleHit::Miss;

@@ -169,8 +169,8 @@ struct Agreement {
   uint64_t covered = 0;             // pixels where at least one buffer has a triangle
   uint64_t identical = 0;           // covered pixels where both agree
   uint64_t ties = 0;                // mismatches explained by the tie tolerance (double re-test)
-  uint64_t edge_grazes = 0;         // mismatches where the nearer triangle is met only within
-                                    // float rounding of its boundary (silhouette grazes)
+  uint64_t edge_grazes = 0;         // mismatches where the nearer triangle is met within float
+                                    // rounding of its boundary (silhouettes, shared edges)
   uint64_t real_disagreements = 0;  // all other mismatches
   double identical_rate() const { return covered ? double(identical) / double(covered) : 1.0; }
 };
@@ -192,9 +192,10 @@ Agreement compare_with_id_buffer(const Scene& scene, const Camera& camera, const
 
 // Double-precision intersection of the ray through pixel centre (x+0.5, y+0.5)
 // with one triangle (no culling), t in [znear, zfar]. Returns Miss, Inside
-// (strictly inside in double) or Edge (hit only when the triangle's edges are
-// widened by the rounding of a float test: about 1e-6 of the vertices'
-// distance from the eye). t is the eye depth.
+// (inside in double by more than the rounding of a float test: about 1e-6 of
+// the vertices' distance from the eye) or Edge (within that rounding of the
+// triangle's boundary, inside or out: a float tracer may decide either way).
+// t is the eye depth.
 enum class DoubleHit { Miss, Inside, Edge };
 DoubleHit intersect_pixel_double(const Scene& scene, const Camera& camera, int x, int y,
                                  uint32_t triangle, double& t);
