@@ -13,7 +13,7 @@
 // draw each (`base` restores the triangle index that gl_PrimitiveID restarts).
 // A skipped triangle could have drawn no fragment, and the drawn ones keep
 // their order, so depth ties resolve as in one draw: the images, IDs and
-// depth are the same bit for bit (test RenderTest.CullingChangesNoPixel). It
+// depth are the same bit for bit (test Render.CullingChangesNoPixel). It
 // pays where a view sees part of the model: the tiles of a near view.
 #include "perclod/render.h"
 
