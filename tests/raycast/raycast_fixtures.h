@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -78,6 +79,18 @@ inline Traced trace_all(const Scene& s, const Camera& c, bool with_brute = true)
   r.embree = EmbreeTracer(s, EmbreeMode::Verify).trace(c);
   if (with_brute) r.brute = BruteForceTracer(s).trace(c);
   return r;
+}
+
+// Tracer::trace_samples into one buffer per sample, each filled with `fill`
+// first (so a test can tell that every pixel was written).
+inline std::vector<std::vector<uint32_t>> trace_samples(const Tracer& tracer, const Camera& c,
+                                                        const std::vector<std::array<double, 2>>& offsets,
+                                                        uint32_t fill = 0) {
+  std::vector<std::vector<uint32_t>> out(offsets.size(), std::vector<uint32_t>(size_t(c.width) * size_t(c.height), fill));
+  std::vector<uint32_t*> buffers;
+  for (auto& b : out) buffers.push_back(b.data());
+  tracer.trace_samples(c, offsets, buffers.data());
+  return out;
 }
 
 inline size_t count_nonzero(const std::vector<uint32_t>& v) {

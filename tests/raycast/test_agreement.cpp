@@ -66,15 +66,8 @@ TEST(RaycastAgreement, SamplesInOneWalkEqualOneTracePerSample) {
       // default pattern on the near and the shifted view; it is slow.
       const bool oracle = n == 4 && (&cam == &views[0] || &cam == &views[3]);
       const auto offsets = sample_offsets(n);
-      const size_t pixels = size_t(cam.width) * size_t(cam.height);
-      std::vector<std::vector<uint32_t>> walked(offsets.size(), std::vector<uint32_t>(pixels, 7u));
-      std::vector<uint32_t*> out;
-      for (auto& w : walked) out.push_back(w.data());
-      oct.trace_samples(cam, offsets, out.data());
-      std::vector<std::vector<uint32_t>> each(oracle ? offsets.size() : 0, std::vector<uint32_t>(pixels));
-      std::vector<uint32_t*> each_out;
-      for (auto& e : each) each_out.push_back(e.data());
-      if (oracle) brute.trace_samples(cam, offsets, each_out.data());
+      const auto walked = trace_samples(oct, cam, offsets, 7u);
+      const auto each = oracle ? trace_samples(brute, cam, offsets) : std::vector<std::vector<uint32_t>>{};
       for (size_t k = 0; k < offsets.size(); ++k) {
         Camera c = cam;
         c.shift_x += offsets[k][0];

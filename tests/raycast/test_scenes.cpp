@@ -223,7 +223,6 @@ TEST(RaycastScenes, StackedNearTiesEqualTheOracle) {
       add_quad(s, at_pixel(cam, x0, y0, d - tilt), at_pixel(cam, x1, y0, d), at_pixel(cam, x1, y1, d + tilt),
                at_pixel(cam, x0, y1, d), uint32_t(rng() % 4));
     }
-    const size_t n = size_t(W) * size_t(H);
     // How many pixels see more hits than the octree remembers (at least 5).
     for (int y = 0; y < H; ++y)
       for (int x = 0; x < W; ++x) {
@@ -235,12 +234,8 @@ TEST(RaycastScenes, StackedNearTiesEqualTheOracle) {
       }
     expect_octree_equals_oracle(s, cam);
     const auto offsets = sample_offsets(4);
-    std::vector<std::vector<uint32_t>> a(4, std::vector<uint32_t>(n)), b(4, std::vector<uint32_t>(n));
-    std::vector<uint32_t*> pa, pb;
-    for (int k = 0; k < 4; ++k) pa.push_back(a[size_t(k)].data()), pb.push_back(b[size_t(k)].data());
-    OctreeTracer(s).trace_samples(cam, offsets, pa.data());
-    BruteForceTracer(s).trace_samples(cam, offsets, pb.data());
-    for (int k = 0; k < 4; ++k) EXPECT_EQ(a[size_t(k)], b[size_t(k)]) << "round " << round << ", sample " << k;
+    const auto a = trace_samples(OctreeTracer(s), cam, offsets), b = trace_samples(BruteForceTracer(s), cam, offsets);
+    for (size_t k = 0; k < offsets.size(); ++k) EXPECT_EQ(a[k], b[k]) << "round " << round << ", sample " << k;
   }
   EXPECT_GT(stacked, 1000u) << "the stacks must overfill the remembered ties";
 }
