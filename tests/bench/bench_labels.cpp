@@ -21,7 +21,8 @@
 //             samples), medians of R runs, same process.
 //
 // Models: the demo building (ingolstadt/bldg_4018215.obj), han_ministry.obj,
-// the 53-building block (per building), and for cost a generated facade.
+// the 53-building block (per building), and a generated facade (`facade`,
+// --facade-triangles; the cost section always adds it).
 //
 // Usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]
 //                     [--distances 56,132,427] [--samples 1,4] [--views "facades;facades,ring8el30"]
@@ -353,16 +354,20 @@ int main(int argc, char** argv) {
       {"han", data + "/han/han_ministry.obj", UpAxis::Y, PerBuilding::Off},
       {"sponza", data + "/sponza/sponza.obj", UpAxis::Y, PerBuilding::Off},
       {"sibenik", data + "/sibenik/sibenik.obj", UpAxis::Y, PerBuilding::Off},
-      {"block", data + "/ingolstadt/ingolstadt_lod3_all53.obj", UpAxis::Z, PerBuilding::On}};
+      {"block", data + "/ingolstadt/ingolstadt_lod3_all53.obj", UpAxis::Z, PerBuilding::On},
+      {"facade", "", UpAxis::Z, PerBuilding::Off}};  // generated, --facade-triangles
   const std::vector<std::string> view_sets = split(views_arg, ';');
   for (const auto& key : split(models_arg, ',')) {
     auto it = std::find_if(all.begin(), all.end(), [&](const Model& m) { return m.key == key; });
     if (it == all.end()) {
-      std::fprintf(stderr, "bench_labels: unknown model '%s' (demo, han, sponza, sibenik, block)\n", key.c_str());
+      std::fprintf(stderr, "bench_labels: unknown model '%s' (demo, han, sponza, sibenik, block, facade)\n",
+                   key.c_str());
       return 2;
     }
-    Scene scene = load_scene(it->path);
-    std::printf("# %s: %s, %zu triangles\n", it->key.c_str(), it->path.c_str(), scene.triangle_count());
+    Scene scene = it->path.empty() ? generate_facade(facade_params_for_triangles(facade_triangles))
+                                   : load_scene(it->path);
+    std::printf("# %s: %s, %zu triangles\n", it->key.c_str(), it->path.empty() ? "generated" : it->path.c_str(),
+                scene.triangle_count());
     if (section == "coverage" || section == "all")
       for (int spp : samples) coverage(*it, scene, distances, view_sets, spp);
     if (section == "stability" || section == "all")
