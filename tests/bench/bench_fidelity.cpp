@@ -31,7 +31,8 @@
 //
 // Usage: bench_fidelity [--models demo,han,sibenik,sponza,block,facade] [--distances 56,132,427]
 //                       [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]
-//                       [--no-meshopt] [--keep-undisplayable] [--dump DIR] [--facade-triangles N] [--e-area A]
+//                       [--no-meshopt] [--keep-undisplayable [--e-undisplayable E]] [--dump DIR]
+//                       [--facade-triangles N] [--e-area A]
 //                       [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]
 //   --set: a labelling setting for the sweeps of scripts/bench.py: levels (DWT),
 //   csf_k, csf (fir|weights|kakadu), threshold (grey levels), ratio (label),
@@ -47,6 +48,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -343,6 +345,7 @@ bool g_meshopt = true;        // --no-meshopt: perclod rows only
 bool g_keep_undisplayable = false;
 double g_area = kDefaultBoundAreaPx2;  // --e-area: fidelity's area budget, px^2 (inf = none)
   // --keep-undisplayable: fidelity collapses them instead
+double g_e_u = INFINITY;  // --e-undisplayable: with --keep-undisplayable, the bound of their collapses, px
 
 void row(const Model& m, double d, const std::string& method, const Judged& j, const std::string& note = "") {
   std::printf("%-6s %4.0f  %-26s %8zu  %7.3f  | %6.2f%% %6.4f %6.2f%% | %6.2f%% %6.4f %6.2f%% | %7.4f%%  %s\n",
@@ -422,6 +425,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       so.bound_imperceptible_px = ei;
       so.delete_undisplayable = !g_keep_undisplayable;
       so.bound_area_px2 = g_area;
+      so.bound_undisplayable_px = g_e_u;
       fidelity.push_back(simplified(so));
       std::ostringstream name;
       name << "fidelity e_I=" << ei;
@@ -559,6 +563,7 @@ int main(int argc, char** argv) {
     else if (a == "--csv" && i + 1 < argc) csv = argv[++i];
     else if (a == "--no-meshopt") g_meshopt = false;
     else if (a == "--e-area" && i + 1 < argc) g_area = std::atof(argv[++i]);
+    else if (a == "--e-undisplayable" && i + 1 < argc) g_e_u = std::atof(argv[++i]);
     else if (a == "--facade-triangles" && i + 1 < argc) facade_triangles = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--dump" && i + 1 < argc) g_dump = argv[++i];
     else if (a == "--pairs" && i + 1 < argc) g_pairs = argv[++i];
@@ -571,9 +576,19 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr, "usage: bench_fidelity [--models demo,han,sibenik,sponza,block,facade] [--distances 56,132,427]\n"
                            "                      [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]\n"
-                           "                      [--no-meshopt] [--keep-undisplayable] [--dump DIR] [--facade-triangles N] [--e-area A]\n"
+                           "                      [--no-meshopt] [--keep-undisplayable [--e-undisplayable E]] [--dump DIR]\n"
+                           "                      [--facade-triangles N] [--e-area A]\n"
                            "                      [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]\n");
       return 2;
+    }
+  }
+  // The picture folders are made here, before hours of judging, not found
+  // missing at the first picture.
+  for (const std::string& dir : {g_dump, g_pairs}) {
+    std::error_code ec;
+    if (!dir.empty() && !std::filesystem::create_directories(dir, ec) && ec) {
+      std::fprintf(stderr, "bench_fidelity: cannot create %s: %s\n", dir.c_str(), ec.message().c_str());
+      return 1;
     }
   }
   if (!csv.empty()) {
