@@ -48,7 +48,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -584,12 +583,12 @@ int main(int argc, char** argv) {
   }
   // The picture folders are made here, before hours of judging, not found
   // missing at the first picture.
-  for (const std::string& dir : {g_dump, g_pairs}) {
-    std::error_code ec;
-    if (!dir.empty() && !std::filesystem::create_directories(dir, ec) && ec) {
-      std::fprintf(stderr, "bench_fidelity: cannot create %s: %s\n", dir.c_str(), ec.message().c_str());
-      return 1;
-    }
+  try {
+    for (const std::string& dir : {g_dump, g_pairs})
+      if (!dir.empty()) ensure_directory(dir);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_fidelity: %s\n", e.what());
+    return 1;
   }
   if (!csv.empty()) {
     g_csv = std::fopen(csv.c_str(), "w");
