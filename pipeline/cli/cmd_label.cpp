@@ -15,7 +15,7 @@ void register_label(CLI::App& app) {
     double distance = 0;
     std::string views = kDefaultViews, out = "out", tracer = "octree", per_building = "auto";
     int samples = kDefaultSamples, spins = 1;
-    bool verify = false, json = false;
+    bool verify = false, json = false, keep_unsampled_surface = false;
     double ratio = 0.5, threshold = -1, closer = 0.25;
   };
   auto a = std::make_shared<Args>();
@@ -25,6 +25,10 @@ void register_label(CLI::App& app) {
   cmd->add_option("--views,--facade,-f", a->views, std::string("View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); default ") + kDefaultViews + ")");
   cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4 or 8 (default " + std::to_string(kDefaultSamples) + ")")
       ->check(CLI::IsMember({1, 2, 4, 8}));
+  cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
+                "With samples > 1: a sub-pixel triangle no sample hit but lying on the drawn surface, where\n"
+                "such triangles fill half a pixel or more, is labelled from that pixel, not undisplayable\n"
+                "(README, Unsampled surface)");
   cmd->add_option("--spins", a->spins,
                   "Perception cycle spinning: 1 (the paper), 2 or 4 DWT phases averaged (shift-invariant mask)")
       ->check(CLI::IsMember({1, 2, 4}));
@@ -57,6 +61,7 @@ void register_label(CLI::App& app) {
     job.perception.spins = a->spins;
     job.views = views_option(a->views, job.up);
     job.samples = a->samples;
+    job.keep_unsampled_surface = a->keep_unsampled_surface;
     job.per_building = parse_per_building(a->per_building);
     job.distance = a->distance;
     job.ratio = a->ratio;

@@ -19,7 +19,7 @@ struct RunArgs {
   std::string config, views, shard;
   int samples = 0, jobs = 0;
   double memory_budget_mb = -1;
-  bool json = false, strict = false, force = false;
+  bool json = false, strict = false, force = false, keep_unsampled_surface = false;
 };
 
 void print_warnings(const nlohmann::json& report) {
@@ -90,6 +90,9 @@ void register_run(CLI::App& app) {
   cmd->add_option("--views", a->views, "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); overrides the config's views)");
   cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4 or 8 (overrides the config's samples)")
       ->check(CLI::IsMember({1, 2, 4, 8}));
+  cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
+                "Label sub-pixel triangles that lie between the samples of a drawn surface from their pixel\n"
+                "instead of undisplayable (README, Unsampled surface; also 'keep_unsampled_surface: true' in the config)");
   cmd->add_flag("--strict", a->strict,
                 "Fail (exit 1, after every output is written) when a LOD exceeds the config's max_changed or\n"
                 "max_silhouette in any judged view (also 'strict: true' in the config)");
@@ -125,6 +128,7 @@ void register_run(CLI::App& app) {
         m.config.views = {a->views};
       }
       if (a->samples) m.config.samples = a->samples;
+      if (a->keep_unsampled_surface) m.config.keep_unsampled_surface = true;
     }
     if (f.batch) run_many(*a, f);
     else run_one(*a, f);

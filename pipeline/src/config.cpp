@@ -118,7 +118,7 @@ namespace {
 // Keys that set how one model is processed: a config's top level, and the
 // overrides of a `models:` entry.
 const std::set<std::string> kModelKeys = {
-    "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins", "per_building",
+    "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins", "keep_unsampled_surface", "per_building",
     "tracer", "verify", "ratio", "simplify", "k", "target", "keep_undisplayable", "format",
     "e_perceptible", "e_imperceptible", "judge_views", "max_changed", "max_silhouette", "strict",
     "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb", "debug_images", "marking_near"};
@@ -184,6 +184,7 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
     throw config_error(path, std::string("'samples': ") + e.what());
   }
   c.spins = get<int>(n, path, "spins", c.spins);
+  c.keep_unsampled_surface = get<bool>(n, path, "keep_unsampled_surface", c.keep_unsampled_surface);
   if (c.spins != 1 && c.spins != 2 && c.spins != 4) throw config_error(path, "'spins' must be 1, 2 or 4");
   if (n["per_building"]) {
     const YAML::Node pb = n["per_building"];
@@ -423,6 +424,7 @@ nlohmann::json settings_json(const BatchConfig& c) {
           {"display", {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"dpi", d.dpi},
                        {"viewer_distance_m", d.viewer_distance}, {"fov_y_deg", d.fov_y_override_deg}}},
           {"distances", c.distances}, {"views", c.views}, {"samples", c.samples}, {"spins", c.spins},
+          {"keep_unsampled_surface", c.keep_unsampled_surface},
           {"per_building", c.per_building}, {"tracer", c.tracer}, {"verify", c.verify}, {"ratio", c.ratio},
           {"simplify", c.simplify}, {"e_perceptible", c.e_perceptible}, {"e_imperceptible", c.e_imperceptible},
           {"k", c.k}, {"target", c.target}, {"keep_undisplayable", c.keep_undisplayable}, {"format", c.format},
@@ -445,6 +447,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.label.perception = perception_settings_for(job.label.display);
   job.label.views = parse_views(c.views, c.up);
   job.label.samples = c.samples;
+  job.label.keep_unsampled_surface = c.keep_unsampled_surface;
   job.label.perception.spins = c.spins;
   job.label.per_building = parse_per_building(c.per_building);
   job.label.ratio = c.ratio;

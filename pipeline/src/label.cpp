@@ -182,11 +182,84 @@ void add_drawn_but_missed(const uint32_t* ids, const uint8_t* mask, size_t pixel
   }
 }
 
+// A triangle that no sample and no pixel centre hit is not necessarily out
+// of sight: on a finely tessellated surface (a turned column at 132 m) most
+// triangles are a fraction of a pixel, and deleting them as undisplayable
+// perforates what the eye sees. With job.keep_unsampled_surface such a
+// triangle counts as drawn when
+//  * it is smaller than a pixel (a larger one on the surface would hold a
+//    sample);
+//  * its centroid lies on the drawn surface: the depth drawn at the
+//    centroid's pixel is within kSurfaceDepthPx pixel footprints of the
+//    centroid's;
+//  * the triangle drawn at that pixel's centre does not cover the centroid:
+//    if it did, the two overlap there (a window polygon lying in its wall's
+//    plane, a coplanar copy) and the unsampled one is the hidden one;
+//  * the triangles found so for that pixel cover at least kOpenPixelArea of
+//    it (deleting them would open that much of the pixel).
+// Each takes its pixel's decision with one sample's weight, as
+// add_drawn_but_missed does. Returns how many it counted. depth: the
+// render's eye depth (0 = background); ids: its ID buffer (triangle + 1).
+constexpr double kSurfaceDepthPx = 0.5;
+constexpr double kOpenPixelArea = 0.5;
+
+size_t add_unsampled_surface(const Scene& scene, const Camera& cam, const float* depth, const uint32_t* ids,
+                             const uint8_t* mask, const std::vector<uint32_t>* owner, uint32_t building,
+                             TriangleCounts& counts) {
+  const size_t nt = scene.triangle_count();
+  const float* P = scene.positions.data();
+  // Triangle t's corners in image coordinates and eye depth; false when a
+  // corner is behind the eye.
+  auto project = [&](size_t t, double px[3], double py[3], double z[3]) {
+    for (int k = 0; k < 3; ++k) {
+      const float* v = P + 3 * size_t(scene.indices[3 * t + k]);
+      if (!cam.project(Eigen::Vector3d(v[0], v[1], v[2]), px[k], py[k], z[k])) return false;
+    }
+    return true;
+  };
+  std::vector<std::pair<uint32_t, uint32_t>> found;  // triangle, pixel
+  std::vector<float> open(size_t(cam.width) * cam.height, 0.f);  // their area per pixel, pixels^2
+  for (size_t t = 0; t < nt; ++t) {
+    if (counts.traced[t] || (owner && (*owner)[t] != building)) continue;
+    double px[3], py[3], z[3];
+    if (!project(t, px, py, z)) continue;
+    const double area = 0.5 * std::fabs((px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]));
+    if (!(area < 1.0)) continue;
+    const double cx = (px[0] + px[1] + px[2]) / 3, cy = (py[0] + py[1] + py[2]) / 3;
+    const double cz = (z[0] + z[1] + z[2]) / 3;
+    if (!(cx >= 0 && cy >= 0 && cx < cam.width && cy < cam.height)) continue;
+    const size_t i = size_t(cy) * cam.width + size_t(cx);
+    if (depth[i] <= 0 || !ids[i] || std::fabs(double(depth[i]) - cz) > kSurfaceDepthPx * cam.pixel_footprint(cz))
+      continue;
+    double qx[3], qy[3], qz[3];
+    if (project(ids[i] - 1, qx, qy, qz)) {  // does the drawn triangle cover the centroid?
+      double e[3];
+      for (int k = 0; k < 3; ++k) {
+        const int l = (k + 1) % 3;
+        e[k] = (qx[l] - qx[k]) * (cy - qy[k]) - (qy[l] - qy[k]) * (cx - qx[k]);
+      }
+      if ((e[0] >= 0 && e[1] >= 0 && e[2] >= 0) || (e[0] <= 0 && e[1] <= 0 && e[2] <= 0)) continue;
+    }
+    found.push_back({uint32_t(t), uint32_t(i)});
+    open[i] += float(area);
+  }
+  size_t added = 0;
+  for (auto [t, i] : found) {
+    if (open[i] < kOpenPixelArea) continue;
+    counts.traced[t] += 1;
+    counts.imperceptible[t] += mask[i] != 0;
+    ++added;
+  }
+  return added;
+}
+
 // The first half of labelling a view, on the thread that owns the OpenGL
 // context: render and perceive one camera.
-void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& cam, ViewOutcome& out) {
+void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& cam, bool want_depth, ViewOutcome& out) {
   auto t0 = Clock::now();
-  renderer.render(cam, out.image);
+  RenderOptions ro;
+  ro.want_depth = want_depth;  // add_unsampled_surface reads it
+  renderer.render(cam, out.image, ro);
   out.t_render = since(t0);
   background_of(out.image, out.background);
   t0 = Clock::now();
@@ -230,6 +303,10 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   }
   const std::vector<uint32_t>& rays = traced[0];
   if (job.samples > 1) add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
+  size_t unsampled_surface = 0;
+  if (job.samples > 1 && job.keep_unsampled_surface)
+    unsampled_surface = add_unsampled_surface(scene, cam, out.image.depth.data(), out.image.ids.data(),
+                                              out.perception.mask.data(), owner, building, counts);
   const double t_trace = since(t0);
 
   const std::vector<Label> labels = label_triangles(counts, job.ratio);
@@ -253,6 +330,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
                 {"imperceptible_fraction", out.perception.imperceptible_fraction},
                 {"levels", out.perception.levels},
                 {"labels", to_json(count_labels(labels))},
+                {"unsampled_surface", unsampled_surface},
                 {"seconds", {{"render", t_render}, {"perceive", t_perceive}, {"trace", t_trace}}}};
   if (!owner) {
     // Rays against the renderer's ID buffer and, with verify, octree against
@@ -300,6 +378,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   const size_t nt = scene.triangle_count();
   Bounds bounds = scene_bounds(scene);
   const PerceptionSettings ps = perception_for(job);
+  const bool depth = job.samples > 1 && job.keep_unsampled_surface;  // the renders' depth, for add_unsampled_surface
   std::unique_ptr<EmbreeTracer> own;  // built here unless the caller keeps one for the job
   if (job.verify && !verify_tracer) own = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);
   const EmbreeTracer* reference = job.verify ? (verify_tracer ? verify_tracer : own.get()) : nullptr;
@@ -313,6 +392,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   res.report = {{"distance", job.distance},
                 {"tracer", tracer.name()},
                 {"samples_per_pixel", job.samples},
+                {"keep_unsampled_surface", depth},
                 {"views", nlohmann::json::array()}};
   Accumulator acc(nt);
   std::vector<ViewTile> tiles;
@@ -342,7 +422,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
           if (progress) progress(progress_line(tile.name, job.distance, o));
         });
     for (const ViewTile& tile : tiles)
-      pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, tile.camera, o); },
+      pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, tile.camera, depth, o); },
                    [&](ViewOutcome& o) {
                      count_view(scene, tracer, reference, job, tile.name, tile.camera, nullptr, 0, res, acc, o);
                    });
@@ -386,7 +466,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       seconds = 0;
       for (const auto& view : job.views)
         for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display))
-          pipeline.add([&, camera = tile.camera](ViewOutcome& o) { see_view(renderer, ps, camera, o); },
+          pipeline.add([&, camera = tile.camera](ViewOutcome& o) { see_view(renderer, ps, camera, depth, o); },
                        [&, name = tile.name, camera = tile.camera](ViewOutcome& o) {
                          count_view(scene, tracer, nullptr, job, name, camera, &owner, b, res, acc, o);
                        });

@@ -37,8 +37,9 @@
 //                       [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]
 //   --set: a labelling setting for the sweeps of scripts/bench.py: levels (DWT),
 //   csf_k, csf (fir|weights|kakadu), threshold (grey levels), ratio (label),
-//   samples, views, spins, resolution (a factor: 1.5 = 1920x1536 at 1.5x the
-//   pixel density, same screen). --only-fidelity: the fidelity rows only.
+//   samples, keep_unsampled_surface (0|1), views, spins, resolution (a
+//   factor: 1.5 = 1920x1536 at 1.5x the pixel density, same screen).
+//   --only-fidelity: the fidelity rows only.
 //   --pairs DIR: writes DIR/<model>_<d>m_original.png and one
 //   <model>_<d>m_<method>.png per row, all from the held-out view az22.5el45
 //   and cropped to the same rectangle, for an independent image metric
@@ -103,6 +104,7 @@ void apply_settings(LabelJob& job) {
     else if (key == "spins") job.perception.spins = int(v);
     else if (key == "ratio") job.ratio = v;
     else if (key == "samples") job.samples = int(v);
+    else if (key == "keep_unsampled_surface") job.keep_unsampled_surface = v != 0;
     else if (key == "views") job.views = parse_views(value, job.up);
     else if (key == "csf") {
       if (value == "fir") job.perception.csf = PerceptionSettings::CsfMode::Fir;

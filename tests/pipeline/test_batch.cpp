@@ -97,6 +97,28 @@ TEST(BatchConfig, BadEntriesNameTheEntryAndWhatIsWrong) {
   EXPECT_NE(err("crs_origin: {lat: 95, lon: 0}\nmodels:\n  - city/a\n").find("'crs_origin'"), std::string::npos);
 }
 
+// keep_unsampled_surface reaches the labelling job, per model, and changes
+// the settings hash (a batch redoes the models it changes); a value that is
+// not a boolean names the key.
+TEST(BatchConfig, KeepUnsampledSurfaceReachesTheLabellingJob) {
+  BatchFolder b;
+  ConfigFile f = load_config_file(b.dir.file(
+      "batch.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, keep_unsampled_surface: true}\n"));
+  ASSERT_EQ(f.models.size(), 2u);
+  EXPECT_FALSE(f.models[0].config.keep_unsampled_surface);
+  EXPECT_TRUE(f.models[1].config.keep_unsampled_surface);
+  EXPECT_FALSE(lod_job(f.models[0].config).label.keep_unsampled_surface);
+  EXPECT_TRUE(lod_job(f.models[1].config).label.keep_unsampled_surface);
+  BatchConfig on = f.models[0].config;
+  on.keep_unsampled_surface = true;
+  EXPECT_NE(hash_text(settings_json(on).dump()), hash_text(settings_json(f.models[0].config).dump()));
+  const std::string err = error_of([&] {
+    load_config_file(b.dir.file("bad.yaml", "distances: [56]\nmodel: city/a/house.obj\nkeep_unsampled_surface: often\n"));
+  });
+  EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;
+  EXPECT_NE(err.find("'keep_unsampled_surface'"), std::string::npos) << err;
+}
+
 TEST(BatchShards, ShardsPartitionTheListExactly) {
   for (size_t count : {0u, 1u, 5u, 17u})
     for (int n : {1, 2, 3, 8}) {

@@ -1,9 +1,12 @@
 // Labels from view sets (issue 10): framed views leave nothing of a near
 // side undisplayable, a roof seen only from above is labelled with the
 // default views, triangles outside every frustum are never undisplayable,
-// per-building views label each building at its own distance, and the
-// samples rule reaches sub-pixel parts.
+// per-building views label each building at its own distance, the samples
+// rule reaches sub-pixel parts, and keep_unsampled_surface finds sub-pixel
+// triangles between the samples of a drawn surface.
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "perclod/pipeline.h"
 #include "test_util.h"
@@ -167,6 +170,80 @@ TEST(ViewSets, SampleCountsScaleWithSamplesPerPixel) {
   EXPECT_NEAR(double(b) / double(a), 4.0, 0.1);
   EXPECT_EQ(four.report["samples_per_pixel"], 4);
   EXPECT_THROW(label(s, job_for("facades", 30, 3)), std::invalid_argument);
+}
+
+// A 1 m square tessellated in cells of a fifth of a pixel (50 triangles per
+// pixel) at `y`, facing -y; returns its first triangle.
+size_t add_fine_grid(Scene& s, float y, float cell, uint32_t comp) {
+  const size_t first = s.triangle_count();
+  const int n = int(std::lround(1.0 / cell));
+  const uint32_t v0 = uint32_t(s.positions.size() / 3);
+  for (int i = 0; i <= n; ++i)
+    for (int k = 0; k <= n; ++k) s.positions.insert(s.positions.end(), {i * cell, y, k * cell});
+  auto v = [&](int i, int k) { return v0 + uint32_t(i * (n + 1) + k); };
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) {
+      s.indices.insert(s.indices.end(), {v(i, k), v(i + 1, k), v(i + 1, k + 1), v(i, k), v(i + 1, k + 1), v(i, k + 1)});
+      s.component.insert(s.component.end(), {comp, comp});
+    }
+  return first;
+}
+
+// A surface of triangles a fifth of a pixel across: the four samples and the
+// centre of a pixel hit at most five of its 50 triangles, so the paper's rule
+// calls nine in ten undisplayable, and a LOD without them is perforated.
+// keep_unsampled_surface finds them on the drawn surface; the same grid
+// hidden 0.25 m behind it, or lying under a coplanar quad, stays
+// undisplayable, and with one sample per pixel the option changes nothing.
+TEST(ViewSets, UnsampledTrianglesOfADrawnSurfaceAreKeptOnRequest) {
+  LabelJob job = job_for("-y", 1, 4);
+  const double p1 = display_pixel_footprint(job.display, 1.0);
+  job.distance = 0.05 / p1;  // a pixel is 5 cm, a cell 1 cm
+  Scene s;
+  s.component_names = {"front", "hidden", "body"};
+  const size_t front = add_fine_grid(s, 0.0f, 0.01f, 0);
+  const size_t hidden = add_fine_grid(s, 0.25f, 0.01f, 1);
+  const size_t n = hidden - front;
+  add_box(s, {0, 0.5f, 0}, {1, 0.6f, 1}, 2);
+  auto undisplayable = [&](const LabelResult& r, size_t first) {
+    size_t u = 0;
+    for (size_t t = first; t < first + n; ++t) u += r.labels[t] == Label::Undisplayable;
+    return double(u) / double(n);
+  };
+  LabelResult paper_rule = label(s, job);
+  EXPECT_GT(undisplayable(paper_rule, front), 0.8);
+  EXPECT_EQ(undisplayable(paper_rule, hidden), 1.0);
+  EXPECT_EQ(paper_rule.report["keep_unsampled_surface"], false);
+
+  job.keep_unsampled_surface = true;
+  LabelResult kept = label(s, job);
+  EXPECT_LT(undisplayable(kept, front), 0.1);  // 0 measured; border pixels may keep a few
+  EXPECT_EQ(undisplayable(kept, hidden), 1.0);
+  EXPECT_EQ(kept.report["keep_unsampled_surface"], true);
+  size_t counted = 0;
+  for (const auto& v : kept.report["views"]) counted += v["unsampled_surface"].get<size_t>();
+  EXPECT_GT(counted, size_t(0.8 * double(n)));
+  // Only triangles no sample hit change; the sampled ones keep their counts.
+  for (size_t t = 0; t < s.triangle_count(); ++t)
+    if (paper_rule.totals.traced[t]) {
+      EXPECT_EQ(kept.totals.traced[t], paper_rule.totals.traced[t]);
+    }
+
+  // The same fine grid lying in the plane of a wall quad drawn before it (a
+  // window polygon in its wall, a coplanar copy): the quad is drawn and
+  // traced there, the grid is hidden and stays undisplayable.
+  Scene coplanar;
+  coplanar.component_names = {"wall", "window"};
+  coplanar.positions = {0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1};
+  coplanar.indices = {0, 1, 2, 0, 2, 3};
+  coplanar.component = {0, 0};
+  const size_t window = add_fine_grid(coplanar, 0.0f, 0.01f, 1);
+  EXPECT_GT(undisplayable(label(coplanar, job), window), 0.9);
+
+  job.samples = 1;
+  LabelResult one = label(s, job);
+  job.keep_unsampled_surface = false;
+  EXPECT_EQ(one.labels, label(s, job).labels);
 }
 
 }  // namespace

@@ -92,6 +92,14 @@ struct LabelJob {
   PerceptionSettings perception;      // ppd is taken from `display`
   std::vector<std::string> views;     // view names, e.g. parse_views("facades", up)
   int samples = 1;                    // samples per pixel (1, 2, 4, 8; see sample_offsets)
+  // With samples > 1: a triangle smaller than a pixel that no sample and no
+  // pixel centre hit, lying on the drawn surface at its centroid's pixel
+  // (within half a pixel footprint of the depth drawn there) and not under
+  // the triangle drawn at that pixel's centre, is not undisplayable when
+  // such triangles would leave at least half of that pixel open: it takes
+  // the pixel's decision with one sample's weight (README, "Unsampled
+  // surface"). false: the paper's rule, unsampled = undisplayable.
+  bool keep_unsampled_surface = false;
   // Also label each building from views framed on it (its neighbours drawn
   // and occluding); Auto = when find_buildings finds two or more.
   PerBuilding per_building = PerBuilding::Off;
