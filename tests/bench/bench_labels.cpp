@@ -28,6 +28,7 @@
 //                     [--distances 56,132,427] [--samples 1,4] [--views "facades;facades,ring8el30"]
 //                     [--runs R] [--facade-triangles N]
 //   experiments: [--spins 1|2|4] (perception cycle spinning) [--threshold T] (grey levels)
+//                [--keep-unsampled-surface] (LabelJob::keep_unsampled_surface)
 //                [--shift-scale 0] (relabel without moving: the noise floor, 0 when deterministic)
 //                [--per-building true|false|auto] (the block runs per building unless told otherwise)
 //   [--csv FILE]: the stability section's rows as CSV (flips in percent).
@@ -53,6 +54,7 @@ using namespace perclod;
 namespace {
 
 int g_spins = 0;  // 0 = the job's default
+bool g_keep_unsampled_surface = false;
 double g_shift_scale = 1.0;  // --shift-scale 0: the noise floor (relabel without moving)
 std::string g_per_building;  // --per-building true|false|auto: overrides the model's setting
 double g_threshold = -1;  // --threshold T: perception threshold (grey levels)
@@ -90,6 +92,7 @@ LabelJob make_job(UpAxis up, const std::string& views, int samples, double d, Pe
   job.per_building = g_per_building.empty() ? pb : parse_per_building(g_per_building);
   job.write_perception_images = false;
   if (g_spins) job.perception.spins = g_spins;
+  job.keep_unsampled_surface = g_keep_unsampled_surface;
   if (g_threshold >= 0) job.perception.threshold = g_threshold;
   return job;
 }
@@ -312,6 +315,7 @@ int main(int argc, char** argv) {
     else if (a == "--views") views_arg = next();
     else if (a == "--runs") runs = std::stoi(next());
     else if (a == "--spins") g_spins = std::stoi(next());
+    else if (a == "--keep-unsampled-surface") g_keep_unsampled_surface = true;
     else if (a == "--shift-scale") g_shift_scale = std::stod(next());
     else if (a == "--threshold") g_threshold = std::stod(next());
     else if (a == "--per-building") g_per_building = next();
@@ -343,6 +347,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]\n"
                            "  [--distances 56,132,427] [--samples 1,4] [--views \"facades;facades,ring8el30\"]\n"
                            "  [--runs R] [--facade-triangles N] [--spins S] [--threshold T] [--shift-scale F]\n"
+                           "  [--keep-unsampled-surface]\n"
                            "  [--per-building true|false|auto] [--csv FILE] (stability rows)\n"
                            "  [--perturb shift|noise|resolution] (what the stability section changes)\n");
       return 2;
