@@ -118,8 +118,9 @@ namespace {
 // Keys that set how one model is processed: a config's top level, and the
 // overrides of a `models:` entry.
 const std::set<std::string> kModelKeys = {
-    "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins", "keep_unsampled_surface", "per_building",
-    "tracer", "verify", "ratio", "simplify", "k", "target", "keep_undisplayable", "format",
+    "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins",
+    "keep_unsampled_surface", "per_building", "tracer", "verify", "ratio", "simplify", "k", "target",
+    "keep_undisplayable", "format",
     "e_perceptible", "e_imperceptible", "judge_views", "max_changed", "max_silhouette", "strict",
     "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb", "debug_images", "marking_near"};
 // Keys of the batch itself (top level only).
@@ -184,8 +185,8 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
     throw config_error(path, std::string("'samples': ") + e.what());
   }
   c.spins = get<int>(n, path, "spins", c.spins);
-  c.keep_unsampled_surface = get<bool>(n, path, "keep_unsampled_surface", c.keep_unsampled_surface);
   if (c.spins != 1 && c.spins != 2 && c.spins != 4) throw config_error(path, "'spins' must be 1, 2 or 4");
+  c.keep_unsampled_surface = get<bool>(n, path, "keep_unsampled_surface", c.keep_unsampled_surface);
   if (n["per_building"]) {
     const YAML::Node pb = n["per_building"];
     c.per_building = pb.IsScalar() ? pb.Scalar() : std::string("?");

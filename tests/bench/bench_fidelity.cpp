@@ -21,10 +21,10 @@
 // above 1.1x the count) at each fidelity row's count; and "meshopt for the
 // same SSIM": meshoptimizer swept over target counts (error limit 1, i.e.
 // none) and over error limits (1e-4 .. 1e-2 of the mesh extent, no count),
-// with the rows at fidelity's counts, the lower envelope of all those points
-// interpolated to the fewest
-// triangles whose worst-view SSIM (over both sets) matches the fidelity
-// row's, with the ratio fidelity / meshopt (< 1: perclod needs fewer).
+// with the rows at fidelity's counts, the lower envelope of all those
+// points interpolated to the fewest triangles whose worst-view SSIM (over
+// both sets) matches the fidelity row's, with the ratio fidelity / meshopt
+// (< 1: perclod needs fewer).
 //
 // meshoptimizer welds corners of the same component and material only, so
 // every output triangle keeps its colour and the renders compare like with
@@ -491,8 +491,8 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       j.seconds = sec;
       row(m, d, name.str(), j);
     }
-    // Every meshoptimizer LOD judged below is a point of the sweep: the
-    // ones at fidelity's counts too (leaving them out overstated the count
+    // Every meshoptimizer LOD judged from here on is a point of the sweep:
+    // the ones at fidelity's counts too (leaving them out overstated the count
     // meshoptimizer needs where they beat the line between sweep points).
     std::vector<std::pair<size_t, double>> sweep;
     for (size_t i = 0; i < fidelity.size(); ++i) {
