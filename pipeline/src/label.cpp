@@ -203,6 +203,9 @@ void add_drawn_but_missed(const uint32_t* ids, const uint8_t* mask, size_t pixel
 constexpr double kSurfaceDepthPx = 0.5;
 constexpr double kOpenPixelArea = 0.5;
 
+// Whether labelling runs add_unsampled_surface (and so renders depth).
+bool finds_unsampled_surface(const LabelJob& job) { return job.samples > 1 && job.keep_unsampled_surface; }
+
 size_t add_unsampled_surface(const Scene& scene, const Camera& cam, const float* depth, const uint32_t* ids,
                              const uint8_t* mask, const std::vector<uint32_t>* owner, uint32_t building,
                              TriangleCounts& counts) {
@@ -304,7 +307,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   const std::vector<uint32_t>& rays = traced[0];
   if (job.samples > 1) add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
   size_t unsampled_surface = 0;
-  if (job.samples > 1 && job.keep_unsampled_surface)
+  if (finds_unsampled_surface(job))
     unsampled_surface = add_unsampled_surface(scene, cam, out.image.depth.data(), out.image.ids.data(),
                                               out.perception.mask.data(), owner, building, counts);
   const double t_trace = since(t0);
@@ -378,7 +381,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   const size_t nt = scene.triangle_count();
   Bounds bounds = scene_bounds(scene);
   const PerceptionSettings ps = perception_for(job);
-  const bool depth = job.samples > 1 && job.keep_unsampled_surface;  // the renders' depth, for add_unsampled_surface
+  const bool depth = finds_unsampled_surface(job);  // the renders' depth, for add_unsampled_surface
   std::unique_ptr<EmbreeTracer> own;  // built here unless the caller keeps one for the job
   if (job.verify && !verify_tracer) own = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);
   const EmbreeTracer* reference = job.verify ? (verify_tracer ? verify_tracer : own.get()) : nullptr;

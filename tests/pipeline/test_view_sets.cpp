@@ -172,8 +172,8 @@ TEST(ViewSets, SampleCountsScaleWithSamplesPerPixel) {
   EXPECT_THROW(label(s, job_for("facades", 30, 3)), std::invalid_argument);
 }
 
-// A 1 m square tessellated in cells of a fifth of a pixel (50 triangles per
-// pixel) at `y`, facing -y; returns its first triangle.
+// A 1 m square in the plane y = `y`, facing -y, tessellated in squares of
+// `cell` metres (two triangles each); returns its first triangle.
 size_t add_fine_grid(Scene& s, float y, float cell, uint32_t comp) {
   const size_t first = s.triangle_count();
   const int n = int(std::lround(1.0 / cell));
