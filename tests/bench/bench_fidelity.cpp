@@ -33,8 +33,8 @@
 // Usage: bench_fidelity [--models demo,han,sibenik,sponza,block,facade] [--distances 56,132,427]
 //                       [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]
 //                       [--no-meshopt] [--keep-undisplayable [--e-undisplayable E]] [--dump DIR]
-//                       [--facade-triangles N] [--e-area A]
-//                       [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]
+//                       [--facade-triangles N] [--e-area A] [--max-normal-change DEG]
+//                       [--dump-view NAME] [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]
 //   --set: a labelling setting for the sweeps of scripts/bench.py: levels (DWT),
 //   csf_k, csf (fir|weights|kakadu), threshold (grey levels), ratio (label),
 //   samples, keep_unsampled_surface (0|1), views, spins, resolution (a
@@ -83,6 +83,7 @@ std::vector<double> numbers(const std::string& s) {
 using bench::held_out_views;
 
 std::string g_dump;   // --dump DIR: original | LOD | difference of each LOD's worst held-out view
+std::string g_dump_view;  // --dump-view NAME: dump this judged view instead of the worst held-out one
 std::string g_pairs;  // --pairs DIR: original and LOD from kPairView, for butteraugli
 const bench::HausdorffReference* g_hausdorff = nullptr;  // from the model being judged, in run_model
 std::vector<std::pair<std::string, std::string>> g_settings;  // --set KEY=VALUE, in order
@@ -214,6 +215,8 @@ Judged judge(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>
     for (size_t i = 0; i < views.size(); ++i)
       if (views[i]["set"] == "held_out" && views[i]["changed_fraction"].get<double>() > worst_changed)
         worst = i, worst_changed = views[i]["changed_fraction"].get<double>();
+    for (size_t i = 0; i < views.size(); ++i)
+      if (records[i].view == g_dump_view) worst = i;
     dump(renderer, *original, lod, records[worst].camera, dump_name + "_" + records[worst].view);
   }
   for (const auto& v : views) {
@@ -348,6 +351,7 @@ bool g_keep_undisplayable = false;
 double g_area = kDefaultBoundAreaPx2;  // --e-area: fidelity's area budget, px^2 (inf = none)
   // --keep-undisplayable: fidelity collapses them instead
 double g_e_u = INFINITY;  // --e-undisplayable: with --keep-undisplayable, the bound of their collapses, px
+double g_max_normal = SimplifyOptions().max_normal_change_deg;  // --max-normal-change: fidelity's limit, degrees
 
 void row(const Model& m, double d, const std::string& method, const Judged& j, const std::string& note = "") {
   std::printf("%-6s %4.0f  %-26s %8zu  %7.3f  | %6.2f%% %6.4f %6.2f%% | %6.2f%% %6.4f %6.2f%% | %7.4f%%  %s\n",
@@ -427,6 +431,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       so.bound_imperceptible_px = ei;
       so.delete_undisplayable = !g_keep_undisplayable;
       so.bound_area_px2 = g_area;
+      so.max_normal_change_deg = g_max_normal;
       so.bound_undisplayable_px = g_e_u;
       fidelity.push_back(simplified(so));
       std::ostringstream name;
@@ -568,9 +573,11 @@ int main(int argc, char** argv) {
     else if (a == "--csv" && i + 1 < argc) csv = argv[++i];
     else if (a == "--no-meshopt") g_meshopt = false;
     else if (a == "--e-area" && i + 1 < argc) g_area = std::atof(argv[++i]);
+    else if (a == "--max-normal-change" && i + 1 < argc) g_max_normal = std::atof(argv[++i]);
     else if (a == "--e-undisplayable" && i + 1 < argc) g_e_u = std::atof(argv[++i]);
     else if (a == "--facade-triangles" && i + 1 < argc) facade_triangles = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--dump" && i + 1 < argc) g_dump = argv[++i];
+    else if (a == "--dump-view" && i + 1 < argc) g_dump_view = argv[++i];
     else if (a == "--pairs" && i + 1 < argc) g_pairs = argv[++i];
     else if (a == "--only-fidelity") g_only_fidelity = true;
     else if (a == "--set" && i + 1 < argc && std::strchr(argv[i + 1], '=')) {
@@ -582,7 +589,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "usage: bench_fidelity [--models demo,han,sibenik,sponza,block,facade] [--distances 56,132,427]\n"
                            "                      [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]\n"
                            "                      [--no-meshopt] [--keep-undisplayable [--e-undisplayable E]] [--dump DIR]\n"
-                           "                      [--facade-triangles N] [--e-area A]\n"
+                           "                      [--facade-triangles N] [--e-area A] [--max-normal-change DEG]\n"
+                           "                      [--dump-view NAME]\n"
                            "                      [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]\n");
       return 2;
     }
