@@ -121,7 +121,7 @@ const std::set<std::string> kModelKeys = {
     "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins",
     "keep_unsampled_surface", "per_building", "tracer", "verify", "ratio", "simplify", "k", "target",
     "keep_undisplayable", "format",
-    "e_perceptible", "e_imperceptible", "judge_views", "max_changed", "max_silhouette", "strict",
+    "e_perceptible", "e_imperceptible", "judge_views", "max_changed", "max_silhouette", "min_ssim", "strict",
     "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb", "debug_images", "marking_near"};
 // Keys of the batch itself (top level only).
 const std::set<std::string> kBatchKeys = {"models", "out", "jobs", "memory_budget_mb"};
@@ -219,17 +219,22 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   if (!(c.max_changed >= 0 && c.max_changed <= 1)) throw config_error(path, "'max_changed' must be a fraction in [0, 1]");
   if (!(c.max_silhouette >= 0 && c.max_silhouette <= 1))
     throw config_error(path, "'max_silhouette' must be a fraction in [0, 1]");
+  c.min_ssim = get<double>(n, path, "min_ssim", c.min_ssim);
+  if (!(c.min_ssim >= 0 && c.min_ssim <= 1)) throw config_error(path, "'min_ssim' must be within [0, 1]");
   c.strict = get<bool>(n, path, "strict", c.strict);
   if (const YAML::Node t = n["fidelity_target"]) {
     if (!t.IsMap()) throw config_error(path, "'fidelity_target' must be a mapping such as {max_changed: 0.02}");
     if (c.simplify != "fidelity") throw config_error(path, "'fidelity_target' applies only to 'simplify: fidelity'");
-    check_keys(t, path, {"max_changed", "max_silhouette"});
+    check_keys(t, path, {"max_changed", "max_silhouette", "min_ssim"});
     c.fidelity_target = true;
     c.target_max_changed = get<double>(t, path, "max_changed", c.max_changed);
     c.target_max_silhouette = get<double>(t, path, "max_silhouette", c.max_silhouette);
     if (!(c.target_max_changed >= 0 && c.target_max_changed <= 1) ||
         !(c.target_max_silhouette >= 0 && c.target_max_silhouette <= 1))
       throw config_error(path, "'fidelity_target': max_changed and max_silhouette must be fractions in [0, 1]");
+    c.target_min_ssim = get<double>(t, path, "min_ssim", c.min_ssim);
+    if (!(c.target_min_ssim >= 0 && c.target_min_ssim <= 1))
+      throw config_error(path, "'fidelity_target': min_ssim must be within [0, 1]");
   }
   c.k = get<double>(n, path, "k", c.k);
   require_positive(path, "k", c.k);
@@ -421,7 +426,14 @@ ConfigFile load_config_file(const std::string& path) {
 
 nlohmann::json settings_json(const BatchConfig& c) {
   DisplayProfile d = c.display.empty() ? default_display_profile() : load_display_profile(c.display);
-  return {{"up", c.up == UpAxis::Z ? "z" : "y"}, {"scale", c.scale},
+  nlohmann::json target = nullptr;
+  if (c.fidelity_target) {
+    target = {{"max_changed", c.target_max_changed}, {"max_silhouette", c.target_max_silhouette}};
+    if (c.target_min_ssim > 0) target["min_ssim"] = c.target_min_ssim;
+  }
+  // min_ssim joins only when set, so the hashes of configs without it (and
+  // the batches a manifest resumes) stay what they were before the key.
+  nlohmann::json s = {{"up", c.up == UpAxis::Z ? "z" : "y"}, {"scale", c.scale},
           {"display", {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"dpi", d.dpi},
                        {"viewer_distance_m", d.viewer_distance}, {"fov_y_deg", d.fov_y_override_deg}}},
           {"distances", c.distances}, {"views", c.views}, {"samples", c.samples}, {"spins", c.spins},
@@ -430,15 +442,14 @@ nlohmann::json settings_json(const BatchConfig& c) {
           {"simplify", c.simplify}, {"e_perceptible", c.e_perceptible}, {"e_imperceptible", c.e_imperceptible},
           {"k", c.k}, {"target", c.target}, {"keep_undisplayable", c.keep_undisplayable}, {"format", c.format},
           {"judge_views", c.judge_views}, {"max_changed", c.max_changed}, {"max_silhouette", c.max_silhouette},
-          {"fidelity_target", c.fidelity_target
-                                  ? nlohmann::json{{"max_changed", c.target_max_changed},
-                                                   {"max_silhouette", c.target_max_silhouette}}
-                                  : nlohmann::json(nullptr)},
+          {"fidelity_target", target},
           {"cityjson_lod", c.cityjson_lod}, {"tileset", c.tileset}, {"debug_images", c.debug_images},
           {"marking_near", c.marking_near},
           {"crs_origin", c.crs_origin ? nlohmann::json{{"lat", c.origin_lat}, {"lon", c.origin_lon},
                                                        {"height", c.origin_height}}
                                       : nlohmann::json(nullptr)}};
+  if (c.min_ssim > 0) s["min_ssim"] = c.min_ssim;
+  return s;
 }
 
 LodJob lod_job(const BatchConfig& c) {
@@ -468,9 +479,11 @@ LodJob lod_job(const BatchConfig& c) {
   if (!c.judge_views.empty()) job.judge_views = parse_views(c.judge_views, c.up);
   job.limits.max_changed = c.max_changed;
   job.limits.max_silhouette = c.max_silhouette;
+  job.limits.min_ssim = c.min_ssim;
   job.fidelity_target = c.fidelity_target;
   job.target.max_changed = c.target_max_changed;
   job.target.max_silhouette = c.target_max_silhouette;
+  job.target.min_ssim = c.target_min_ssim;
   job.lod_format = c.format;
   return job;
 }

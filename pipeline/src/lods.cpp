@@ -265,20 +265,29 @@ nlohmann::json judge_views(const nlohmann::json& views, const FidelityLimits& li
   nlohmann::json over = nlohmann::json::array();
   for (const auto& v : views) {
     const double c = v.at("changed_fraction").get<double>(), s = v.at("silhouette_mismatch").get<double>();
+    const double q = v.at("ssim_covered").get<double>();
     changed = std::max(changed, c);
     silhouette = std::max(silhouette, s);
-    ssim = std::min(ssim, v.at("ssim_covered").get<double>());
-    auto flag = [&](const char* measure, double value, double limit) {
-      if (value > limit)
+    ssim = std::min(ssim, q);
+    auto flag = [&](const char* measure, double value, double limit, bool over_limit) {
+      if (over_limit)
         over.push_back({{"view", v.at("view")}, {"set", v.at("set")}, {"measure", measure}, {"value", value},
                         {"limit", limit}});
     };
-    flag("changed_fraction", c, limits.max_changed);
-    flag("silhouette_mismatch", s, limits.max_silhouette);
+    flag("changed_fraction", c, limits.max_changed, c > limits.max_changed);
+    flag("ssim_covered", q, limits.min_ssim, q < limits.min_ssim);
+    flag("silhouette_mismatch", s, limits.max_silhouette, s > limits.max_silhouette);
   }
   return {{"worst", {{"changed_fraction", changed}, {"ssim_covered", ssim}, {"silhouette_mismatch", silhouette}}},
-          {"limits", {{"max_changed", limits.max_changed}, {"max_silhouette", limits.max_silhouette}}},
+          {"limits",
+           {{"max_changed", limits.max_changed}, {"max_silhouette", limits.max_silhouette}, {"min_ssim", limits.min_ssim}}},
           {"over_limits", over}};
+}
+
+SimplifyOptions fidelity_bounds(SimplifyOptions so, double e) {
+  so.bound_imperceptible_px = e;
+  so.bound_perceptible_px = std::min(so.bound_perceptible_px, e);
+  return so;
 }
 
 nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress, std::vector<Scene>* lods) {
@@ -348,8 +357,9 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     const bool searching = job.fidelity_target && so.mode == SimplifyMode::Fidelity;
     std::vector<double> bounds = {so.bound_imperceptible_px};
     if (searching) bounds.assign(std::begin(kFidelitySearchBounds), std::end(kFidelitySearchBounds));
+    const SimplifyOptions asked = so;
     for (double e : bounds) {
-      so.bound_imperceptible_px = e;
+      if (searching) so = fidelity_bounds(asked, e);
       lod = simplify(scene, lr.labels, so, &st);
       release_free_memory();  // the simplifier's mesh
       if (!held_out_recorded) {
@@ -365,11 +375,17 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       if (!searching) break;
       const nlohmann::json f = judge_views(views, job.target);
       const bool met = f["over_limits"].empty();
-      search.push_back({{"e_imperceptible", e}, {"triangles", st.total_after()}, {"worst", f["worst"]}, {"met", met}});
+      search.push_back({{"e_imperceptible", e},
+                        {"e_perceptible", so.bound_perceptible_px},
+                        {"triangles", st.total_after()},
+                        {"worst", f["worst"]},
+                        {"met", met}});
       if (progress) {
         std::ostringstream ss;
-        ss << "  fidelity target at " << d << " m: e_imperceptible " << e << " px -> " << st.total_after()
-           << " triangles, worst " << 100 * f["worst"]["changed_fraction"].get<double>() << "% changed, silhouette "
+        ss << "  fidelity target at " << d << " m: e_imperceptible " << e << " px, e_perceptible "
+           << so.bound_perceptible_px << " px -> " << st.total_after()
+           << " triangles, worst " << 100 * f["worst"]["changed_fraction"].get<double>() << "% changed, SSIM "
+           << f["worst"]["ssim_covered"].get<double>() << ", silhouette "
            << 100 * f["worst"]["silhouette_mismatch"].get<double>() << "%" << (met ? " (met)" : "");
         progress(ss.str());
       }
@@ -410,9 +426,11 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     for (const auto& o : entry["fidelity"]["over_limits"]) {
       std::ostringstream ss;
       ss.precision(3);
+      const bool ssim = o["measure"] == "ssim_covered";  // a figure, not a fraction
       ss << lod_path << ": from view " << o["view"].get<std::string>() << " (" << o["set"].get<std::string>()
-         << ") " << o["measure"].get<std::string>() << " is " << 100 * o["value"].get<double>() << "% (limit "
-         << 100 * o["limit"].get<double>() << "%)";
+         << ") " << o["measure"].get<std::string>() << " is ";
+      if (ssim) ss << o["value"].get<double>() << " (limit " << o["limit"].get<double>() << ")";
+      else ss << 100 * o["value"].get<double>() << "% (limit " << 100 * o["limit"].get<double>() << "%)";
       warn(ss.str());
       report["over_limits"] = report["over_limits"].get<size_t>() + 1;
     }

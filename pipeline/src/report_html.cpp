@@ -343,9 +343,11 @@ std::string fidelity_table(const json& lod) {
   const json& limits = sub(fid, "limits");
   const auto over = over_limits(fid);
   const double max_changed = num(limits, "max_changed"), max_sil = num(limits, "max_silhouette");
+  const double min_ssim = num(limits, "min_ssim");  // NaN in reports from before the key: no limit
   std::ostringstream s;
-  s << "<p>Limits: changed &le; " << percent(max_changed) << ", silhouette mismatch &le; " << percent(max_sil)
-    << ". Cells over a limit are <span style=\"background:#ffd7d5;color:#a40e26;font-weight:600\">marked</span>.</p>\n";
+  s << "<p>Limits: changed &le; " << percent(max_changed) << ", silhouette mismatch &le; " << percent(max_sil);
+  if (min_ssim > 0) s << ", SSIM &ge; " << fixed(min_ssim, 4);
+  s << ". Cells over a limit are <span style=\"background:#ffd7d5;color:#a40e26;font-weight:600\">marked</span>.</p>\n";
   s << "<table class=\"fidelity\"><tr><th class=\"l\">view</th><th class=\"l\">set</th><th>changed</th>"
        "<th>SSIM (covered)</th><th>silhouette mismatch</th><th>drawn px</th></tr>\n";
   for (const auto& v : list(lod, "lod_vs_original")) {
@@ -354,17 +356,18 @@ std::string fidelity_table(const json& lod) {
       return std::string(over_here || over.count({view, measure}) ? "<td class=\"over\">" : "<td>") + text + "</td>";
     };
     const double changed = num(v, "changed_fraction"), sil = num(v, "silhouette_mismatch");
+    const double q = num(v, "ssim_covered");
     s << "<tr><td class=\"l\">" << html_escape(view) << "</td><td class=\"l\">" << html_escape(str(v, "set"))
       << "</td>" << cell("changed_fraction", percent(changed), changed > max_changed)
-      << "<td>" << fixed(num(v, "ssim_covered"), 4) << "</td>"
+      << cell("ssim_covered", fixed(q, 4), q < min_ssim)
       << cell("silhouette_mismatch", percent(sil), sil > max_sil) << "<td>" << count(num(v, "drawn_pixels"))
       << "</td></tr>\n";
   }
   const json& worst = sub(fid, "worst");
   const double wc = num(worst, "changed_fraction"), ws = num(worst, "silhouette_mismatch");
   s << "<tr><th class=\"l\" colspan=\"2\">worst</th>" << (wc > max_changed ? "<td class=\"over\">" : "<td>")
-    << percent(wc) << "</td><td>" << fixed(num(worst, "ssim_covered"), 4) << "</td>"
-    << (ws > max_sil ? "<td class=\"over\">" : "<td>") << percent(ws) << "</td><td></td></tr>\n</table>\n";
+    << percent(wc) << "</td>" << (num(worst, "ssim_covered") < min_ssim ? "<td class=\"over\">" : "<td>")
+    << fixed(num(worst, "ssim_covered"), 4) << "</td>" << (ws > max_sil ? "<td class=\"over\">" : "<td>") << percent(ws) << "</td><td></td></tr>\n</table>\n";
   return s.str();
 }
 
@@ -450,12 +453,14 @@ std::string search_table(const json& lod) {
   const json& search = list(lod, "fidelity_search");
   if (search.empty()) return "";
   std::ostringstream s;
-  s << "<h3>Fidelity target search</h3>\n<table class=\"search\"><tr><th>e_imperceptible (px)</th><th>triangles</th>"
+  s << "<h3>Fidelity target search</h3>\n<table class=\"search\"><tr><th>e_imperceptible (px)</th>"
+       "<th>e_perceptible (px)</th><th>triangles</th>"
        "<th>worst changed</th><th>lowest SSIM</th><th>worst silhouette</th><th class=\"l\">met</th></tr>\n";
   for (const auto& t : search) {
     const json& w = sub(t, "worst");
     const json* met = member(t, "met");
-    s << "<tr><td>" << fixed(num(t, "e_imperceptible"), 2) << "</td><td>" << count(num(t, "triangles")) << "</td><td>"
+    s << "<tr><td>" << fixed(num(t, "e_imperceptible"), 3) << "</td><td>" << fixed(num(t, "e_perceptible"), 3)
+      << "</td><td>" << count(num(t, "triangles")) << "</td><td>"
       << percent(num(w, "changed_fraction")) << "</td><td>" << fixed(num(w, "ssim_covered"), 4) << "</td><td>"
       << percent(num(w, "silhouette_mismatch")) << "</td><td class=\"l\">"
       << (met && met->is_boolean() ? (met->get<bool>() ? "yes" : "no") : "") << "</td></tr>\n";
@@ -585,7 +590,8 @@ std::string model_report_html(const json& report, const OutputNames& names) {
     const std::string d = short_number(num(l, "distance"));
     s << "<tr><td><a href=\"#d" << url(d) << "\">" << d << "&nbsp;m</a></td><td>" << fixed(num(l, "pixel_footprint"), 4)
       << "&nbsp;m</td><td>" << count(a) << "</td><td>" << (b > 0 ? percent(a / b, 1) : "&ndash;") << "</td>"
-      << (wc > num(limits, "max_changed") ? "<td class=\"over\">" : "<td>") << percent(wc) << "</td><td>"
+      << (wc > num(limits, "max_changed") ? "<td class=\"over\">" : "<td>") << percent(wc) << "</td>"
+      << (num(worst, "ssim_covered") < num(limits, "min_ssim") ? "<td class=\"over\">" : "<td>")
       << fixed(num(worst, "ssim_covered"), 4) << "</td>"
       << (ws > num(limits, "max_silhouette") ? "<td class=\"over\">" : "<td>") << percent(ws) << "</td><td>"
       << list(fid, "over_limits").size() << "</td><td>" << seconds(num(l, "seconds")) << "</td><td class=\"l\">"

@@ -11,6 +11,7 @@
 #include "cli_util.h"
 #include "perclod/labels_io.h"
 #include "perclod/load.h"
+#include "perclod/pipeline.h"
 
 using perclod::test::run_cli;
 namespace fs = std::filesystem;
@@ -183,6 +184,31 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
     EXPECT_LE(v["silhouette_mismatch"].get<double>(), 0.01) << v["view"];
   }
   EXPECT_NE(r.err.find("fidelity target at 132 m"), std::string::npos) << r.err;
+  for (const auto& t : search)  // e_perceptible stays 0.5 px until e_imperceptible falls below it
+    EXPECT_EQ(t["e_perceptible"].get<double>(), std::min(0.5, t["e_imperceptible"].get<double>())) << t;
+  EXPECT_EQ(lod["bounds_px"]["perceptible"], search.back()["e_perceptible"]);
+
+  // A target nothing meets: every bound is tried, both bounds tighten to
+  // 0 px (only undisplayable triangles go), and the last LOD is kept.
+  std::ofstream(out / "none.yaml") << "model: " << kBuilding
+                                   << "\nup: z\ndistances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
+                                      "fidelity_target: {max_changed: 0}\nout: "
+                                   << (out / "none").string() << "\n";
+  auto none = run_cli("run " + (out / "none.yaml").string() + " --json");
+  ASSERT_EQ(none.exit_code, 0) << none.err;
+  const auto none_report = nlohmann::json::parse(none.out);
+  const auto& all = none_report["lods"][0];
+  ASSERT_EQ(all["fidelity_search"].size(), std::size(perclod::kFidelitySearchBounds));
+  for (size_t i = 0; i < std::size(perclod::kFidelitySearchBounds); ++i) {
+    const auto& t = all["fidelity_search"][i];
+    EXPECT_FALSE(t["met"].get<bool>());
+    EXPECT_EQ(t["e_imperceptible"].get<double>(), perclod::kFidelitySearchBounds[i]);
+    EXPECT_EQ(t["e_perceptible"].get<double>(), std::min(0.5, perclod::kFidelitySearchBounds[i]));
+  }
+  EXPECT_EQ(all["bounds_px"]["perceptible"].get<double>(), 0.0);
+  EXPECT_EQ(all["bounds_px"]["imperceptible"].get<double>(), 0.0);
+  EXPECT_GE(all["fidelity_search"].back()["triangles"].get<double>(), all["fidelity_search"][5]["triangles"].get<double>());
+  EXPECT_NE(none.err.find("no e_imperceptible meets the fidelity target at 427 m"), std::string::npos) << none.err;
 
   // Limits nobody meets: warnings name the view, and --strict fails.
   std::ofstream(out / "tight.yaml") << "model: " << kBuilding

@@ -40,6 +40,36 @@ size_t total(const nlohmann::json& views, const char* key) {
   return n;
 }
 
+// judge_views flags each view over a limit; min_ssim (off by default) flags
+// SSIMs below it, and the worst figures are the same either way.
+TEST(LodFidelity, JudgeViewsFlagsEachMeasureAgainstItsLimit) {
+  auto view = [](const char* name, double changed, double ssim, double silhouette) {
+    return nlohmann::json{{"view", name},
+                          {"set", "held_out"},
+                          {"changed_fraction", changed},
+                          {"ssim_covered", ssim},
+                          {"silhouette_mismatch", silhouette}};
+  };
+  const nlohmann::json views = {view("a", 0.01, 0.99, 0.0), view("b", 0.03, 0.96, 0.0), view("c", 0.0, 0.94, 0.02)};
+  const nlohmann::json by_default = judge_views(views, FidelityLimits{});
+  ASSERT_EQ(by_default["over_limits"].size(), 2u);
+  EXPECT_EQ(by_default["over_limits"][0]["view"], "b");
+  EXPECT_EQ(by_default["over_limits"][0]["measure"], "changed_fraction");
+  EXPECT_EQ(by_default["over_limits"][1]["view"], "c");
+  EXPECT_EQ(by_default["over_limits"][1]["measure"], "silhouette_mismatch");
+  EXPECT_EQ(by_default["worst"]["ssim_covered"], 0.94);
+  EXPECT_EQ(by_default["limits"]["min_ssim"], 0.0);
+
+  FidelityLimits ssim;
+  ssim.min_ssim = 0.95;
+  const nlohmann::json over = judge_views(views, ssim)["over_limits"];
+  ASSERT_EQ(over.size(), 3u);
+  EXPECT_EQ(over[1]["view"], "c");  // b's 0.96 is within it
+  EXPECT_EQ(over[1]["measure"], "ssim_covered");
+  EXPECT_EQ(over[1]["value"], 0.94);
+  EXPECT_EQ(over[1]["limit"], 0.95);
+}
+
 TEST(LodFidelity, SeesNoChangeInTheOriginalAndSeesARemovedPart) {
   Renderer renderer;
   Labelled l = label_building(renderer);

@@ -97,6 +97,25 @@ TEST(BatchConfig, BadEntriesNameTheEntryAndWhatIsWrong) {
   EXPECT_NE(err("crs_origin: {lat: 95, lon: 0}\nmodels:\n  - city/a\n").find("'crs_origin'"), std::string::npos);
 }
 
+// min_ssim changes the settings hash only when it is set: configs without it
+// (and the batches a manifest resumes) keep the hash they had before the key.
+TEST(BatchConfig, MinSsimJoinsTheSettingsHashOnlyWhenSet) {
+  BatchFolder b;
+  ConfigFile f = load_config_file(b.dir.file("batch.yaml", "distances: [56]\nmodel: city/a/house.obj\n"));
+  const BatchConfig& plain = f.models[0].config;
+  const nlohmann::json s = settings_json(plain);
+  EXPECT_FALSE(s.contains("min_ssim"));
+  BatchConfig with = plain;
+  with.min_ssim = 0.95;
+  EXPECT_EQ(settings_json(with)["min_ssim"], 0.95);
+  EXPECT_NE(hash_text(settings_json(with).dump()), hash_text(s.dump()));
+  BatchConfig target = plain;
+  target.fidelity_target = true;
+  EXPECT_FALSE(settings_json(target)["fidelity_target"].contains("min_ssim"));
+  target.target_min_ssim = 0.95;
+  EXPECT_EQ(settings_json(target)["fidelity_target"]["min_ssim"], 0.95);
+}
+
 // keep_unsampled_surface reaches the labelling job, per model, and changes
 // the settings hash (a batch redoes the models it changes); a value that is
 // not a boolean names the key.

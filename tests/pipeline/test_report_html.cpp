@@ -245,6 +245,42 @@ TEST(ReportHtml, ChartsHaveOnePointPerDistance) {
   EXPECT_LT(cy["56"], cy["132"]);  // 1021 triangles above 507
 }
 
+// min_ssim marks the SSIM cells below it (view row, worst row, summary row)
+// and joins the limits line; a report without the key marks none.
+TEST(ReportHtml, MarksSsimBelowMinSsimOnlyWhereALimitIsSet) {
+  const OutputNames n{"out", "bldg"};
+  nlohmann::json r = small_report(n);
+  auto marked = [](const std::string& html) {
+    size_t k = 0;
+    for (size_t at = html.find("<td class=\"over\">0.9100</td>"); at != std::string::npos;
+         at = html.find("<td class=\"over\">0.9100</td>", at + 1))
+      ++k;
+    return k;
+  };
+  EXPECT_EQ(marked(model_report_html(r, n)), 0u);
+  r["lods"][1]["fidelity"]["limits"]["min_ssim"] = 0.95;  // the held-out view at 132 m has 0.91
+  const std::string html = model_report_html(r, n);
+  EXPECT_EQ(marked(html), 3u) << html;
+  EXPECT_TRUE(has(html, "SSIM &ge; 0.9500"));
+  r["lods"][1]["fidelity"]["limits"]["min_ssim"] = 0.9;
+  EXPECT_EQ(marked(model_report_html(r, n)), 0u);
+}
+
+// A fidelity_target search: one row per try, with both bounds it used.
+TEST(ReportHtml, ShowsEachFidelitySearchTryWithBothBounds) {
+  const OutputNames n{"out", "bldg"};
+  nlohmann::json r = small_report(n);
+  const nlohmann::json worst = {{"changed_fraction", 0.031}, {"ssim_covered", 0.99}, {"silhouette_mismatch", 0.0}};
+  r["lods"][0]["fidelity_search"] = {
+      {{"e_imperceptible", 0.25}, {"e_perceptible", 0.25}, {"triangles", 900}, {"worst", worst}, {"met", false}},
+      {{"e_imperceptible", 0.125}, {"e_perceptible", 0.125}, {"triangles", 1200}, {"worst", worst}, {"met", true}}};
+  const std::string html = model_report_html(r, n);
+  EXPECT_TRUE(has(html, "Fidelity target search"));
+  EXPECT_TRUE(has(html, "<th>e_perceptible (px)</th>"));
+  EXPECT_TRUE(has(html, "<tr><td>0.125</td><td>0.125</td><td>1200</td>")) << html;
+  EXPECT_TRUE(has(html, "<tr><td>0.250</td><td>0.250</td><td>900</td>")) << html;
+}
+
 TEST(ReportHtml, EscapesEveryText) {
   const OutputNames n{"out", "<a&b>"};
   json report = small_report(n);

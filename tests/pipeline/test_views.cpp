@@ -211,6 +211,9 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   expect_error(load_batch_config, write("maxc.yaml", base + "max_changed: 2\n"), "'max_changed' must be a fraction");
   expect_error(load_batch_config, write("maxs.yaml", base + "max_silhouette: -0.1\n"), "'max_silhouette'");
   expect_error(load_batch_config, write("strict.yaml", base + "strict: maybe\n"), "'strict'");
+  expect_error(load_batch_config, write("mins.yaml", base + "min_ssim: 1.2\n"), "'min_ssim' must be within [0, 1]");
+  expect_error(load_batch_config, write("ft4.yaml", base + "fidelity_target: {min_ssim: -1}\n"),
+               "'fidelity_target': min_ssim");
   expect_error(load_batch_config, write("ft.yaml", base + "fidelity_target: 0.02\n"), "'fidelity_target' must be a mapping");
   expect_error(load_batch_config, write("ft2.yaml", base + "fidelity_target: {max_chnged: 0.02}\n"),
                "unknown key 'max_chnged'");
@@ -251,6 +254,13 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   EXPECT_TRUE(t.fidelity_target);
   EXPECT_EQ(t.target.max_silhouette, 0.005);
   EXPECT_EQ(t.target.max_changed, 0.02);  // from max_changed's default
+  EXPECT_EQ(d.limits.min_ssim, 0.0);       // no SSIM limit unless asked
+  EXPECT_EQ(t.target.min_ssim, 0.0);
+  LodJob s = lod_job(load_batch_config(write("ssim.yaml", base + "display: ok-display.yaml\nmin_ssim: 0.97\n"
+                                                                 "fidelity_target: {min_ssim: 0.95}\n")));
+  EXPECT_EQ(s.limits.min_ssim, 0.97);
+  EXPECT_EQ(s.target.min_ssim, 0.95);
+  EXPECT_EQ(s.target.max_changed, 0.02);
 
   // A correct qem config maps its target onto the job.
   BatchConfig c = load_batch_config(write("qem-ok.yaml", base + "simplify: qem\ntarget: 500\ndisplay: ok-display.yaml\n"));
