@@ -549,7 +549,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
                   m.key.c_str(), d, goal, e_i[i], fidelity[i].triangles, need,
                   need > 0 ? double(fidelity[i].triangles) / need : 0.0);
       if (g_csv)
-        std::fprintf(g_csv, "%s,%g,same_ssim e_I=%g,%zu,,%.5f,,,,,,,,meshopt %.0f ratio %.3f\n", m.key.c_str(), d,
+        std::fprintf(g_csv, "%s,%g,same_ssim e_I=%g,%zu,,,%.5f,,,,,,,meshopt %.0f ratio %.3f\n", m.key.c_str(), d,
                      e_i[i], fidelity[i].triangles, goal, need, need > 0 ? double(fidelity[i].triangles) / need : 0.0);
     }
 #endif
