@@ -95,7 +95,7 @@ void register_run(CLI::App& app) {
                 "instead of undisplayable (README, Unsampled surface; also 'keep_unsampled_surface: true' in the config)");
   cmd->add_flag("--strict", a->strict,
                 "Fail (exit 1, after every output is written) when a LOD exceeds the config's max_changed or\n"
-                "max_silhouette in any judged view (also 'strict: true' in the config)");
+                "max_silhouette, or falls below its min_ssim, in any judged view (also 'strict: true' in the config)");
   cmd->add_option("--shard", a->shard,
                   "Batch: process only shard i of n (0-based, e.g. 2/8): models i, i+n, i+2n... of the list,\n"
                   "so n machines or Slurm array tasks split a city (scripts/slurm/)");
@@ -118,7 +118,8 @@ void register_run(CLI::App& app) {
       "skips models whose manifest matches their input, settings and perclod version, goes on past a model\n"
       "that fails (exit 1 at the end, naming it), and writes OUT/batch_<i>_of_<n>.json and OUT/tileset.json.\n"
       "Each LOD is judged from its labelling views and the config's judge_views (default held_out);\n"
-      "figures over max_changed / max_silhouette are warned about on stderr.");
+      "figures over max_changed / max_silhouette or under min_ssim are warned about on stderr;\n"
+      "fidelity_target: {max_changed: 0.02} searches the bounds for the fewest triangles within it.");
   cmd->callback([a] {
     set_error_files({a->config});
     ConfigFile f = load_config_file(a->config);  // the whole config, checked before any work

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <iomanip>
 #include <iterator>
 #include <sstream>
 #include <stdexcept>
@@ -429,7 +430,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       const bool ssim = o["measure"] == "ssim_covered";  // a figure, not a fraction
       ss << lod_path << ": from view " << o["view"].get<std::string>() << " (" << o["set"].get<std::string>()
          << ") " << o["measure"].get<std::string>() << " is ";
-      if (ssim) ss << o["value"].get<double>() << " (limit " << o["limit"].get<double>() << ")";
+      if (ssim) ss << std::setprecision(4) << o["value"].get<double>() << " (limit " << o["limit"].get<double>() << ")";
       else ss << 100 * o["value"].get<double>() << "% (limit " << 100 * o["limit"].get<double>() << "%)";
       warn(ss.str());
       report["over_limits"] = report["over_limits"].get<size_t>() + 1;

@@ -213,12 +213,14 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
   // Limits nobody meets: warnings name the view, and --strict fails.
   std::ofstream(out / "tight.yaml") << "model: " << kBuilding
                                     << "\nup: z\ndistances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
-                                       "max_changed: 0\nmax_silhouette: 0\nsimplify: paper\nout: "
+                                       "max_changed: 0\nmax_silhouette: 0\nmin_ssim: 1\nsimplify: paper\nout: "
                                     << (out / "tight").string() << "\n";
   auto t = run_cli("run " + (out / "tight.yaml").string() + " --strict");
   EXPECT_EQ(t.exit_code, 1) << t.err;
   EXPECT_NE(t.err.find("warning:"), std::string::npos) << t.err;
   EXPECT_NE(t.err.find("from view +x (labelling) changed_fraction"), std::string::npos) << t.err;
+  EXPECT_NE(t.err.find("from view +x (labelling) ssim_covered is 0."), std::string::npos) << t.err;  // not a %
+  EXPECT_NE(t.err.find("(limit 1)"), std::string::npos) << t.err;
   EXPECT_NE(t.err.find("strict"), std::string::npos) << t.err;
   EXPECT_TRUE(fs::exists(out / "tight" / "bldg_4018215_report.json"));  // every output written
   EXPECT_TRUE(fs::exists(out / "tight" / "bldg_4018215_lod_427m.obj"));
