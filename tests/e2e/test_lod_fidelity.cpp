@@ -62,7 +62,9 @@ TEST(LodFidelity, JudgeViewsFlagsEachMeasureAgainstItsLimit) {
 
   FidelityLimits ssim;
   ssim.min_ssim = 0.95;
-  const nlohmann::json over = judge_views(views, ssim)["over_limits"];
+  const nlohmann::json judged = judge_views(views, ssim);
+  EXPECT_EQ(judged["worst"], by_default["worst"]);
+  const nlohmann::json& over = judged["over_limits"];
   ASSERT_EQ(over.size(), 3u);
   EXPECT_EQ(over[1]["view"], "c");  // b's 0.96 is within it
   EXPECT_EQ(over[1]["measure"], "ssim_covered");
