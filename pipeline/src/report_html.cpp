@@ -367,7 +367,8 @@ std::string fidelity_table(const json& lod) {
   const double wc = num(worst, "changed_fraction"), ws = num(worst, "silhouette_mismatch");
   s << "<tr><th class=\"l\" colspan=\"2\">worst</th>" << (wc > max_changed ? "<td class=\"over\">" : "<td>")
     << percent(wc) << "</td>" << (num(worst, "ssim_covered") < min_ssim ? "<td class=\"over\">" : "<td>")
-    << fixed(num(worst, "ssim_covered"), 4) << "</td>" << (ws > max_sil ? "<td class=\"over\">" : "<td>") << percent(ws) << "</td><td></td></tr>\n</table>\n";
+    << fixed(num(worst, "ssim_covered"), 4) << "</td>" << (ws > max_sil ? "<td class=\"over\">" : "<td>")
+    << percent(ws) << "</td><td></td></tr>\n</table>\n";
   return s.str();
 }
 

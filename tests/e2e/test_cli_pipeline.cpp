@@ -164,11 +164,18 @@ TEST(CliPipeline, RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput) {
 TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
   fs::path out = fresh_dir("run-target");
   fs::create_directories(out);
-  std::ofstream(out / "job.yaml") << "model: " << kBuilding
-                                  << "\nup: z\ndistances: [132]\nsamples: 1\njudge_views: az22.5el15\n"
-                                     "fidelity_target: {max_changed: 0.02, max_silhouette: 0.01}\nout: "
-                                  << (out / "result").string() << "\n";
-  auto r = run_cli("run " + (out / "job.yaml").string() + " --json");
+  // A config for the demo building (Z up) with `settings`, writing to out/<result>.
+  auto job_file = [&](const char* name, const std::string& settings, const char* result) {
+    std::ofstream(out / name) << "model: " << kBuilding << "\nup: z\n" << settings << "out: " << (out / result).string()
+                              << "\n";
+    return (out / name).string();
+  };
+  auto r = run_cli("run " +
+                   job_file("job.yaml",
+                            "distances: [132]\nsamples: 1\njudge_views: az22.5el15\n"
+                            "fidelity_target: {max_changed: 0.02, max_silhouette: 0.01}\n",
+                            "result") +
+                   " --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto j = nlohmann::json::parse(r.out);
   const auto& lod = j["lods"][0];
@@ -190,11 +197,12 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
 
   // A target nothing meets: every bound is tried, both bounds tighten to
   // 0 px (only undisplayable triangles go), and the last LOD is kept.
-  std::ofstream(out / "none.yaml") << "model: " << kBuilding
-                                   << "\nup: z\ndistances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
-                                      "fidelity_target: {max_changed: 0}\nout: "
-                                   << (out / "none").string() << "\n";
-  auto none = run_cli("run " + (out / "none.yaml").string() + " --json");
+  auto none = run_cli("run " +
+                      job_file("none.yaml",
+                               "distances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
+                               "fidelity_target: {max_changed: 0}\n",
+                               "none") +
+                      " --json");
   ASSERT_EQ(none.exit_code, 0) << none.err;
   const auto none_report = nlohmann::json::parse(none.out);
   const auto& all = none_report["lods"][0];
@@ -211,11 +219,12 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
   EXPECT_NE(none.err.find("no e_imperceptible meets the fidelity target at 427 m"), std::string::npos) << none.err;
 
   // Limits nobody meets: warnings name the view, and --strict fails.
-  std::ofstream(out / "tight.yaml") << "model: " << kBuilding
-                                    << "\nup: z\ndistances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
-                                       "max_changed: 0\nmax_silhouette: 0\nmin_ssim: 1\nsimplify: paper\nout: "
-                                    << (out / "tight").string() << "\n";
-  auto t = run_cli("run " + (out / "tight.yaml").string() + " --strict");
+  auto t = run_cli("run " +
+                   job_file("tight.yaml",
+                            "distances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
+                            "max_changed: 0\nmax_silhouette: 0\nmin_ssim: 1\nsimplify: paper\n",
+                            "tight") +
+                   " --strict");
   EXPECT_EQ(t.exit_code, 1) << t.err;
   EXPECT_NE(t.err.find("warning:"), std::string::npos) << t.err;
   EXPECT_NE(t.err.find("from view +x (labelling) changed_fraction"), std::string::npos) << t.err;
