@@ -2,7 +2,7 @@
 // perclod's simplify modes beside meshoptimizer at the same triangle count.
 //
 // Per model and distance: labels from the default view set (kDefaultViews:
-// facades, ring8el30, top; 4 samples per pixel, per building where the file
+// facades, ring8el30, ring8el60, top; 4 samples per pixel, per building where the file
 // holds several);
 // the original is recorded from those labelling views and from 17 held-out
 // views (every labelling azimuth of ring8 offset by 22.5 degrees, at 15 and

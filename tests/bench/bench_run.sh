@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Whole-run cost beside bare rendering (issue "Speed"): a generated facade of
-# about N triangles, the default views (facades,ring8el30,top) at 56, 132 and
-# 427 m, 4 samples per pixel, fidelity mode. Each row is one process timed
+# about N triangles, the default views (facades,ring8el30,ring8el60,top) at
+# 56, 132 and 427 m, 4 samples per pixel, fidelity mode. Each row is one process timed
 # by /usr/bin/time (wall, CPU share of the 2 cores, peak resident memory);
 # ratios are to the bare renders of the same run of this script.
 #
@@ -41,7 +41,7 @@ rm -rf "$work"
 mkdir -p "$work"
 model="$work/facade.obj"
 "$perclod" generate facade --triangles "$triangles" "$model" >/dev/null 2>&1
-views="facades,ring8el30,top"  # kDefaultViews (perclod/views.h)
+views="facades,ring8el30,ring8el60,top"  # kDefaultViews (perclod/views.h)
 config() {  # name, extra YAML lines
   printf 'model: %s\nup: z\ndistances: [56, 132, 427]\nviews: %s\nsamples: 4\nout: %s\n%s' \
     "$model" "$views" "$work/out-$1" "$2" >"$work/$1.yaml"

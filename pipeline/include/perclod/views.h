@@ -48,7 +48,7 @@ inline std::vector<std::string> parse_facades(const std::string& spec, UpAxis up
 
 // The view set `perclod run` labels from unless told otherwise (README,
 // "Views", says how it was chosen).
-constexpr const char* kDefaultViews = "facades,ring8el30,top";
+constexpr const char* kDefaultViews = "facades,ring8el30,ring8el60,top";
 
 // A view name (see above) -> its camera at `distance`.
 Camera view_camera(const Bounds& bounds, UpAxis up, const std::string& view, double distance,
