@@ -5,7 +5,10 @@
 # by /usr/bin/time (wall, CPU share of the 2 cores, peak resident memory);
 # ratios are to the bare renders of the same run of this script.
 #
-#   tests/bench/bench_run.sh [--triangles N] [--build DIR] [--work DIR] [--runs K]
+#   tests/bench/bench_run.sh [--triangles N] [--views SET] [--build DIR] [--work DIR] [--runs K]
+#
+# --views labels (and renders) another view set than the default, e.g. the
+# previous default facades,ring8el30,top, to compare view sets in one session.
 #
 # Rows (medians of K runs):
 #   render: labelling views   perclod render of the labelling views (and tiles)
@@ -20,16 +23,18 @@
 set -euo pipefail
 
 triangles=1000000
+views="facades,ring8el30,ring8el60,top"  # kDefaultViews (perclod/views.h)
 build="$(cd "$(dirname "$0")/../.." && pwd)/build"
 work="${TMPDIR:-/tmp}/perclod-bench-run"
 runs=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --triangles) triangles="$2"; shift 2 ;;
+    --views) views="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
     --work) work="$2"; shift 2 ;;
     --runs) runs="$2"; shift 2 ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
     *) echo "bench_run.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -41,7 +46,6 @@ rm -rf "$work"
 mkdir -p "$work"
 model="$work/facade.obj"
 "$perclod" generate facade --triangles "$triangles" "$model" >/dev/null 2>&1
-views="facades,ring8el30,ring8el60,top"  # kDefaultViews (perclod/views.h)
 config() {  # name, extra YAML lines
   printf 'model: %s\nup: z\ndistances: [56, 132, 427]\nviews: %s\nsamples: 4\nout: %s\n%s' \
     "$model" "$views" "$work/out-$1" "$2" >"$work/$1.yaml"
@@ -68,7 +72,7 @@ time_it() {
 
 results="$work/results.txt"
 : >"$results"
-echo "bench_run: facade of $("$perclod" info "$model" --json | sed -n 's/.*"triangles": *\([0-9]*\).*/\1/p' | head -1) triangles, $runs run(s) per row, $(nproc) cores" >&2
+echo "bench_run: facade of $("$perclod" info "$model" --json | sed -n 's/.*"triangles": *\([0-9]*\).*/\1/p' | head -1) triangles, $runs run(s) per row, $(nproc) cores, views $views" >&2
 time_it "render: labelling views" "$perclod" render "$model" --up z -d 56,132,427 --views "$views" -o "$work/out-render" >>"$results"
 time_it "render: + held-out views" "$perclod" render "$model" --up z -d 56,132,427 --views "$views,held_out" -o "$work/out-render" >>"$results"
 time_it "run" "$perclod" run "$work/run.yaml" >>"$results"
