@@ -406,7 +406,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
         job.overlap,
         [&](size_t k, ViewOutcome& o) {  // rendered and perceived: record it, queue its images
           const ViewTile& tile = tiles[k];
-          res.views.push_back(view_record(tile.name, tile.camera, o.perception, o.background, "labelling"));
+          res.views.push_back(view_record(tile.name, tile.camera, o.image.rgb, o.background, "labelling"));
           if (!write_files) return;
           auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
           const int w = o.image.width, h = o.image.height;

@@ -89,21 +89,26 @@ SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
 
 std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
                                      const LabelJob& job, const std::string& set) {
-  const PerceptionSettings ps = perception_for(job);
   const Bounds bounds = scene_bounds(scene);
   renderer.set_scene(scene);
   std::vector<ViewRecord> records;
-  PerceptionResult pr;
   std::vector<uint8_t> background;
   RenderOutput img;  // one set of buffers for every view
   for (const auto& view : views)
     for (const ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) {
       renderer.render(tile.camera, img);
       background_of(img, background);
-      perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
-      records.push_back(view_record(tile.name, tile.camera, pr, background, set));
+      records.push_back(view_record(tile.name, tile.camera, img.rgb, background, set));
     }
   return records;
+}
+
+void ViewRecord::render_into(std::vector<uint8_t>& image) const {
+  const size_t W = size_t(camera.width), H = size_t(camera.height);
+  image.resize(W * H * 3);
+  for (size_t i = 0; i < W * H; ++i) std::copy_n(background_rgb, 3, &image[3 * i]);
+  for (int y = 0; y < h; ++y)
+    std::copy_n(&rgb[3 * size_t(y) * size_t(w)], 3 * size_t(w), &image[3 * ((size_t(y0 + y) * W) + size_t(x0))]);
 }
 
 namespace {
@@ -114,8 +119,9 @@ namespace {
 // shrunk by a whole factor (box filter; a block is red or blue if any pixel
 // in it is) to at most 400 px, or enlarged by one (nearest) to about 240 px,
 // so a building far away is as readable as one close by.
-Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_luminance,
-                       const std::vector<uint8_t>& lod_background, const std::vector<uint8_t>& changed, int w, int h) {
+Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& original_luminance,
+                       const std::vector<float>& lod_luminance, const std::vector<uint8_t>& lod_background,
+                       const std::vector<uint8_t>& changed, int w, int h) {
   int x0 = w, y0 = h, x1 = -1, y1 = -1;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -145,7 +151,7 @@ Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_lumina
       for (int yy = sy0; yy < sy1; ++yy)
         for (int xx = sx0; xx < sx1; ++xx, ++n) {
           const size_t i = size_t(yy) * size_t(w) + size_t(xx);
-          a += v.luminance_at(xx, yy), b += lod_luminance[i];
+          a += original_luminance[i], b += lod_luminance[i];
           red |= changed[i] != 0;
           blue |= (lod_background[i] != 0) != v.background_at(xx, yy);
         }
@@ -173,35 +179,39 @@ Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& lod_lumina
 // One judged view's figures from the LOD's render of it (and its picture).
 struct ViewComparer {
   PerceptionSettings ps;
-  PerceptionResult pr;
-  std::vector<uint8_t> background, drawn_mask, changed_mask;
+  PerceptionResult pr, original;
+  std::vector<uint8_t> background, drawn_mask, changed_mask, original_rgb;
   std::vector<float> luminance_original;
 
   nlohmann::json operator()(const ViewRecord& v, RenderOutput& img, Rgb8Image* picture) {
+    const size_t kept = size_t(v.w) * size_t(v.h);
+    if (img.width != v.camera.width || img.height != v.camera.height || v.rgb.size() != 3 * kept ||
+        v.background.size() != kept)
+      throw std::logic_error("compare_lod_views: view size changed between recording and comparison");
     background_of(img, background);
     perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
-    const size_t kept = size_t(v.w) * size_t(v.h);
-    if (img.width != v.camera.width || img.height != v.camera.height || v.simulated.size() != kept ||
-        v.luminance.size() != kept || v.background.size() != kept)
-      throw std::logic_error("compare_lod_views: view size changed between recording and comparison");
+    // The original's render rebuilt from its record and perceived as it was
+    // when recorded (same pixels, same settings: the same floats).
+    v.render_into(original_rgb);
+    perceive_into(original_rgb.data(), img.width, img.height, ps, nullptr, original);
     const size_t n = background.size();
     size_t drawn = 0, changed = 0, coverage_changed = 0, covered_original = 0;
     drawn_mask.assign(n, 0);
     changed_mask.assign(picture ? n : 0, 0);
-    luminance_original.assign(n, float(v.background_luminance));
+    luminance_original.resize(n);
+    for (size_t i = 0; i < n; ++i) luminance_original[i] = std::round(std::clamp(original.luminance[i], 0.f, 255.f));
     for (int y = 0; y < img.height; ++y)
       for (int x = 0; x < img.width; ++x) {
         const size_t i = size_t(y) * size_t(img.width) + size_t(x);
         const long k = v.kept(x, y);
         const bool original_background = k < 0 || v.background[size_t(k)];
-        if (k >= 0) luminance_original[i] = float(v.luminance[size_t(k)]);
         covered_original += !original_background;
         if (background[i] && original_background) continue;
         drawn_mask[i] = 1;
         ++drawn;
         // Beyond the kept rectangle the original drew nothing within
         // kRecordMargin pixels: a LOD drawing there changes what is seen.
-        const bool c = k < 0 || std::abs(pr.simulated[i] - v.simulated[size_t(k)]) > ps.threshold;
+        const bool c = k < 0 || std::abs(pr.simulated[i] - original.simulated[i]) > ps.threshold;
         changed += c;
         if (picture) changed_mask[i] = c;
         coverage_changed += (background[i] != 0) != original_background;
@@ -210,7 +220,8 @@ struct ViewComparer {
     for (float& l : pr.luminance) l = std::round(std::clamp(l, 0.f, 255.f));
     const double ssim = ssim_mean(luminance_original.data(), pr.luminance.data(), img.width, img.height,
                                   drawn_mask.data());
-    if (picture) *picture = side_by_side(v, pr.luminance, background, changed_mask, img.width, img.height);
+    if (picture)
+      *picture = side_by_side(v, luminance_original, pr.luminance, background, changed_mask, img.width, img.height);
     return {{"view", v.view},
             {"set", v.set},
             {"drawn_pixels", drawn},
@@ -234,7 +245,7 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
   renderer.set_scene(lod);
   nlohmann::json views = nlohmann::json::array();
   std::vector<Rgb8Image> shots(pictures ? original.size() : 0);
-  ViewComparer compare{perception_for(job), {}, {}, {}, {}, {}};
+  ViewComparer compare{perception_for(job), {}, {}, {}, {}, {}, {}, {}};
   RenderOutput img[2];
   std::future<nlohmann::json> pending;
   struct Wait {  // an exception must not leave a comparison running on our buffers

@@ -32,18 +32,18 @@ inline void background_of(const RenderOutput& img, std::vector<uint8_t>& backgro
   for (size_t i = 0; i < img.ids.size(); ++i) background[i] = img.ids[i] == 0;
 }
 
-// A ViewRecord of the original from one view's perception result: the
-// rectangle it draws, widened by kRecordMargin and clipped to the image.
-inline ViewRecord view_record(const std::string& name, const Camera& camera, const PerceptionResult& pr,
+// A ViewRecord of the original from one view's render (rgb, 3 bytes a
+// pixel, and its background mask): the rectangle it draws, widened by
+// kRecordMargin and clipped to the image.
+inline ViewRecord view_record(const std::string& name, const Camera& camera, const std::vector<uint8_t>& rgb,
                               const std::vector<uint8_t>& background, const std::string& set) {
   ViewRecord r;
   r.view = name;
   r.camera = camera;
   r.set = set;
   const int W = camera.width, H = camera.height;
-  auto lum8 = [&](size_t i) { return uint8_t(std::lround(std::clamp(pr.luminance[i], 0.f, 255.f))); };
   int x0 = W, y0 = H, x1 = -1, y1 = -1;
-  size_t undrawn = background.size();  // some undrawn pixel, for the background's luminance
+  size_t undrawn = background.size();  // some undrawn pixel, for the background's colour
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       const size_t i = size_t(y) * size_t(W) + size_t(x);
@@ -53,19 +53,17 @@ inline ViewRecord view_record(const std::string& name, const Camera& camera, con
       }
       x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = y;
     }
-  if (undrawn < background.size()) r.background_luminance = lum8(undrawn);
+  if (undrawn < background.size()) std::copy_n(&rgb[3 * undrawn], 3, r.background_rgb);
   if (x1 < 0) return r;  // nothing drawn: nothing kept
   r.x0 = std::max(0, x0 - kRecordMargin), r.y0 = std::max(0, y0 - kRecordMargin);
   r.w = std::min(W - 1, x1 + kRecordMargin) - r.x0 + 1, r.h = std::min(H - 1, y1 + kRecordMargin) - r.y0 + 1;
   const size_t n = size_t(r.w) * size_t(r.h);
-  r.simulated.resize(n), r.luminance.resize(n), r.background.resize(n);
-  for (int y = 0; y < r.h; ++y)
-    for (int x = 0; x < r.w; ++x) {
-      const size_t i = size_t(y + r.y0) * size_t(W) + size_t(x + r.x0), k = size_t(y) * size_t(r.w) + size_t(x);
-      r.simulated[k] = pr.simulated[i];
-      r.luminance[k] = lum8(i);
-      r.background[k] = background[i] != 0;
-    }
+  r.rgb.resize(3 * n), r.background.resize(n);
+  for (int y = 0; y < r.h; ++y) {
+    const size_t row = size_t(y + r.y0) * size_t(W) + size_t(r.x0), k = size_t(y) * size_t(r.w);
+    std::copy_n(&rgb[3 * row], 3 * size_t(r.w), &r.rgb[3 * k]);
+    for (int x = 0; x < r.w; ++x) r.background[k + size_t(x)] = background[row + size_t(x)] != 0;
+  }
   return r;
 }
 

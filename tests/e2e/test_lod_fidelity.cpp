@@ -299,7 +299,7 @@ TEST(LodFidelity, OverlappedViewsGiveTheSequentialResults) {
   ASSERT_EQ(a.views.size(), b.views.size());
   for (size_t k = 0; k < a.views.size(); ++k) {
     EXPECT_EQ(a.views[k].view, b.views[k].view);
-    EXPECT_EQ(a.views[k].simulated, b.views[k].simulated);
+    EXPECT_EQ(a.views[k].rgb, b.views[k].rgb);
   }
   SimplifyOptions opt;
   opt.mode = SimplifyMode::Fidelity;

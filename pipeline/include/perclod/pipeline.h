@@ -123,17 +123,20 @@ struct LabelJob {
 // same view: a labelling view, or a held-out view (record_views). Only the
 // rectangle the original draws, widened by kRecordMargin pixels, is kept
 // (a building at 427 m covers a few thousand of a view's million pixels);
-// outside it the original drew nothing: background, background_luminance.
+// outside it the original drew nothing: background, background_rgb. The
+// render's colours are kept, not its perception: the judge rebuilds the
+// whole render from them and perceives it again, with the same figures to
+// the last bit, and 3 bytes a pixel instead of the 5 of a float simulated
+// luminance and a rounded luminance (at 56 m a 1M-triangle model is judged
+// from 86 tiles that its records nearly fill).
 constexpr int kRecordMargin = 16;
 struct ViewRecord {
   std::string view;  // view name (with "_t<i>" for a tile)
   Camera camera;
   int x0 = 0, y0 = 0, w = 0, h = 0;       // the kept rectangle of the camera's image
-  std::vector<float> simulated;            // vision-simulated luminance of the render, w x h, row 0 top
-  std::vector<uint8_t> luminance;          // luminance of the render, rounded to 0..255
-  std::vector<bool> background;            // true where no triangle was drawn (a bit each: at 56 m a
-                                           // 1M-triangle model's 66 judged views fill their frames)
-  uint8_t background_luminance = 255;      // the luminance of an undrawn pixel
+  std::vector<uint8_t> rgb;                // the render's colours, w x h x 3, row 0 top
+  std::vector<bool> background;            // true where no triangle was drawn (a bit each)
+  uint8_t background_rgb[3] = {255, 255, 255};  // the colour of an undrawn pixel
   std::string set = "labelling";           // "labelling" or "held_out"
 
   // Index into the kept arrays of image pixel (x, y), or -1 outside them.
@@ -144,10 +147,9 @@ struct ViewRecord {
     const long k = kept(x, y);
     return k < 0 || background[size_t(k)];
   }
-  uint8_t luminance_at(int x, int y) const {
-    const long k = kept(x, y);
-    return k < 0 ? background_luminance : luminance[size_t(k)];
-  }
+  // The whole render, camera.width x camera.height x 3: the kept rectangle
+  // over the undrawn colour.
+  void render_into(std::vector<uint8_t>& image) const;
 };
 
 // A labelling render's triangle IDs, kept to colour its marking image once
