@@ -181,7 +181,6 @@ struct ViewComparer {
   PerceptionSettings ps;
   PerceptionResult pr, original;
   std::vector<uint8_t> background, drawn_mask, changed_mask, original_rgb;
-  std::vector<float> luminance_original;
 
   nlohmann::json operator()(const ViewRecord& v, RenderOutput& img, Rgb8Image* picture) {
     const size_t kept = size_t(v.w) * size_t(v.h);
@@ -198,8 +197,6 @@ struct ViewComparer {
     size_t drawn = 0, changed = 0, coverage_changed = 0, covered_original = 0;
     drawn_mask.assign(n, 0);
     changed_mask.assign(picture ? n : 0, 0);
-    luminance_original.resize(n);
-    for (size_t i = 0; i < n; ++i) luminance_original[i] = std::round(std::clamp(original.luminance[i], 0.f, 255.f));
     for (int y = 0; y < img.height; ++y)
       for (int x = 0; x < img.width; ++x) {
         const size_t i = size_t(y) * size_t(img.width) + size_t(x);
@@ -217,11 +214,12 @@ struct ViewComparer {
         coverage_changed += (background[i] != 0) != original_background;
       }
     // Both luminances on the same 8-bit grid, so an unchanged LOD scores 1.
-    for (float& l : pr.luminance) l = std::round(std::clamp(l, 0.f, 255.f));
-    const double ssim = ssim_mean(luminance_original.data(), pr.luminance.data(), img.width, img.height,
+    for (auto* lum : {&original.luminance, &pr.luminance})
+      for (float& l : *lum) l = std::round(std::clamp(l, 0.f, 255.f));
+    const double ssim = ssim_mean(original.luminance.data(), pr.luminance.data(), img.width, img.height,
                                   drawn_mask.data());
     if (picture)
-      *picture = side_by_side(v, luminance_original, pr.luminance, background, changed_mask, img.width, img.height);
+      *picture = side_by_side(v, original.luminance, pr.luminance, background, changed_mask, img.width, img.height);
     return {{"view", v.view},
             {"set", v.set},
             {"drawn_pixels", drawn},
@@ -245,7 +243,7 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
   renderer.set_scene(lod);
   nlohmann::json views = nlohmann::json::array();
   std::vector<Rgb8Image> shots(pictures ? original.size() : 0);
-  ViewComparer compare{perception_for(job), {}, {}, {}, {}, {}, {}, {}};
+  ViewComparer compare{perception_for(job), {}, {}, {}, {}, {}, {}};
   RenderOutput img[2];
   std::future<nlohmann::json> pending;
   struct Wait {  // an exception must not leave a comparison running on our buffers
