@@ -91,7 +91,7 @@ void blur(std::vector<double>* maps, int nmaps, int w, int h) {
 
 }  // namespace
 
-double ssim_mean(const float* a, const float* b, int w, int h, const uint8_t* region) {
+double ssim_mean(const float* a, const float* b, int w, int h, const uint8_t* region, SsimScratch* scratch) {
   if (w <= 0 || h <= 0 || !a || !b) throw std::invalid_argument("ssim_mean: empty image");
   // The region's bounding box, widened by the window's radius and clipped.
   int x0 = 0, y0 = 0, x1 = w - 1, y1 = h - 1;
@@ -106,8 +106,9 @@ double ssim_mean(const float* a, const float* b, int w, int h, const uint8_t* re
   }
   const int bw = x1 - x0 + 1, bh = y1 - y0 + 1;
   const size_t n = size_t(bw) * bh;
-  std::vector<double> maps[5];
-  for (auto& m : maps) m.resize(n);
+  SsimScratch local;
+  std::vector<double>* maps = (scratch ? scratch : &local)->maps;
+  for (int m = 0; m < 5; ++m) maps[m].resize(n);  // every element is written below
   for (int y = 0; y < bh; ++y)
     for (int x = 0; x < bw; ++x) {
       const size_t i = size_t(y) * bw + x, src = size_t(y + y0) * w + size_t(x + x0);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "perclod/perception.h"
@@ -80,4 +81,24 @@ TEST(Ssim, ARegionScoresTheSameInsideALargerImage) {
   EXPECT_EQ(ssim_mean(A.data(), B.data(), W, H, Inner.data()), small);
   std::vector<uint8_t> none(size_t(W) * H, 0);
   EXPECT_EQ(ssim_mean(A.data(), B.data(), W, H, none.data()), 1.0);
+}
+
+// One SsimScratch reused across images of other sizes (larger, then smaller,
+// then larger again: its maps shrink and grow) gives each the mean a call
+// without scratch gives, to the last bit.
+TEST(Ssim, AReusedScratchGivesTheSameMeans) {
+  SsimScratch scratch;
+  for (auto [w, h] : {std::pair{64, 48}, std::pair{17, 9}, std::pair{90, 70}, std::pair{64, 48}}) {
+    const std::vector<float> a = pattern(w, h);
+    std::vector<float> b = a;
+    for (int y = h / 3; y < h; ++y)
+      for (int x = w / 2; x < w; ++x) b[size_t(y) * w + x] = 255.f - b[size_t(y) * w + x];
+    std::vector<uint8_t> region(size_t(w) * h, 0);
+    for (size_t i = 0; i < region.size(); i += 3) region[i] = 1;
+    const double fresh = ssim_mean(a.data(), b.data(), w, h, region.data());
+    EXPECT_LT(fresh, 0.95) << w << "x" << h;
+    EXPECT_EQ(ssim_mean(a.data(), b.data(), w, h, region.data(), &scratch), fresh) << w << "x" << h;
+    EXPECT_EQ(ssim_mean(a.data(), b.data(), w, h, nullptr, &scratch), ssim_mean(a.data(), b.data(), w, h, nullptr))
+        << w << "x" << h;
+  }
 }

@@ -165,6 +165,15 @@ std::vector<uint8_t> simulated_view(const PerceptionResult& r);
 // statistics under a Gaussian window (sigma 1.5 px, 11 x 11 taps), weights
 // renormalised where the window leaves the image; C1 = (0.01 * 255)^2,
 // C2 = (0.03 * 255)^2. Returns 1 for an empty region.
-double ssim_mean(const float* a, const float* b, int w, int h, const uint8_t* region);
+//
+// The five filtered maps take 40 bytes a pixel of the region's box; pass the
+// same SsimScratch to every call of a series (one per thread) and they are
+// allocated once, not page-faulted afresh for each image (the result is the
+// same with or without it).
+struct SsimScratch {
+  std::vector<double> maps[5];
+};
+double ssim_mean(const float* a, const float* b, int w, int h, const uint8_t* region,
+                 SsimScratch* scratch = nullptr);
 
 }  // namespace perclod
