@@ -17,6 +17,8 @@ namespace {
 // Largest image perclod reads: renders are a few thousand pixels wide.
 constexpr int kMaxImageSide = 32768;
 constexpr long long kMaxImagePixels = 1LL << 28;
+constexpr int kPngLevel = 2;
+constexpr int kPngFilterUp = 0x20;  // libpng's PNG_FILTER_UP
 
 std::runtime_error io_error(const std::string& path, const std::string& what) {
   return std::runtime_error(path + ": " + what);
@@ -34,6 +36,13 @@ void write_image(const std::string& path, int w, int h, int channels, OIIO::Type
   if (!out) throw io_error(path, "no image writer for this extension");
   if (!out->supports("ioproxy")) throw io_error(path, "the image writer cannot write to memory");
   OIIO::ImageSpec spec(w, h, channels, type);
+  if (std::string(out->format_name()) == "png") {
+    // Every row filtered with "up" at zlib level 2: on 1280x1024 renders and
+    // debug images 3-4x faster to encode than libpng's default (adaptive
+    // filters, level 6), for files 0-60% larger (a run writes hundreds).
+    spec.attribute("png:compressionLevel", kPngLevel);
+    spec.attribute("png:filter", kPngFilterUp);
+  }
   if (!out->set_ioproxy(&mem) || !out->open(path, spec) || !out->write_image(type, data) || !out->close())
     throw io_error(path, "cannot encode image: " + out->geterror());
   out.reset();
