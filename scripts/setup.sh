@@ -20,6 +20,7 @@ PACKAGES=(
   libyaml-cpp-dev         # configs
   nlohmann-json3-dev      # JSON reports
   libcli11-dev            # command line
+  zlib1g-dev              # packs the views and ID buffers a run keeps
   libmeshoptimizer-dev    # peer simplifier for benchmarks
   clang libclang-rt-dev   # ASan/UBSan and libFuzzer stages (build-asan/); the runtimes are only a Recommends of clang
   python3 python3-matplotlib  # charts in scripts/

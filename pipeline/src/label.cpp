@@ -45,11 +45,13 @@ std::vector<std::string> write_marking_images(Renderer& renderer, const Scene& s
   RenderOptions opt;
   opt.triangle_colors = marking_colors(labels);
   opt.want_ids = false;
+  std::vector<uint32_t> ids;
   for (IdBuffer& b : id_buffers) {
+    b.ids_into(ids);
     files.push_back(job.out.view(b.view, job.distance, "_marking.png"));
     write_png_via(job.images, files.back(), b.camera.width, b.camera.height, 3,
-                  shade_ids(scene, b.camera, b.ids, opt.triangle_colors, opt));
-    b.ids = {};
+                  shade_ids(scene, b.camera, ids, opt.triangle_colors, opt));
+    b.packed_ids = {};
   }
   if (!job.marking_near) return files;
   const Bounds bounds = scene_bounds(scene);
@@ -114,6 +116,7 @@ struct ViewOutcome {
   std::vector<uint8_t> background;
   RenderOutput image;
   std::vector<std::vector<uint32_t>> samples;  // the traced samples, kept for the slot's next view
+  std::vector<uint8_t> packed_ids;             // image.ids packed, for a marking image
   double t_render = 0, t_perceive = 0;
   nlohmann::json report;
 };
@@ -128,10 +131,8 @@ struct ViewOutcome {
 class ViewPipeline {
  public:
   using Step = std::function<void(size_t, ViewOutcome&)>;
-  ViewPipeline(bool overlap, Step seen, Step counted)
-      : overlap_(overlap), seen_(std::move(seen)), counted_(std::move(counted)) {}
-  ~ViewPipeline() {
-    if (pending_.valid()) pending_.wait();  // an exception left a count in flight
+  ViewPipeline(bool overlap, Step seen, Step counted) : seen_(std::move(seen)), counted_(std::move(counted)) {
+    if (overlap) worker_.emplace();
   }
   template <class See, class Count>
   void add(See see, Count count) {
@@ -139,8 +140,8 @@ class ViewPipeline {
     see(o);
     seen_(next_, o);
     drain();
-    if (overlap_) {
-      pending_ = std::async(std::launch::async, [count, &o] { count(o); });
+    if (worker_) {
+      pending_ = worker_->submit([count, &o] { count(o); });
     } else {
       count(o);
       counted_(next_, o);
@@ -154,10 +155,12 @@ class ViewPipeline {
   }
 
  private:
-  bool overlap_;
   Step seen_, counted_;
   ViewOutcome slot_[2];
   size_t next_ = 0;
+  // After the slots: an exception ends the worker (finishing the count in
+  // flight) before the slot it counts is freed.
+  std::optional<Worker> worker_;
   std::future<void> pending_;
 };
 
@@ -420,7 +423,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
         [&](size_t k, ViewOutcome& o) {  // traced and counted
           const ViewTile& tile = tiles[k];
           if (write_files && job.write_view_images)
-            res.id_buffers.push_back(IdBuffer{tile.name, tile.camera, std::move(o.image.ids)});
+            res.id_buffers.push_back(IdBuffer{tile.name, tile.camera, std::move(o.packed_ids)});
           res.report["views"].push_back(o.report);
           if (progress) progress(progress_line(tile.name, job.distance, o));
         });
@@ -428,6 +431,8 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, tile.camera, depth, o); },
                    [&](ViewOutcome& o) {
                      count_view(scene, tracer, reference, job, tile.name, tile.camera, nullptr, 0, res, acc, o);
+                     if (write_files && job.write_view_images)  // packed here, on the worker
+                       o.packed_ids = pack_bytes(o.image.ids.data(), o.image.ids.size() * sizeof(uint32_t));
                    });
     pipeline.drain();
   }

@@ -7,6 +7,7 @@
 #include <future>
 #include <iomanip>
 #include <iterator>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -103,12 +104,24 @@ std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, con
   return records;
 }
 
+void ViewRecord::rgb_into(std::vector<uint8_t>& rgb) const {
+  rgb.resize(3 * size_t(w) * size_t(h));
+  if (!rgb.empty()) unpack_bytes(packed_rgb, rgb.data(), rgb.size());
+}
+
 void ViewRecord::render_into(std::vector<uint8_t>& image) const {
+  thread_local std::vector<uint8_t> kept;
+  rgb_into(kept);
   const size_t W = size_t(camera.width), H = size_t(camera.height);
   image.resize(W * H * 3);
   for (size_t i = 0; i < W * H; ++i) std::copy_n(background_rgb, 3, &image[3 * i]);
   for (int y = 0; y < h; ++y)
-    std::copy_n(&rgb[3 * size_t(y) * size_t(w)], 3 * size_t(w), &image[3 * ((size_t(y0 + y) * W) + size_t(x0))]);
+    std::copy_n(&kept[3 * size_t(y) * size_t(w)], 3 * size_t(w), &image[3 * ((size_t(y0 + y) * W) + size_t(x0))]);
+}
+
+void IdBuffer::ids_into(std::vector<uint32_t>& ids) const {
+  ids.resize(size_t(camera.width) * size_t(camera.height));
+  if (!ids.empty()) unpack_bytes(packed_ids, ids.data(), ids.size() * sizeof(uint32_t));
 }
 
 namespace {
@@ -181,11 +194,11 @@ struct ViewComparer {
   PerceptionSettings ps;
   PerceptionResult pr, original;
   std::vector<uint8_t> background, drawn_mask, changed_mask, original_rgb;
+  SsimScratch ssim_scratch;
 
   nlohmann::json operator()(const ViewRecord& v, RenderOutput& img, Rgb8Image* picture) {
     const size_t kept = size_t(v.w) * size_t(v.h);
-    if (img.width != v.camera.width || img.height != v.camera.height || v.rgb.size() != 3 * kept ||
-        v.background.size() != kept)
+    if (img.width != v.camera.width || img.height != v.camera.height || v.background.size() != kept)
       throw std::logic_error("compare_lod_views: view size changed between recording and comparison");
     background_of(img, background);
     perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
@@ -217,7 +230,7 @@ struct ViewComparer {
     for (auto* lum : {&original.luminance, &pr.luminance})
       for (float& l : *lum) l = std::round(std::clamp(l, 0.f, 255.f));
     const double ssim = ssim_mean(original.luminance.data(), pr.luminance.data(), img.width, img.height,
-                                  drawn_mask.data());
+                                  drawn_mask.data(), &ssim_scratch);
     if (picture)
       *picture = side_by_side(v, original.luminance, pr.luminance, background, changed_mask, img.width, img.height);
     return {{"view", v.view},
@@ -243,20 +256,18 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
   renderer.set_scene(lod);
   nlohmann::json views = nlohmann::json::array();
   std::vector<Rgb8Image> shots(pictures ? original.size() : 0);
-  ViewComparer compare{perception_for(job), {}, {}, {}, {}, {}, {}};
+  ViewComparer compare{perception_for(job), {}, {}, {}, {}, {}, {}, {}};
   RenderOutput img[2];
+  // Declared after the buffers it works on: an exception ends the worker
+  // (finishing the comparison in flight) before they are freed.
+  std::optional<Worker> worker;
+  if (job.overlap) worker.emplace();
   std::future<nlohmann::json> pending;
-  struct Wait {  // an exception must not leave a comparison running on our buffers
-    std::future<nlohmann::json>& f;
-    ~Wait() {
-      if (f.valid()) f.wait();
-    }
-  } wait{pending};
   for (size_t k = 0; k < original.size(); ++k) {
     renderer.render(original[k].camera, img[k % 2]);  // reuses the buffers of view k-2, compared by now
     if (pending.valid()) views.push_back(pending.get());
     auto work = [&, k] { return compare(original[k], img[k % 2], pictures ? &shots[k] : nullptr); };
-    if (job.overlap) pending = std::async(std::launch::async, work);
+    if (worker) pending = worker->submit(work);
     else views.push_back(work());
   }
   if (pending.valid()) views.push_back(pending.get());

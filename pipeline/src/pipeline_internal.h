@@ -4,10 +4,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
+#include <functional>
+#include <future>
+#include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <type_traits>
 #include <vector>
 
+#include "packing.h"
 #include "perclod/pipeline.h"
 
 #if defined(__GLIBC__)
@@ -58,12 +67,15 @@ inline ViewRecord view_record(const std::string& name, const Camera& camera, con
   r.x0 = std::max(0, x0 - kRecordMargin), r.y0 = std::max(0, y0 - kRecordMargin);
   r.w = std::min(W - 1, x1 + kRecordMargin) - r.x0 + 1, r.h = std::min(H - 1, y1 + kRecordMargin) - r.y0 + 1;
   const size_t n = size_t(r.w) * size_t(r.h);
-  r.rgb.resize(3 * n), r.background.resize(n);
+  thread_local std::vector<uint8_t> kept;  // the rectangle's colours, packed below
+  kept.resize(3 * n);
+  r.background.resize(n);
   for (int y = 0; y < r.h; ++y) {
     const size_t row = size_t(y + r.y0) * size_t(W) + size_t(r.x0), k = size_t(y) * size_t(r.w);
-    std::copy_n(&rgb[3 * row], 3 * size_t(r.w), &r.rgb[3 * k]);
+    std::copy_n(&rgb[3 * row], 3 * size_t(r.w), &kept[3 * k]);
     for (int x = 0; x < r.w; ++x) r.background[k + size_t(x)] = background[row + size_t(x)] != 0;
   }
+  r.packed_rgb = pack_bytes(kept.data(), kept.size());
   return r;
 }
 
@@ -76,6 +88,59 @@ inline void check_framing(const Scene& scene, const LabelJob& job, const std::ve
   for (double d : distances)
     for (const auto& v : views) frame_view(b, job.up, v, d, job.display);
 }
+
+// One worker thread that runs the tasks handed to it in order, each
+// result (or exception) in its future. Unlike a std::async per task, the
+// thread outlives the tasks, so the scratch perception keeps per thread
+// (the DWT's and the FIR filter's, a few MB a view) is allocated once per
+// worker, not page-faulted afresh for every view. The destructor finishes
+// the queued tasks, then joins.
+class Worker {
+ public:
+  Worker() : thread_([this] { loop(); }) {}
+  ~Worker() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+  }
+  Worker(const Worker&) = delete;
+  Worker& operator=(const Worker&) = delete;
+
+  template <class F>
+  std::future<std::invoke_result_t<F&>> submit(F f) {
+    auto task = std::make_shared<std::packaged_task<std::invoke_result_t<F&>()>>(std::move(f));
+    auto result = task->get_future();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      queue_.emplace_back([task] { (*task)(); });
+    }
+    wake_.notify_one();
+    return result;
+  }
+
+ private:
+  void loop() {
+    for (;;) {
+      std::function<void()> task;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+        if (queue_.empty()) return;  // stopped, nothing left
+        task = std::move(queue_.front());
+        queue_.pop_front();
+      }
+      task();  // a packaged_task: an exception goes to its future
+    }
+  }
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<std::function<void()>> queue_;
+  bool stop_ = false;
+  std::thread thread_;  // last: started once the members above exist
+};
 
 // Hands memory freed between a job's stages (ID buffers, the simplifier's
 // mesh) back to the system, so the next stage's peak is not stacked on

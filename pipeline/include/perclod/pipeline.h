@@ -126,15 +126,15 @@ struct LabelJob {
 // outside it the original drew nothing: background, background_rgb. The
 // render's colours are kept, not its perception: the judge rebuilds the
 // whole render from them and perceives it again, with the same figures to
-// the last bit, and 3 bytes a pixel instead of the 5 of a float simulated
-// luminance and a rounded luminance (at 56 m a 1M-triangle model is judged
-// from 86 tiles that its records nearly fill).
+// the last bit. The colours are packed losslessly (zlib): at 56 m a
+// 1M-triangle model is judged from 86 tiles that its records nearly fill,
+// 335 MB at 3 bytes a pixel, 10-20 MB packed.
 constexpr int kRecordMargin = 16;
 struct ViewRecord {
   std::string view;  // view name (with "_t<i>" for a tile)
   Camera camera;
   int x0 = 0, y0 = 0, w = 0, h = 0;       // the kept rectangle of the camera's image
-  std::vector<uint8_t> rgb;                // the render's colours, w x h x 3, row 0 top
+  std::vector<uint8_t> packed_rgb;         // the render's colours, w x h x 3, row 0 top, packed (zlib)
   std::vector<bool> background;            // true where no triangle was drawn (a bit each)
   uint8_t background_rgb[3] = {255, 255, 255};  // the colour of an undrawn pixel
   std::string set = "labelling";           // "labelling" or "held_out"
@@ -147,6 +147,8 @@ struct ViewRecord {
     const long k = kept(x, y);
     return k < 0 || background[size_t(k)];
   }
+  // The kept rectangle's colours, w x h x 3, unpacked.
+  void rgb_into(std::vector<uint8_t>& rgb) const;
   // The whole render, camera.width x camera.height x 3: the kept rectangle
   // over the undrawn colour.
   void render_into(std::vector<uint8_t>& image) const;
@@ -157,7 +159,8 @@ struct ViewRecord {
 struct IdBuffer {
   std::string view;  // view name (with "_t<i>" for a tile)
   Camera camera;
-  std::vector<uint32_t> ids;
+  std::vector<uint8_t> packed_ids;  // camera.width x camera.height IDs (triangle + 1, 0 = none), packed (zlib)
+  void ids_into(std::vector<uint32_t>& ids) const;
 };
 
 struct LabelResult {
