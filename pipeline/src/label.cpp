@@ -290,7 +290,12 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   t0 = Clock::now();
   // Every sample of the view in one call: the octree walks its structure
   // once for all of them.
-  const std::vector<std::array<double, 2>> offsets = sample_offsets(job.samples);
+  std::vector<std::array<double, 2>> offsets = sample_offsets(job.samples);
+  // verify compares the octree with Embree and with the ID buffer at the
+  // pixel centres: with several samples (up to 4: the walk takes 8) the
+  // centre rides along in the same walk, as one more sample.
+  const bool centre_in_walk = reference && !owner && job.samples > 1 && job.samples <= 4;
+  if (centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `unshifted`
   std::vector<std::vector<uint32_t>>& traced = out.samples;
   traced.resize(offsets.size());
   std::vector<uint32_t*> buffers;
@@ -301,7 +306,8 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   Camera unshifted = cam;  // the offsets are from the pixel centres
   unshifted.shift_x = unshifted.shift_y = 0;
   tracer.trace_samples(unshifted, offsets, buffers.data());
-  for (std::vector<uint32_t>& rays : traced) {
+  for (size_t k = 0; k < size_t(job.samples); ++k) {
+    std::vector<uint32_t>& rays = traced[k];
     if (owner)
       for (uint32_t& id : rays)
         if (id && (*owner)[id - 1] != building) id = 0;
@@ -347,6 +353,8 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
     const uint32_t* centre = nullptr;
     if (job.samples == 1) {
       centre = rays.data();  // the one sample is the centre
+    } else if (centre_in_walk) {
+      centre = traced.back().data();
     } else if (reference) {
       traced_centre.resize(pixels);
       tracer.trace(cam, traced_centre.data());

@@ -139,7 +139,7 @@ class BruteForceTracer final : public Tracer {
 enum class EmbreeMode {
   Fast,    // rtcIntersect16, 4x4 pixel packets; no tie resolution
   Single,  // rtcIntersect1 per ray; no tie resolution (benchmark peer)
-  Verify,  // rtcIntersect1, then a second query over [t(1-kTieEpsilon), t(1+kTieEpsilon)] keeping the lowest index
+  Verify,  // rtcIntersect16 (4x4 packets), then per hit a single-ray query over [t(1-kTieEpsilon), t(1+kTieEpsilon)] keeping the lowest index
 };
 
 class EmbreeTracer final : public Tracer {
