@@ -10,7 +10,7 @@
 # --views labels (and renders) another view set than the default, e.g. the
 # previous default facades,ring8el30,top, to compare view sets in one session.
 #
-# Rows (medians of K runs):
+# Rows (medians over K rounds, every row once per round):
 #   render: labelling views   perclod render of the labelling views (and tiles)
 #   render: + held-out views  the same plus the nine held-out views a run judges from
 #   run                       perclod run, every debug image on, verify off
@@ -55,53 +55,75 @@ config nodebug "debug_images: false"$'\n'
 config noheld "debug_images: false"$'\n'"judge_views: none"$'\n'
 config verify "verify: true"$'\n'
 
-# time_it NAME COMMAND...: K runs; prints "NAME wall cpu% peak_MiB" (medians).
-time_it() {
-  local name="$1"; shift
-  local walls=() cpus=() mems=()
-  for _ in $(seq "$runs"); do
-    rm -rf "$work"/out-*
-    /usr/bin/time -f "%e %P %M" -o "$work/time.txt" "$@" >/dev/null 2>"$work/stderr.txt" ||
-      { echo "bench_run.sh: $name failed:" >&2; tail -5 "$work/stderr.txt" >&2; exit 1; }
-    read -r wall cpu mem <"$work/time.txt"
-    walls+=("$wall"); cpus+=("${cpu%\%}"); mems+=("$mem")
-  done
-  median() { printf '%s\n' "$@" | sort -g | awk '{a[NR]=$1} END {print (NR%2 ? a[(NR+1)/2] : (a[NR/2]+a[NR/2+1])/2)}'; }
-  echo "$name|$(median "${walls[@]}")|$(median "${cpus[@]}")|$(median "${mems[@]}")"
-}
-
-results="$work/results.txt"
-: >"$results"
-echo "bench_run: facade of $("$perclod" info "$model" --json | sed -n 's/.*"triangles": *\([0-9]*\).*/\1/p' | head -1) triangles, $runs run(s) per row, $(nproc) cores, views $views" >&2
-time_it "render: labelling views" "$perclod" render "$model" --up z -d 56,132,427 --views "$views" -o "$work/out-render" >>"$results"
-time_it "render: + held-out views" "$perclod" render "$model" --up z -d 56,132,427 --views "$views,held_out" -o "$work/out-render" >>"$results"
-time_it "run" "$perclod" run "$work/run.yaml" >>"$results"
-time_it "run, no debug images" "$perclod" run "$work/nodebug.yaml" >>"$results"
-time_it "run, no held-out views" "$perclod" run "$work/noheld.yaml" >>"$results"
-time_it "run, verify" "$perclod" run "$work/verify.yaml" >>"$results"
+# The rows are run in rounds (every row once per round, K rounds), so a slow
+# spell of a shared machine falls on every row alike; each ratio is taken
+# within a round, and the table gives medians over the rounds.
+names=("render: labelling views" "render: + held-out views" "run" "run, no debug images"
+       "run, no held-out views" "run, verify" "render: + LODs, every view")
 # Every render a run makes: the original from the labelling and held-out
-# views (row 2) and each LOD of the run from the same views at its distance
-# (the judging renders). The LODs are the verify row's last run's (verify
+# views (row 2) and each LOD of a run from the same views at its distance
+# (the judging renders). The LODs are this round's verify run's (verify
 # traces Embree beside the octree; the labels and LODs are the run's).
-rm -rf "$work/lods"
-mkdir -p "$work/lods"
-cp "$work"/out-verify/facade_lod_*m.obj "$work/lods/"
-cat >"$work/render_all.sh" <<EOF
+cat >"$work/render_all.sh" <<SCRIPT
 set -e
 "$perclod" render "$model" --up z -d 56,132,427 --views "$views,held_out" -o "$work/out-render"
 for d in 56 132 427; do
   "$perclod" render "$work/lods/facade_lod_\${d}m.obj" --up z -d "\$d" --views "$views,held_out" -o "$work/out-render"
 done
-EOF
-time_it "render: + LODs, every view" bash "$work/render_all.sh" >>"$results"
+SCRIPT
+run_row() {  # row index: runs that row's command
+  case "$1" in
+    0) "$perclod" render "$model" --up z -d 56,132,427 --views "$views" -o "$work/out-render" ;;
+    1) "$perclod" render "$model" --up z -d 56,132,427 --views "$views,held_out" -o "$work/out-render" ;;
+    2) "$perclod" run "$work/run.yaml" ;;
+    3) "$perclod" run "$work/nodebug.yaml" ;;
+    4) "$perclod" run "$work/noheld.yaml" ;;
+    5) "$perclod" run "$work/verify.yaml" ;;
+    6) bash "$work/render_all.sh" ;;
+  esac
+}
+export -f run_row
+export perclod model views work
 
-awk -F'|' '
-  NR == 1 { r1 = $2 } NR == 2 { r2 = $2 } NR == 3 { run = $2 } NR == 7 { every = $2 }
-  { rows[NR] = $0; wall[NR] = $2 }
+times="$work/times.txt"  # round row wall cpu% peak_KiB
+: >"$times"
+echo "bench_run: facade of $("$perclod" info "$model" --json | sed -n 's/.*"triangles": *\([0-9]*\).*/\1/p' | head -1) triangles, $runs round(s) of every row, $(nproc) cores, views $views" >&2
+for round in $(seq "$runs"); do
+  for i in "${!names[@]}"; do
+    rm -rf "$work"/out-*
+    /usr/bin/time -f "%e %P %M" -o "$work/time.txt" bash -c "run_row $i" >/dev/null 2>"$work/stderr.txt" ||
+      { echo "bench_run.sh: ${names[$i]} failed:" >&2; tail -5 "$work/stderr.txt" >&2; exit 1; }
+    read -r wall cpu mem <"$work/time.txt"
+    echo "$round $i $wall ${cpu%\%} $mem" >>"$times"
+    if [ "$i" = 5 ]; then
+      rm -rf "$work/lods" && mkdir -p "$work/lods"
+      cp "$work"/out-verify/facade_lod_*m.obj "$work/lods/"
+    fi
+  done
+done
+
+printf '%s\n' "${names[@]}" >"$work/names.txt"
+awk '
+  function median(list,   n, a, i, j, t) {
+    n = split(list, a, " ")
+    for (i = 2; i <= n; ++i)
+      for (j = i; j > 1 && a[j - 1] + 0 > a[j] + 0; --j) { t = a[j]; a[j] = a[j - 1]; a[j - 1] = t }
+    return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2
+  }
+  FNR == NR { name[FNR - 1] = $0; rows = FNR; next }
+  { wall[$1, $2] = $3; cpu[$1, $2] = $4; mem[$1, $2] = $5; if ($1 > rounds) rounds = $1 }
   END {
-    printf "| %-26s | %8s | %5s | %9s | %14s | %14s | %14s | %8s |\n", "row", "wall s", "CPU", "peak MiB", "/ render label", "/ render all", "/ every render", "/ run"
-    for (i = 1; i <= NR; ++i) {
-      split(rows[i], f, "|")
-      printf "| %-26s | %8.1f | %4d%% | %9.0f | %14.2f | %14.2f | %14.2f | %8.2f |\n", f[1], f[2], f[3], f[4] / 1024, f[2] / r1, f[2] / r2, f[2] / every, f[2] / run
+    printf "| %-26s | %8s | %5s | %9s | %14s | %14s | %14s | %8s |\n", "row", "wall s", "CPU", "peak MiB",
+           "/ render label", "/ render all", "/ every render", "/ run"
+    for (i = 0; i < rows; ++i) {
+      w = c = m = r0 = r1 = r6 = r2 = ""
+      for (k = 1; k <= rounds; ++k) {
+        w = w " " wall[k, i]; c = c " " cpu[k, i]; m = m " " mem[k, i] / 1024
+        r0 = r0 " " wall[k, i] / wall[k, 0]; r1 = r1 " " wall[k, i] / wall[k, 1]
+        r6 = r6 " " wall[k, i] / wall[k, 6]; r2 = r2 " " wall[k, i] / wall[k, 2]
+      }
+      printf "| %-26s | %8.1f | %4d%% | %9.0f | %14.2f | %14.2f | %14.2f | %8.2f |\n", name[i], median(w),
+             median(c), median(m), median(r0), median(r1), median(r6), median(r2)
     }
-  }' "$results"
+    printf "(medians over %d round(s); each ratio is taken within a round)\n", rounds
+  }' "$work/names.txt" "$times"
