@@ -340,7 +340,7 @@ std::vector<size_t> shard_indices(size_t count, int shard, int shards) {
 double estimate_memory_mb(const std::string& model_file) {
   std::error_code ec;
   const double mb = double(fs::file_size(model_file, ec)) / (1024.0 * 1024.0);
-  return 650.0 + 10.0 * (ec ? 0.0 : mb);
+  return 400.0 + 8.0 * (ec ? 0.0 : mb);
 }
 
 namespace {
