@@ -1,9 +1,10 @@
 // Lossless packing of the buffers a job keeps between its stages (private):
 // the judged views' colours and the labelling renders' triangle IDs. zlib at
-// level 1: renders of buildings are large flat-shaded areas, so a 1280x1024
-// view packs 15-180x in 5-25 ms and unpacks in 3-10 ms; the 86 views of the
-// 1M facade at 56 m keep a few tens of MB instead of 335 MB of colours and
-// 450 MB of IDs.
+// level 1: renders of buildings are large flat-shaded areas, so the colours
+// of a 1280x1024 tile of the 1M facade pack 16-180x (3.9 MB to 22-240 KB)
+// in 7-24 ms and unpack in 3-9 ms. Unpacked, the 86 judged tiles at 56 m
+// held 335 MB of colours and the 52 labelling tiles 450 MB of IDs; packing
+// both took the run's peak from 1,004 to 744 MiB.
 #pragma once
 
 #include <cstddef>

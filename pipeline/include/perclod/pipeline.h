@@ -128,7 +128,7 @@ struct LabelJob {
 // whole render from them and perceives it again, with the same figures to
 // the last bit. The colours are packed losslessly (zlib): at 56 m a
 // 1M-triangle model is judged from 86 tiles that its records nearly fill,
-// 335 MB at 3 bytes a pixel, 10-20 MB packed.
+// 3.9 MB each at 3 bytes a pixel, 22-240 KB packed.
 constexpr int kRecordMargin = 16;
 struct ViewRecord {
   std::string view;  // view name (with "_t<i>" for a tile)
