@@ -155,4 +155,10 @@ inline float float_at_or_below(double v) {
   return double(f) > v ? std::nextafter(f, -INFINITY) : f;
 }
 
+// The smallest float at or above v.
+inline float float_at_or_above(double v) {
+  const float f = float(v);
+  return double(f) < v ? std::nextafter(f, INFINITY) : f;
+}
+
 }  // namespace perclod::detail

@@ -48,6 +48,14 @@
 //     rounding margin), and only those centres whose current t window reaches
 //     the triangle's nearest depth get the exact watertight test. A triangle
 //     touching the eye plane is tested against the whole tile.
+//   * in a tile whose rays all share one axis permutation (nearly every tile)
+//     the exact test runs on four consecutive samples of a row at once
+//     (watertight_hit4, SSE, the same float operations as the scalar test);
+//     a footprint at most 8 pixels wide skips the row spans: testing its rows
+//     whole costs less than computing them. A tile's rays are likewise set
+//     up four at a time (shear_rays4). On the 1M facade view of
+//     bench_raycast these made the octree 1.27x faster (68.5 -> 54 ms on one
+//     thread, 2026-12-03).
 // The result is the same, bit for bit, as testing every ray against every
 // triangle (BruteForceTracer; the tests check it): the culling is
 // conservative and the exact test is the same function.
@@ -151,11 +159,20 @@ constexpr int kTieKeep = 3;     // hits remembered besides the nearest, per samp
 constexpr uint8_t kTieOverflow = 255;  // Tile::tie: more than kTieKeep, walk again
 
 // Per sample s and pixel p of the tile, entry q = s * kTilePixels + p.
+// The rays are stored by component (the shear constants of ShearedRay, and
+// its axis permutation packed in one byte) so that four consecutive entries
+// load as SSE lanes; the arrays the four-lane test reads have three floats of
+// padding after the last entry.
+constexpr int kEntries = kMaxSamples * kTilePixels;
 struct Tile {
   int x0, y0, w, h;
-  ShearedRay ray[kMaxSamples * kTilePixels];
+  float ray_sx[kEntries + 3], ray_sy[kEntries + 3], ray_sz[kEntries + 3];
+  uint8_t ray_axes[kEntries];  // kx | ky << 2 | kz << 4
+  bool one_axes;               // every entry has the same permutation (axes below)
+  uint8_t kx, ky, kz;
+  float sx_max, sy_max;        // largest |sx|, |sy| of the tile's rays
   float best[kMaxSamples * kTilePixels];    // nearest t so far
-  float bound[kMaxSamples * kTilePixels];   // largest t still accepted
+  float bound[kEntries + 3];   // largest t still accepted
   uint32_t hit[kMaxSamples * kTilePixels];  // triangle index + 1, 0 = none
   uint8_t tie[kMaxSamples * kTilePixels];  // remembered hits (0..kTieKeep) or kTieOverflow
   float tie_t[kMaxSamples * kTilePixels][kTieKeep];
@@ -465,18 +482,52 @@ void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
   tile.h = std::min(kTile, cam.height - y0);
   tile.collect = false;
   tile.unhit = f.samples * tile.w * tile.h;
+  // The rays, four at a time, with the first ray's axis permutation as the
+  // guess for all of them; a group where shear_ray picks another permutation
+  // for some ray is set up ray by ray.
+  float first[3];
+  f.dirs[0]->direction(x0, y0, first);
+  const ShearedRay r0 = detail::shear_ray(first);
+  const uint8_t axes = uint8_t(r0.kx | r0.ky << 2 | r0.kz << 4);
+  tile.kx = r0.kx;
+  tile.ky = r0.ky;
+  tile.kz = r0.kz;
+  tile.one_axes = true;
+  float sx_max = 0.0f, sy_max = 0.0f;
+  alignas(16) float d[3][kTile + 3] = {};  // a row's directions, by component
   for (int s = 0; s < f.samples; ++s)
-    for (int j = 0; j < tile.h; ++j)
-      for (int i = 0; i < tile.w; ++i) {
-        const int q = s * kTilePixels + j * tile.w + i;
-        float d[3];
-        f.dirs[s]->direction(x0 + i, y0 + j, d);
-        tile.ray[q] = detail::shear_ray(d);
-        tile.best[q] = f.zfar;
-        tile.bound[q] = f.zfar;
-        tile.hit[q] = 0;
-        tile.tie[q] = 0;
+    for (int j = 0; j < tile.h; ++j) {
+      f.dirs[s]->row(x0, tile.w, y0 + j, d[0], d[1], d[2]);
+      const int row = s * kTilePixels + j * tile.w;
+      for (int i = 0; i < tile.w; i += 4) {
+        const int q = row + i, lanes = std::min(4, tile.w - i), all = (1 << lanes) - 1;
+        // Writes four entries from q: those past the row are the next row's
+        // (written after) or padding.
+        const int same = all & detail::shear_rays4(d[0] + i, d[1] + i, d[2] + i, r0.kx, r0.ky, r0.kz,
+                                                   tile.ray_sx + q, tile.ray_sy + q, tile.ray_sz + q);
+        for (int l = 0; l < lanes; ++l) {
+          if (!(same >> l & 1)) {
+            const float dl[3] = {d[0][i + l], d[1][i + l], d[2][i + l]};
+            const ShearedRay r = detail::shear_ray(dl);
+            tile.ray_sx[q + l] = r.sx;
+            tile.ray_sy[q + l] = r.sy;
+            tile.ray_sz[q + l] = r.sz;
+            tile.ray_axes[q + l] = uint8_t(r.kx | r.ky << 2 | r.kz << 4);
+            tile.one_axes &= tile.ray_axes[q + l] == axes;
+          } else {
+            tile.ray_axes[q + l] = axes;
+          }
+          sx_max = std::max(sx_max, std::fabs(tile.ray_sx[q + l]));
+          sy_max = std::max(sy_max, std::fabs(tile.ray_sy[q + l]));
+        }
       }
+      std::fill_n(tile.best + row, tile.w, f.zfar);
+      std::fill_n(tile.bound + row, tile.w, f.zfar);
+      std::fill_n(tile.hit + row, tile.w, 0u);
+      std::fill_n(tile.tie + row, tile.w, uint8_t(0));
+    }
+  tile.sx_max = sx_max;
+  tile.sy_max = sy_max;
   // Frustum through the tile's outer pixel edges.
   const Eigen::Vector3d c = cam.ray_direction(x0 + 0.5 * tile.w, y0 + 0.5 * tile.h);
   const Eigen::Vector3d corner[4] = {
@@ -491,19 +542,21 @@ void setup_tile(const Frame& f, Tile& tile, int x0, int y0) {
   tile.tmax = detail::widen_far(double(f.zfar));
 }
 
-// floor(v) clamped to [lo, hi] (and ceil), without libm calls: the clamp
-// keeps the int conversion in range.
+// floor(v) clamped to [lo, hi] (and ceil), without libm calls or branches
+// (these run several times per triangle and tile, on data-dependent values):
+// the clamp, which sends NaN to lo, keeps the int conversion in range, and
+// the truncation toward zero is corrected by one comparison.
 inline int floor_within(double v, int lo, int hi) {
-  if (!(v > lo)) return lo;  // also NaN
-  if (v >= hi) return hi;
-  const int i = int(v);  // truncation toward zero
-  return double(i) > v ? i - 1 : i;
+  double c = v > lo ? v : double(lo);
+  c = c < hi ? c : double(hi);
+  const int i = int(c);
+  return i - int(double(i) > c);
 }
 inline int ceil_within(double v, int lo, int hi) {
-  if (!(v > lo)) return lo;
-  if (v >= hi) return hi;
-  const int i = int(v);
-  return double(i) < v ? i + 1 : i;
+  double c = v > lo ? v : double(lo);
+  c = c < hi ? c : double(hi);
+  const int i = int(c);
+  return i + int(double(i) < c);
 }
 
 struct PixelRect {
@@ -584,18 +637,14 @@ inline void remember_tie(Tile& tile, int p, float t, uint32_t id) {
   ++n;
 }
 
-// The exact test of one sample's ray (entry p of the tile) and the tie-rule
-// bookkeeping. Returns true when the sample's nearest hit changed.
-inline bool test_pixel(const Frame& f, Tile& tile, int p, uint32_t id, const float A[3], const float B[3],
-                       const float C[3]) {
-  float t;
-  if (tile.collect) {
-    if (tile.tie[p] == kTieOverflow && id < tile.hit[p] &&
-        detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t))
-      tile.hit[p] = id;
-    return false;
-  }
-  if (!detail::watertight_hit(tile.ray[p], A, B, C, f.znear, tile.bound[p], t)) return false;
+inline ShearedRay ray_at(const Tile& tile, int q) {
+  const uint8_t a = tile.ray_axes[q];
+  return {uint8_t(a & 3u), uint8_t((a >> 2) & 3u), uint8_t(a >> 4), tile.ray_sx[q], tile.ray_sy[q], tile.ray_sz[q]};
+}
+
+// The tie-rule bookkeeping of a hit at t of entry p, found in the normal
+// pass. Returns true when the sample's nearest hit changed.
+inline bool accept_hit(const Frame& f, Tile& tile, int p, uint32_t id, float t) {
   const float end = detail::tie_window_end(t, f.zfar);
   if (tile.hit[p] == 0) {
     --tile.unhit;
@@ -617,6 +666,21 @@ inline bool test_pixel(const Frame& f, Tile& tile, int p, uint32_t id, const flo
   tile.hit[p] = id;
   tile.bound[p] = end;
   return true;
+}
+
+// The exact test of one sample's ray (entry p of the tile) and the tie-rule
+// bookkeeping. Returns true when the sample's nearest hit changed.
+inline bool test_pixel(const Frame& f, Tile& tile, int p, uint32_t id, const float A[3], const float B[3],
+                       const float C[3]) {
+  float t;
+  if (tile.collect) {
+    if (tile.tie[p] == kTieOverflow && id < tile.hit[p] &&
+        detail::watertight_hit(ray_at(tile, p), A, B, C, f.znear, tile.bound[p], t))
+      tile.hit[p] = id;
+    return false;
+  }
+  if (!detail::watertight_hit(ray_at(tile, p), A, B, C, f.znear, tile.bound[p], t)) return false;
+  return accept_hit(f, tile, p, id, t);
 }
 
 // The triangle's vertices relative to the float eye, as the exact test takes them.
@@ -747,7 +811,7 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   if (zlow > tile.tmax) return false;
   if (detail::before_near_plane(zmax, double(f.znear))) return false;
 
-  TriangleFootprint fp;
+  TriangleFootprint fp{};
   fp.xa = tile.x0;
   fp.xb = tile.x0 + tile.w - 1;
   fp.ya = tile.y0;
@@ -758,6 +822,34 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   bool changed = false;
   const uint32_t id = tri.index + 1;
   const float zlow_f = detail::float_at_or_below(zlow);
+  if (tile.one_axes && !tile.collect) {  // four samples of a row at a time
+    const detail::PermutedTriangle pt =
+        detail::permute_triangle(A, B, C, tile.kx, tile.ky, tile.kz, tile.sx_max, tile.sy_max);
+    const __m128 zlow4 = _mm_set1_ps(zlow_f);
+    // Rows of a narrow footprint are tested whole: four lanes cost less than their span.
+    const bool spans = fp.edges && fp.xb - fp.xa >= 8;
+    for (int s = 0; s < f.samples; ++s)
+      for (int y = fp.ya; y <= fp.yb; ++y) {
+        int x_from = fp.xa, x_to = fp.xb;
+        if (spans && !row_span(fp, tile, y, f.ox[s], f.oy[s], x_from, x_to)) continue;
+        const int row = s * kTilePixels + (y - tile.y0) * tile.w - tile.x0;
+        for (int x = x_from; x <= x_to; x += 4) {
+          const int q = row + x;
+          // Lanes whose window reaches the triangle's nearest depth (usually none behind a hit).
+          const int live = ((1 << std::min(4, x_to - x + 1)) - 1) &
+                           _mm_movemask_ps(_mm_cmpge_ps(_mm_loadu_ps(tile.bound + q), zlow4));
+          if (live == 0) continue;
+          const detail::Hits4 h = detail::watertight_hit4(pt, tile.ray_sx + q, tile.ray_sy + q, tile.ray_sz + q,
+                                                          f.znear, tile.bound + q, live);
+          for (int m = h.hit; m != 0; m &= m - 1) {
+            const int l = __builtin_ctz(unsigned(m));
+            changed |= accept_hit(f, tile, q + l, id, h.t[l]);
+          }
+          for (int m = h.unsure; m != 0; m &= m - 1) changed |= test_pixel(f, tile, q + __builtin_ctz(unsigned(m)), id, A, B, C);
+        }
+      }
+    return changed;
+  }
   for (int s = 0; s < f.samples; ++s)
     for (int y = fp.ya; y <= fp.yb; ++y) {
       int x_from = fp.xa, x_to = fp.xb;

@@ -33,6 +33,20 @@ class PixelDirections {
     const double sx = sx_[size_t(x)], sy = sy_[size_t(y)];
     for (int k = 0; k < 3; ++k) d[k] = float(cam_.forward[k] + sx * cam_.right[k] + sy * cam_.up[k]);
   }
+  // direction() of pixels x0 .. x0 + n - 1 of row y, by component (the same
+  // expression, evaluated in the same order).
+  void row(int x0, int n, int y, float* dx, float* dy, float* dz) const {
+    const double sy = sy_[size_t(y)];
+    const double f[3] = {cam_.forward[0], cam_.forward[1], cam_.forward[2]};
+    const double r[3] = {cam_.right[0], cam_.right[1], cam_.right[2]};
+    const double u[3] = {sy * cam_.up[0], sy * cam_.up[1], sy * cam_.up[2]};
+    const double* sx = sx_.data() + x0;
+    for (int i = 0; i < n; ++i) {
+      dx[i] = float(f[0] + sx[i] * r[0] + u[0]);
+      dy[i] = float(f[1] + sx[i] * r[1] + u[1]);
+      dz[i] = float(f[2] + sx[i] * r[2] + u[2]);
+    }
+  }
 
  private:
   const Camera& cam_;
