@@ -292,9 +292,10 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   // once for all of them.
   std::vector<std::array<double, 2>> offsets = sample_offsets(job.samples);
   // verify compares the octree with Embree and with the ID buffer at the
-  // pixel centres: with several samples (up to 4: the walk takes 8) the
-  // centre rides along in the same walk, as one more sample.
-  const bool centre_in_walk = reference && !owner && job.samples > 1 && job.samples <= 4;
+  // pixel centres: with several samples the centre rides along in the same
+  // walk, as one more sample, when the walk has room for it.
+  const bool centre_in_walk =
+      reference && !owner && job.samples > 1 && job.samples < OctreeTracer::kMaxSamples;
   if (centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `unshifted`
   std::vector<std::vector<uint32_t>>& traced = out.samples;
   traced.resize(offsets.size());

@@ -154,7 +154,7 @@ struct OctNode {
 
 constexpr int kTile = 32;
 constexpr int kTilePixels = kTile * kTile;
-constexpr int kMaxSamples = 8;  // sample_offsets' largest pattern
+constexpr int kMaxSamples = OctreeTracer::kMaxSamples;  // sample_offsets' largest pattern
 constexpr int kTieKeep = 3;     // hits remembered besides the nearest, per sample
 constexpr uint8_t kTieOverflow = 255;  // Tile::tie: more than kTieKeep, walk again
 
