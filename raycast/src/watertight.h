@@ -120,7 +120,7 @@ inline int shear_rays4(const float* dx, const float* dy, const float* dz, int kx
   _mm_storeu_ps(sy, _mm_mul_ps(d[ky], SZ));
   return is_kz & (swapped ? negative : ~negative & 15);
 }
-//
+
 // Four rays that share one axis permutation (kx, ky, kz), against one
 // triangle, with SSE: the same float operations in the same order as
 // watertight_hit, so a lane's decision and t are bit-identical to it. Only
@@ -129,20 +129,20 @@ inline int shear_rays4(const float* dx, const float* dy, const float* dz, int kx
 // float value there too; a lane where it is not is "unsure" and must be
 // decided by watertight_hit (and its double recomputation).
 //
-// The bound: edge_function's magnitude sum is SP (|qx| + |qy|) + SQ (|px| +
-// |py|), SP the float sum |P[kx]| + |sx P[kz]| + |P[ky]| + |sy P[kz]|. For
-// every ray with |sx| <= sx_max and |sy| <= sy_max, SP <= MP (1 + u)^4 with
-// MP = |P[kx]| + |P[ky]| + (sx_max + sy_max) |P[kz]| (one rounding per sum
-// and product), so the float sum is at most (MP SQq + MQ SPp) (1 + u)^6,
-// SQq and SPp being the float |qx| + |qy| and |px| + |py| of the lane, which
-// the four-lane test computes exactly as edge_function does. The test
-// evaluates that expression in float with MP and MQ raised by 2^-16 and
-// rounded up (m below), which more than covers (1 + u)^6 and its own two
-// roundings; times kEdgeRecomputeRel (a power of two) it is at or above
-// edge_function's threshold.
+// The bound: edge_function's threshold is kEdgeRecomputeRel (SP (|qx| +
+// |qy|) + SQ (|px| + |py|)) in float, SP the float sum |P[kx]| +
+// |sx P[kz]| + |P[ky]| + |sy P[kz]|. For every ray with |sx| <= sx_max and
+// |sy| <= sy_max, SP <= MP (1 + u)^4 with MP = |P[kx]| + |P[ky]| + (sx_max +
+// sy_max) |P[kz]| (one rounding per sum and product). The four-lane test
+// evaluates the same expression, in the same order, with SP and SQ replaced
+// by m = MP (1 + 2^-16) rounded up to a float (PermutedTriangle::m), which
+// is at least SP; |qx| + |qy| and |px| + |py| are the lane's own, computed
+// as edge_function computes them. Float rounding is monotone (flushing
+// denormals to zero too), so each operation's result is at or above its
+// counterpart in edge_function, and so is the bound.
 struct PermutedTriangle {
   float a[3], b[3], c[3];  // vertex k in the permuted frame: {P[kx], P[ky], P[kz]}
-  float m[3];              // MP of A, B and C, raised as above
+  float m[3];              // m of A, B and C (see above)
 };
 
 inline PermutedTriangle permute_triangle(const float A[3], const float B[3], const float C[3], int kx, int ky,
