@@ -28,6 +28,8 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace perclod::detail {
@@ -148,17 +150,30 @@ inline bool before_near_plane(double farthest_depth, double znear) {
   return farthest_depth < znear * (1.0 - kCullGuardRel) - kCullGuardAbs;
 }
 
+// The float one step above f (nextafter(f, +inf) for f not NaN, +inf
+// staying +inf), without a libm call: these run per triangle and tile.
+inline float float_step_up(float f) {
+  uint32_t b;
+  std::memcpy(&b, &f, sizeof b);
+  if (b == 0x80000000u) b = 1u;           // -0: the smallest positive denormal
+  else if (b == 0x7f800000u) return f;     // +inf
+  else if ((b >> 31) == 0) ++b;            // positive: away from zero
+  else --b;                                // negative: toward zero
+  std::memcpy(&f, &b, sizeof b);
+  return f;
+}
+
 // The largest float at or below v: a double depth bound compared with float
 // t windows without rounding it upwards.
 inline float float_at_or_below(double v) {
   const float f = float(v);
-  return double(f) > v ? std::nextafter(f, -INFINITY) : f;
+  return double(f) > v ? -float_step_up(-f) : f;
 }
 
 // The smallest float at or above v.
 inline float float_at_or_above(double v) {
   const float f = float(v);
-  return double(f) < v ? std::nextafter(f, INFINITY) : f;
+  return double(f) < v ? float_step_up(f) : f;
 }
 
 }  // namespace perclod::detail

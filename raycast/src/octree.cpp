@@ -845,7 +845,8 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
             const int l = __builtin_ctz(unsigned(m));
             changed |= accept_hit(f, tile, q + l, id, h.t[l]);
           }
-          for (int m = h.unsure; m != 0; m &= m - 1) changed |= test_pixel(f, tile, q + __builtin_ctz(unsigned(m)), id, A, B, C);
+          for (int m = h.unsure; m != 0; m &= m - 1)
+            changed |= test_pixel(f, tile, q + __builtin_ctz(unsigned(m)), id, A, B, C);
         }
       }
     return changed;

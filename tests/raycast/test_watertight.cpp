@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 #include <random>
 
+#include "float_bounds.h"
 #include "watertight.h"
 
 namespace perclod::detail {
@@ -17,6 +19,27 @@ uint32_t bits(float v) {
   uint32_t b;
   std::memcpy(&b, &v, sizeof b);
   return b;
+}
+
+// The rounding helpers step by one float as nextafter does, without libm.
+TEST(Watertight, FloatStepsEqualNextafter) {
+  const float specials[] = {0.0f, -0.0f, 1.0f, -1.0f, std::numeric_limits<float>::denorm_min(),
+                            -std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::min(),
+                            std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(), INFINITY,
+                            -INFINITY, 3.5e-39f, -3.5e-39f, 123.456f, -0.001f};
+  for (float f : specials) {
+    EXPECT_EQ(bits(float_step_up(f)), bits(std::nextafter(f, INFINITY))) << f;
+  }
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> mag(-40.0, 40.0);
+  for (int i = 0; i < 100000; ++i) {
+    const double v = (i % 2 ? -1.0 : 1.0) * std::pow(10.0, mag(rng));
+    const float up = float_at_or_above(v), down = float_at_or_below(v);
+    EXPECT_GE(double(up), v);
+    EXPECT_LE(double(down), v);
+    EXPECT_EQ(bits(up), bits(double(float(v)) < v ? std::nextafter(float(v), INFINITY) : float(v)));
+    EXPECT_EQ(bits(down), bits(double(float(v)) > v ? std::nextafter(float(v), -INFINITY) : float(v)));
+  }
 }
 
 TEST(Watertight, FourLanesEqualTheScalarTest) {
