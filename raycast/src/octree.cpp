@@ -792,6 +792,32 @@ inline bool row_span(const TriangleFootprint& fp, const Tile& tile, int y, doubl
   return true;
 }
 
+// Entries row + x_from .. row + x_to (one row of one sample) against the
+// triangle, four at a time (watertight_hit4); lanes whose window ends before
+// zlow are skipped, unsure lanes go to the scalar test. Returns true if any
+// sample's nearest hit changed.
+inline bool test_row4(const Frame& f, Tile& tile, const detail::PermutedTriangle& pt, int row, int x_from,
+                      int x_to, float zlow, uint32_t id, const float A[3], const float B[3], const float C[3]) {
+  bool changed = false;
+  const __m128 zlow4 = _mm_set1_ps(zlow);
+  for (int x = x_from; x <= x_to; x += 4) {
+    const int q = row + x;
+    // Lanes whose window reaches the triangle's nearest depth (usually none behind a hit).
+    const int live = ((1 << std::min(4, x_to - x + 1)) - 1) &
+                     _mm_movemask_ps(_mm_cmpge_ps(_mm_loadu_ps(tile.bound + q), zlow4));
+    if (live == 0) continue;
+    const detail::Hits4 h =
+        detail::watertight_hit4(pt, tile.ray_sx + q, tile.ray_sy + q, tile.ray_sz + q, f.znear, tile.bound + q, live);
+    for (int m = h.hit; m != 0; m &= m - 1) {
+      const int l = __builtin_ctz(unsigned(m));
+      changed |= accept_hit(f, tile, q + l, id, h.t[l]);
+    }
+    for (int m = h.unsure; m != 0; m &= m - 1)
+      changed |= test_pixel(f, tile, q + __builtin_ctz(unsigned(m)), id, A, B, C);
+  }
+  return changed;
+}
+
 // The exact per-sample work for one triangle: only the sample points of its
 // footprint whose t window reaches its nearest depth get the exact test. A
 // triangle touching the eye plane is tested against the whole tile. Returns
@@ -822,41 +848,24 @@ bool test_triangle(const Frame& f, Tile& tile, const PackedTri& tri) {
   bool changed = false;
   const uint32_t id = tri.index + 1;
   const float zlow_f = detail::float_at_or_below(zlow);
-  if (tile.one_axes && !tile.collect) {  // four samples of a row at a time
-    const detail::PermutedTriangle pt =
-        detail::permute_triangle(A, B, C, tile.kx, tile.ky, tile.kz, tile.sx_max, tile.sy_max);
-    const __m128 zlow4 = _mm_set1_ps(zlow_f);
-    // Rows of a narrow footprint are tested whole: four lanes cost less than their span.
-    const bool spans = fp.edges && fp.xb - fp.xa >= 8;
-    for (int s = 0; s < f.samples; ++s)
-      for (int y = fp.ya; y <= fp.yb; ++y) {
-        int x_from = fp.xa, x_to = fp.xb;
-        if (spans && !row_span(fp, tile, y, f.ox[s], f.oy[s], x_from, x_to)) continue;
-        const int row = s * kTilePixels + (y - tile.y0) * tile.w - tile.x0;
-        for (int x = x_from; x <= x_to; x += 4) {
-          const int q = row + x;
-          // Lanes whose window reaches the triangle's nearest depth (usually none behind a hit).
-          const int live = ((1 << std::min(4, x_to - x + 1)) - 1) &
-                           _mm_movemask_ps(_mm_cmpge_ps(_mm_loadu_ps(tile.bound + q), zlow4));
-          if (live == 0) continue;
-          const detail::Hits4 h = detail::watertight_hit4(pt, tile.ray_sx + q, tile.ray_sy + q, tile.ray_sz + q,
-                                                          f.znear, tile.bound + q, live);
-          for (int m = h.hit; m != 0; m &= m - 1) {
-            const int l = __builtin_ctz(unsigned(m));
-            changed |= accept_hit(f, tile, q + l, id, h.t[l]);
-          }
-          for (int m = h.unsure; m != 0; m &= m - 1)
-            changed |= test_pixel(f, tile, q + __builtin_ctz(unsigned(m)), id, A, B, C);
-        }
-      }
-    return changed;
-  }
+  // In a tile whose rays share one axis permutation, four samples of a row
+  // at a time; a narrow footprint's rows are tested whole, as four lanes cost
+  // less than their span.
+  const bool four = tile.one_axes && !tile.collect;
+  detail::PermutedTriangle pt;
+  if (four) pt = detail::permute_triangle(A, B, C, tile.kx, tile.ky, tile.kz, tile.sx_max, tile.sy_max);
+  const bool spans = fp.edges && (!four || fp.xb - fp.xa >= 8);
   for (int s = 0; s < f.samples; ++s)
     for (int y = fp.ya; y <= fp.yb; ++y) {
       int x_from = fp.xa, x_to = fp.xb;
-      if (fp.edges && !row_span(fp, tile, y, f.ox[s], f.oy[s], x_from, x_to)) continue;
+      if (spans && !row_span(fp, tile, y, f.ox[s], f.oy[s], x_from, x_to)) continue;
+      const int row = s * kTilePixels + (y - tile.y0) * tile.w - tile.x0;  // entry of pixel x: row + x
+      if (four) {
+        changed |= test_row4(f, tile, pt, row, x_from, x_to, zlow_f, id, A, B, C);
+        continue;
+      }
       for (int x = x_from; x <= x_to; ++x) {
-        const int q = s * kTilePixels + (y - tile.y0) * tile.w + (x - tile.x0);
+        const int q = row + x;
         if (zlow_f > tile.bound[q]) continue;  // all of the triangle lies beyond this sample's window
         changed |= test_pixel(f, tile, q, id, A, B, C);
       }
