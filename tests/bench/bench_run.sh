@@ -64,13 +64,6 @@ names=("render: labelling views" "render: + held-out views" "run" "run, no debug
 # views (row 2) and each LOD of a run from the same views at its distance
 # (the judging renders). The LODs are this round's verify run's (verify
 # traces Embree beside the octree; the labels and LODs are the run's).
-cat >"$work/render_all.sh" <<SCRIPT
-set -e
-"$perclod" render "$model" --up z -d 56,132,427 --views "$views,held_out" -o "$work/out-render"
-for d in 56 132 427; do
-  "$perclod" render "$work/lods/facade_lod_\${d}m.obj" --up z -d "\$d" --views "$views,held_out" -o "$work/out-render"
-done
-SCRIPT
 run_row() {  # row index: runs that row's command
   case "$1" in
     0) "$perclod" render "$model" --up z -d 56,132,427 --views "$views" -o "$work/out-render" ;;
@@ -79,7 +72,10 @@ run_row() {  # row index: runs that row's command
     3) "$perclod" run "$work/nodebug.yaml" ;;
     4) "$perclod" run "$work/noheld.yaml" ;;
     5) "$perclod" run "$work/verify.yaml" ;;
-    6) bash "$work/render_all.sh" ;;
+    6) run_row 1 &&
+       for d in 56 132 427; do
+         "$perclod" render "$work/lods/facade_lod_${d}m.obj" --up z -d "$d" --views "$views,held_out" -o "$work/out-render" || exit
+       done ;;
   esac
 }
 export -f run_row
