@@ -17,6 +17,7 @@ struct SimplifyArgs {
   size_t target = 0;
   bool json = false;
   bool keep_undisplayable = false;
+  double e_undisplayable = -1;  // fidelity: bound of kept undisplayable triangles; < 0 = not given
   SimplifyJob job;
 };
 
@@ -50,7 +51,12 @@ void run_simplify(SimplifyArgs a) {
   set_error_files({a.model.path});
   a.job.options.mode = parse_simplify_mode(a.mode.c_str());
   a.job.options.target_triangles = a.target;
-  a.job.options.delete_undisplayable = !a.keep_undisplayable;
+  a.job.options.delete_undisplayable = !a.keep_undisplayable && a.e_undisplayable < 0;
+  if (a.e_undisplayable >= 0) {
+    if (a.job.options.mode != SimplifyMode::Fidelity)
+      throw OptionError("--e-undisplayable applies only to --mode fidelity");
+    a.job.options.bound_undisplayable_px = a.e_undisplayable;
+  }
   a.job.display = a.display.profile();
   a.job.out = output_names_for(a.out, a.model.path);
   a.job.model_file = a.model.path;
@@ -100,7 +106,8 @@ void register_simplify(CLI::App& app) {
       "Simplify a model for one viewing distance. fidelity (default): quadric half-edge collapses\n"
       "of any triangle, each vertex bounded by its faces' labels: no surface moves more than\n"
       "--e-perceptible (perceptible) or --e-imperceptible (imperceptible) pixels at the distance,\n"
-      "nor changes more than a square pixel of area; undisplayable triangles are deleted.\n"
+      "nor changes more than a square pixel of area; undisplayable triangles are deleted (or kept and\n"
+      "collapsed within --e-undisplayable pixels).\n"
       "paper: undisplayable triangles are deleted,\n"
       "then quadric half-edge collapses remove imperceptible triangles until none can go;\n"
       "perceptible triangles stay bit-identical. bounded: collapses of imperceptible and\n"
@@ -130,6 +137,10 @@ void register_simplify(CLI::App& app) {
                   "fidelity: the same for imperceptible triangles (and pieces without a perceptible face)")
       ->check(kNonNegative)
       ->capture_default_str();
+  cmd->add_option("--e-undisplayable", a->e_undisplayable,
+                  "fidelity: keep undisplayable triangles and collapse them within this many pixels\n"
+                  "(default: delete them before collapsing)")
+      ->check(kNonNegative);
   cmd->add_option("-k,--k", a->job.options.k, "bounded: tolerance, cluster: cell size, in pixels at the distance")
       ->check(kPositive)
       ->capture_default_str();

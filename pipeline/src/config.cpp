@@ -121,7 +121,7 @@ const std::set<std::string> kModelKeys = {
     "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins",
     "keep_unsampled_surface", "per_building", "tracer", "verify", "ratio", "simplify", "k", "target",
     "keep_undisplayable", "format",
-    "e_perceptible", "e_imperceptible", "judge_views", "max_changed", "max_silhouette", "min_ssim", "strict",
+    "e_perceptible", "e_imperceptible", "e_undisplayable", "judge_views", "max_changed", "max_silhouette", "min_ssim", "strict",
     "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb", "debug_images", "marking_near"};
 // Keys of the batch itself (top level only).
 const std::set<std::string> kBatchKeys = {"models", "out", "jobs", "memory_budget_mb"};
@@ -247,6 +247,14 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   if (c.simplify == "qem" && c.target == 0)
     throw config_error(path, "'simplify: qem' needs 'target' (the number of triangles to keep)");
   c.keep_undisplayable = get<bool>(n, path, "keep_undisplayable", c.keep_undisplayable);
+  if (n["e_undisplayable"]) {
+    c.e_undisplayable = get<double>(n, path, "e_undisplayable", c.e_undisplayable);
+    check_bound("e_undisplayable", c.e_undisplayable);
+    if (n["keep_undisplayable"] && !c.keep_undisplayable)
+      throw config_error(path, "'e_undisplayable' bounds the collapses of kept undisplayable triangles; "
+                               "'keep_undisplayable: false' deletes them");
+    c.keep_undisplayable = true;
+  }
   c.format = get<std::string>(n, path, "format", c.format);
   if (c.format != "obj" && c.format != "glb") throw config_error(path, "'format' must be obj or glb");
   if (n["distances"]) {
@@ -449,6 +457,7 @@ nlohmann::json settings_json(const BatchConfig& c) {
                                                        {"height", c.origin_height}}
                                       : nlohmann::json(nullptr)}};
   if (c.min_ssim > 0) s["min_ssim"] = c.min_ssim;
+  if (std::isfinite(c.e_undisplayable)) s["e_undisplayable"] = c.e_undisplayable;
   return s;
 }
 
@@ -476,6 +485,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.simplify.delete_undisplayable = !c.keep_undisplayable;
   job.simplify.bound_perceptible_px = c.e_perceptible;
   job.simplify.bound_imperceptible_px = c.e_imperceptible;
+  job.simplify.bound_undisplayable_px = c.e_undisplayable;
   if (!c.judge_views.empty()) job.judge_views = parse_views(c.judge_views, c.up);
   job.limits.max_changed = c.max_changed;
   job.limits.max_silhouette = c.max_silhouette;

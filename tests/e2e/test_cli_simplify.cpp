@@ -53,6 +53,37 @@ TEST(SimplifyCli, PaperKeepsEveryPerceptibleTriangleOfARealBuilding) {
   fs::remove_all(dir);
 }
 
+// Fidelity deletes undisplayable triangles unless --e-undisplayable keeps
+// them; then none is deleted and only collapses within the bound remove any.
+TEST(SimplifyCli, EUndisplayableKeepsUndisplayableTriangles) {
+  fs::path dir = fs::temp_directory_path() / "perclod_simplify_eu";
+  fs::create_directories(dir);
+  write_labels(dir / "labels.txt", 12456);
+  const std::string base = "simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
+                           (dir / "labels.txt").string() + " --json --out ";
+  auto del = run_cli(base + (dir / "del").string());
+  ASSERT_EQ(del.exit_code, 0) << del.err;
+  auto kept = run_cli(base + (dir / "kept").string() + " --e-undisplayable 0");
+  ASSERT_EQ(kept.exit_code, 0) << kept.err;
+  auto loose = run_cli(base + (dir / "loose").string() + " --e-undisplayable 4");
+  ASSERT_EQ(loose.exit_code, 0) << loose.err;
+  const double before = field(del.out, "triangles_before", "undisplayable");
+  EXPECT_EQ(before, 4982);  // t % 5 of 3 or 4
+  EXPECT_EQ(field(del.out, "", "undisplayable_faces_deleted"), before);
+  EXPECT_EQ(field(del.out, "triangles_after", "undisplayable"), 0);
+  EXPECT_EQ(field(kept.out, "", "undisplayable_faces_deleted"), 0);
+  EXPECT_EQ(field(loose.out, "", "undisplayable_faces_deleted"), 0);
+  // A looser bound lets more of them go, and none of them is deleted outright.
+  const double kept_u = field(kept.out, "triangles_after", "undisplayable");
+  const double loose_u = field(loose.out, "triangles_after", "undisplayable");
+  EXPECT_GT(kept_u, 0);
+  EXPECT_LT(loose_u, kept_u);
+  auto paper = run_cli(base + (dir / "paper").string() + " --mode paper --e-undisplayable 2");
+  EXPECT_EQ(paper.exit_code, 1) << paper.err;
+  EXPECT_NE(paper.err.find("--e-undisplayable applies only to --mode fidelity"), std::string::npos) << paper.err;
+  fs::remove_all(dir);
+}
+
 TEST(SimplifyCli, RefusesLabelsOfAnotherModel) {
   fs::path dir = fs::temp_directory_path() / "perclod_simplify_cli_bad";
   fs::create_directories(dir);

@@ -207,6 +207,11 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   expect_error(load_batch_config, write("ep.yaml", base + "e_perceptible: -1\n"), "'e_perceptible' must be");
   expect_error(load_batch_config, write("ei.yaml", base + "simplify: paper\ne_imperceptible: 2\n"),
                "'e_imperceptible' applies only to 'simplify: fidelity'");
+  expect_error(load_batch_config, write("eu.yaml", base + "e_undisplayable: -2\n"), "'e_undisplayable' must be");
+  expect_error(load_batch_config, write("eu2.yaml", base + "simplify: paper\ne_undisplayable: 2\n"),
+               "'e_undisplayable' applies only to 'simplify: fidelity'");
+  expect_error(load_batch_config, write("eu3.yaml", base + "keep_undisplayable: false\ne_undisplayable: 2\n"),
+               "'keep_undisplayable: false' deletes them");
   expect_error(load_batch_config, write("judge.yaml", base + "judge_views: az30\n"), "'judge_views': view 'az30'");
   expect_error(load_batch_config, write("maxc.yaml", base + "max_changed: 2\n"), "'max_changed' must be a fraction");
   expect_error(load_batch_config, write("maxs.yaml", base + "max_silhouette: -0.1\n"), "'max_silhouette'");
@@ -243,6 +248,7 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   EXPECT_EQ(d.simplify.mode, SimplifyMode::Fidelity);
   EXPECT_EQ(d.simplify.bound_perceptible_px, kDefaultBoundPerceptiblePx);
   EXPECT_EQ(d.simplify.bound_imperceptible_px, kDefaultBoundImperceptiblePx);
+  EXPECT_TRUE(d.simplify.delete_undisplayable);
   EXPECT_EQ(d.judge_views, parse_views(kDefaultJudgeViews, UpAxis::Y));
   EXPECT_EQ(d.limits.max_changed, 0.02);
   EXPECT_FALSE(d.fidelity_target);
@@ -256,6 +262,17 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   EXPECT_EQ(t.target.max_changed, 0.02);  // from max_changed's default
   EXPECT_EQ(d.limits.min_ssim, 0.0);       // no SSIM limit unless asked
   EXPECT_EQ(t.target.min_ssim, 0.0);
+  // e_undisplayable keeps the undisplayable triangles and bounds their collapses.
+  LodJob u = lod_job(load_batch_config(write("eu-ok.yaml", base + "display: ok-display.yaml\ne_undisplayable: 4\n")));
+  EXPECT_FALSE(u.simplify.delete_undisplayable);
+  EXPECT_EQ(u.simplify.bound_undisplayable_px, 4.0);
+  EXPECT_EQ(d.simplify.bound_undisplayable_px, INFINITY);
+  // It joins the settings (and so the up-to-date hash) only when given.
+  EXPECT_EQ(settings_json(load_batch_config(write("eu-ok2.yaml", base + "display: ok-display.yaml\ne_undisplayable: 4\n")))
+                .value("e_undisplayable", -1.0),
+            4.0);
+  EXPECT_FALSE(settings_json(load_batch_config(write("eu-none.yaml", base + "display: ok-display.yaml\n")))
+                   .contains("e_undisplayable"));
   LodJob s = lod_job(load_batch_config(write("ssim.yaml", base + "display: ok-display.yaml\nmin_ssim: 0.97\n"
                                                                  "fidelity_target: {min_ssim: 0.95}\n")));
   EXPECT_EQ(s.limits.min_ssim, 0.97);

@@ -1,6 +1,7 @@
 // perclod/config.h - YAML display profiles and batch configs (configs/).
 #pragma once
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -35,9 +36,10 @@ struct BatchConfig {
   std::string simplify = "fidelity"; // fidelity | paper | bounded | qem | cluster
   double e_perceptible = kDefaultBoundPerceptiblePx;      // fidelity: bound of perceptible triangles, pixels
   double e_imperceptible = kDefaultBoundImperceptiblePx;  // fidelity: bound of imperceptible triangles, pixels
+  double e_undisplayable = INFINITY;  // fidelity: bound of kept undisplayable triangles, pixels (sets keep_undisplayable)
   double k = 1.0;                    // bounded tolerance / cluster cell in pixels
   size_t target = 0;                 // qem: triangles to keep (required by qem, refused otherwise)
-  bool keep_undisplayable = false;   // paper: collapse undisplayable triangles instead of deleting them
+  bool keep_undisplayable = false;   // paper, fidelity: collapse undisplayable triangles instead of deleting them
   std::string format = "obj";        // LOD file format: obj | glb
   std::vector<std::string> judge_views = {kDefaultJudgeViews};  // held-out views; empty = none ('none' in the file)
   double max_changed = 0.02;         // limits every judged view is held to
