@@ -305,11 +305,26 @@ nlohmann::json judge_views(const nlohmann::json& views, const FidelityLimits& li
           {"over_limits", over}};
 }
 
-SimplifyOptions fidelity_bounds(SimplifyOptions so, double e) {
-  so.bound_imperceptible_px = e;
-  so.bound_perceptible_px = std::min(so.bound_perceptible_px, e);
+SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& step) {
+  so.bound_imperceptible_px = step.e;
+  so.bound_perceptible_px = std::min(so.bound_perceptible_px, step.e);
+  if (step.keep_undisplayable) {
+    so.bound_undisplayable_px = so.delete_undisplayable ? step.e : std::min(so.bound_undisplayable_px, step.e);
+    so.delete_undisplayable = false;
+  }
   return so;
 }
+
+namespace {
+
+// How a LOD treated undisplayable triangles, for the report.
+void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so) {
+  j["undisplayable"] = so.delete_undisplayable ? "deleted" : "collapsed";
+  if (!so.delete_undisplayable && std::isfinite(so.bound_undisplayable_px))
+    j["e_undisplayable"] = so.bound_undisplayable_px;
+}
+
+}  // namespace
 
 nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress, std::vector<Scene>* lods) {
   if (job.distances.empty()) throw std::invalid_argument("no viewing distance given");
@@ -376,11 +391,11 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     std::vector<Rgb8Image> pictures;  // per judged view: original | LOD | changes
     double seconds_compare = 0;
     const bool searching = job.fidelity_target && so.mode == SimplifyMode::Fidelity;
-    std::vector<double> bounds = {so.bound_imperceptible_px};
-    if (searching) bounds.assign(std::begin(kFidelitySearchBounds), std::end(kFidelitySearchBounds));
+    std::vector<FidelitySearchStep> steps = {{so.bound_imperceptible_px, false}};
+    if (searching) steps.assign(std::begin(kFidelitySearch), std::end(kFidelitySearch));
     const SimplifyOptions asked = so;
-    for (double e : bounds) {
-      if (searching) so = fidelity_bounds(asked, e);
+    for (const FidelitySearchStep& step : steps) {
+      if (searching) so = fidelity_bounds(asked, step);
       lod = simplify(scene, lr.labels, so, &st);
       release_free_memory();  // the simplifier's mesh
       if (!held_out_recorded) {
@@ -396,15 +411,24 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       if (!searching) break;
       const nlohmann::json f = judge_views(views, job.target);
       const bool met = f["over_limits"].empty();
-      search.push_back({{"e_imperceptible", e},
-                        {"e_perceptible", so.bound_perceptible_px},
-                        {"triangles", st.total_after()},
-                        {"worst", f["worst"]},
-                        {"met", met}});
+      nlohmann::json t = {{"e_imperceptible", so.bound_imperceptible_px},
+                          {"e_perceptible", so.bound_perceptible_px},
+                          {"triangles", st.total_after()},
+                          {"worst", f["worst"]},
+                          {"met", met}};
+      add_undisplayable_rule(t, so);
+      search.push_back(std::move(t));
       if (progress) {
         std::ostringstream ss;
-        ss << "  fidelity target at " << d << " m: e_imperceptible " << e << " px, e_perceptible "
-           << so.bound_perceptible_px << " px -> " << st.total_after()
+        ss << "  fidelity target at " << d << " m: e_imperceptible " << so.bound_imperceptible_px
+           << " px, e_perceptible " << so.bound_perceptible_px << " px, undisplayable ";
+        if (so.delete_undisplayable)
+          ss << "deleted";
+        else if (std::isfinite(so.bound_undisplayable_px))
+          ss << "collapsed within " << so.bound_undisplayable_px << " px";
+        else
+          ss << "collapsed, unbounded";
+        ss << " -> " << st.total_after()
            << " triangles, worst " << 100 * f["worst"]["changed_fraction"].get<double>() << "% changed, SSIM "
            << f["worst"]["ssim_covered"].get<double>() << ", silhouette "
            << 100 * f["worst"]["silhouette_mismatch"].get<double>() << "%" << (met ? " (met)" : "");
@@ -418,14 +442,16 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     entry["pixel_footprint"] = so.pixel_footprint;
     entry["lod_file"] = lod_path;
     entry["simplify"] = simplify_stats_json(st);
-    if (so.mode == SimplifyMode::Fidelity)
+    if (so.mode == SimplifyMode::Fidelity) {
       entry["bounds_px"] = {{"perceptible", so.bound_perceptible_px}, {"imperceptible", so.bound_imperceptible_px}};
+      add_undisplayable_rule(entry["bounds_px"], so);
+    }
     if (searching) {
       entry["fidelity_search"] = search;
       if (!search.back()["met"].get<bool>()) {
         std::ostringstream ss;
-        ss << lod_path << ": no e_imperceptible meets the fidelity target at " << d
-           << " m; kept the tightest (0 px)";
+        ss << lod_path << ": no bound meets the fidelity target at " << d
+           << " m; kept the tightest (0 px, undisplayable triangles kept)";
         warn(ss.str());
       }
     }

@@ -450,18 +450,25 @@ std::string images_section(const json& lod, double d, const OutputNames& names) 
   return s.str();
 }
 
+// "deleted", "collapsed" or "collapsed within E px" (a LOD's bounds_px or a search try).
+std::string undisplayable_rule(const json& j) {
+  std::string rule = html_escape(str(j, "undisplayable"));
+  if (member(j, "e_undisplayable")) rule += " within " + fixed(num(j, "e_undisplayable"), 3) + "&nbsp;px";
+  return rule;
+}
+
 std::string search_table(const json& lod) {
   const json& search = list(lod, "fidelity_search");
   if (search.empty()) return "";
   std::ostringstream s;
   s << "<h3>Fidelity target search</h3>\n<table class=\"search\"><tr><th>e_imperceptible (px)</th>"
-       "<th>e_perceptible (px)</th><th>triangles</th>"
+       "<th>e_perceptible (px)</th><th class=\"l\">undisplayable</th><th>triangles</th>"
        "<th>worst changed</th><th>lowest SSIM</th><th>worst silhouette</th><th class=\"l\">met</th></tr>\n";
   for (const auto& t : search) {
     const json& w = sub(t, "worst");
     const json* met = member(t, "met");
     s << "<tr><td>" << fixed(num(t, "e_imperceptible"), 3) << "</td><td>" << fixed(num(t, "e_perceptible"), 3)
-      << "</td><td>" << count(num(t, "triangles")) << "</td><td>"
+      << "</td><td class=\"l\">" << undisplayable_rule(t) << "</td><td>" << count(num(t, "triangles")) << "</td><td>"
       << percent(num(w, "changed_fraction")) << "</td><td>" << fixed(num(w, "ssim_covered"), 4) << "</td><td>"
       << percent(num(w, "silhouette_mismatch")) << "</td><td class=\"l\">"
       << (met && met->is_boolean() ? (met->get<bool>() ? "yes" : "no") : "") << "</td></tr>\n";
@@ -618,7 +625,8 @@ std::string model_report_html(const json& report, const OutputNames& names) {
     if (!str(simp, "stop_reason").empty()) facts.push_back({"stop reason", html_escape(str(simp, "stop_reason"))});
     if (member(l, "bounds_px"))
       facts.push_back({"bounds (px)", "perceptible " + fixed(num(bounds, "perceptible"), 2) + ", imperceptible " +
-                                          fixed(num(bounds, "imperceptible"), 2)});
+                                          fixed(num(bounds, "imperceptible"), 2) + "; undisplayable " +
+                                          undisplayable_rule(bounds)});
     facts.push_back({"outside every view", count(num(l, "outside_views")) + " triangles"});
     facts.push_back({"time: total", seconds(num(l, "seconds"))});
     facts.push_back({"time: simplify", seconds(num(simp, "seconds"))});

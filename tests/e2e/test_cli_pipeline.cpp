@@ -194,9 +194,12 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
   for (const auto& t : search)  // e_perceptible stays 0.5 px until e_imperceptible falls below it
     EXPECT_EQ(t["e_perceptible"].get<double>(), std::min(0.5, t["e_imperceptible"].get<double>())) << t;
   EXPECT_EQ(lod["bounds_px"]["perceptible"], search.back()["e_perceptible"]);
+  EXPECT_EQ(lod["bounds_px"]["undisplayable"], search.back()["undisplayable"]);
 
-  // A target nothing meets: every bound is tried, both bounds tighten to
-  // 0 px (only undisplayable triangles go), and the last LOD is kept.
+  // A target only an unchanged picture meets: every step is tried, both
+  // bounds tighten to 0 px, the last steps keep undisplayable triangles
+  // (collapsed within the step's bound) instead of deleting them, and the
+  // last, which moves and deletes nothing, changes no pixel.
   auto none = run_cli("run " +
                       job_file("none.yaml",
                                "distances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
@@ -206,17 +209,35 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
   ASSERT_EQ(none.exit_code, 0) << none.err;
   const auto none_report = nlohmann::json::parse(none.out);
   const auto& all = none_report["lods"][0];
-  ASSERT_EQ(all["fidelity_search"].size(), std::size(perclod::kFidelitySearchBounds));
-  for (size_t i = 0; i < std::size(perclod::kFidelitySearchBounds); ++i) {
+  ASSERT_EQ(all["fidelity_search"].size(), std::size(perclod::kFidelitySearch));
+  size_t deleting = 0;
+  for (size_t i = 0; i < std::size(perclod::kFidelitySearch); ++i) {
     const auto& t = all["fidelity_search"][i];
-    EXPECT_FALSE(t["met"].get<bool>());
-    EXPECT_EQ(t["e_imperceptible"].get<double>(), perclod::kFidelitySearchBounds[i]);
-    EXPECT_EQ(t["e_perceptible"].get<double>(), std::min(0.5, perclod::kFidelitySearchBounds[i]));
+    const perclod::FidelitySearchStep& step = perclod::kFidelitySearch[i];
+    EXPECT_EQ(t["met"].get<bool>(), i + 1 == std::size(perclod::kFidelitySearch)) << t;
+    EXPECT_EQ(t["e_imperceptible"].get<double>(), step.e);
+    EXPECT_EQ(t["e_perceptible"].get<double>(), std::min(0.5, step.e));
+    if (step.keep_undisplayable) {
+      EXPECT_EQ(t["undisplayable"], "collapsed") << t;
+      EXPECT_EQ(t["e_undisplayable"].get<double>(), step.e) << t;
+    } else {
+      EXPECT_EQ(t["undisplayable"], "deleted") << t;
+      EXPECT_FALSE(t.contains("e_undisplayable")) << t;
+      ++deleting;
+    }
   }
+  EXPECT_GE(deleting, 5u);  // the loose steps delete, as the default does
+  EXPECT_TRUE(perclod::kFidelitySearch[std::size(perclod::kFidelitySearch) - 1].keep_undisplayable);
   EXPECT_EQ(all["bounds_px"]["perceptible"].get<double>(), 0.0);
   EXPECT_EQ(all["bounds_px"]["imperceptible"].get<double>(), 0.0);
-  EXPECT_GE(all["fidelity_search"].back()["triangles"].get<double>(), all["fidelity_search"][5]["triangles"].get<double>());
-  EXPECT_NE(none.err.find("no e_imperceptible meets the fidelity target at 427 m"), std::string::npos) << none.err;
+  EXPECT_EQ(all["bounds_px"]["undisplayable"], "collapsed");
+  EXPECT_EQ(all["bounds_px"]["e_undisplayable"].get<double>(), 0.0);
+  // Keeping the undisplayable triangles keeps more of them than deleting.
+  EXPECT_GT(all["fidelity_search"].back()["triangles"].get<double>(),
+            all["fidelity_search"][deleting - 1]["triangles"].get<double>());
+  EXPECT_EQ(all["simplify"]["undisplayable_faces_deleted"].get<double>(), 0.0) << all["simplify"];
+  EXPECT_EQ(all["fidelity"]["worst"]["changed_fraction"].get<double>(), 0.0) << all["fidelity"];
+  EXPECT_EQ(none.err.find("no bound meets the fidelity target"), std::string::npos) << none.err;
 
   // Limits nobody meets: warnings name the view, and --strict fails.
   auto t = run_cli("run " +

@@ -266,19 +266,31 @@ TEST(ReportHtml, MarksSsimBelowMinSsimOnlyWhereALimitIsSet) {
   EXPECT_EQ(marked(model_report_html(r, n)), 0u);
 }
 
-// A fidelity_target search: one row per try, with both bounds it used.
-TEST(ReportHtml, ShowsEachFidelitySearchTryWithBothBounds) {
+// A fidelity_target search: one row per try, with the bounds it used and
+// what it did with undisplayable triangles.
+TEST(ReportHtml, ShowsEachFidelitySearchTryWithItsBounds) {
   const OutputNames n{"out", "bldg"};
   nlohmann::json r = small_report(n);
   const nlohmann::json worst = {{"changed_fraction", 0.031}, {"ssim_covered", 0.99}, {"silhouette_mismatch", 0.0}};
-  r["lods"][0]["fidelity_search"] = {
-      {{"e_imperceptible", 0.25}, {"e_perceptible", 0.25}, {"triangles", 900}, {"worst", worst}, {"met", false}},
-      {{"e_imperceptible", 0.125}, {"e_perceptible", 0.125}, {"triangles", 1200}, {"worst", worst}, {"met", true}}};
+  r["lods"][0]["fidelity_search"] = {{{"e_imperceptible", 0.25},
+                                      {"e_perceptible", 0.25},
+                                      {"undisplayable", "deleted"},
+                                      {"triangles", 900},
+                                      {"worst", worst},
+                                      {"met", false}},
+                                     {{"e_imperceptible", 0.125},
+                                      {"e_perceptible", 0.125},
+                                      {"undisplayable", "collapsed"},
+                                      {"e_undisplayable", 0.125},
+                                      {"triangles", 1200},
+                                      {"worst", worst},
+                                      {"met", true}}};
   const std::string html = model_report_html(r, n);
   EXPECT_TRUE(has(html, "Fidelity target search"));
   EXPECT_TRUE(has(html, "<th>e_perceptible (px)</th>"));
-  EXPECT_TRUE(has(html, "<tr><td>0.125</td><td>0.125</td><td>1200</td>")) << html;
-  EXPECT_TRUE(has(html, "<tr><td>0.250</td><td>0.250</td><td>900</td>")) << html;
+  EXPECT_TRUE(has(html, "<tr><td>0.125</td><td>0.125</td><td class=\"l\">collapsed within 0.125&nbsp;px</td><td>1200</td>"))
+      << html;
+  EXPECT_TRUE(has(html, "<tr><td>0.250</td><td>0.250</td><td class=\"l\">deleted</td><td>900</td>")) << html;
 }
 
 TEST(ReportHtml, EscapesEveryText) {

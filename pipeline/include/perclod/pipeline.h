@@ -289,24 +289,33 @@ struct LodJob {
   // Held-out views every LOD is also judged from (empty: labelling views only).
   std::vector<std::string> judge_views;
   FidelityLimits limits;
-  // Fidelity mode: search e_imperceptible (kFidelitySearchBounds, loosest
-  // first) for the fewest triangles whose LOD meets these limits in every
-  // judged view; the tightest is kept when none does (and warned about).
-  // Below e_perceptible the perceptible bound follows (fidelity_bounds).
+  // Fidelity mode: try the steps of kFidelitySearch (loosest first) and keep
+  // the first LOD that meets these limits in every judged view; the tightest
+  // is kept when none does (and warned about).
   bool fidelity_target = false;
   FidelityLimits target;
 };
 
-// The e_imperceptible values (pixels) a fidelity_target search tries, in order.
-constexpr double kFidelitySearchBounds[] = {16, 8, 4, 2, 1, 0.5, 0.25, 0.125, 0};
+// One try of a fidelity_target search: e_imperceptible = e pixels, the
+// perceptible bound tightened to e where e is the tighter, and undisplayable
+// triangles treated as asked or, with keep_undisplayable, collapsed within
+// e (or the asked e_undisplayable, where tighter) instead of deleted.
+struct FidelitySearchStep {
+  double e;
+  bool keep_undisplayable;
+};
 
-// One step of a fidelity_target search: e_imperceptible = e, and the
-// perceptible bound tightened to e where e is the tighter. Where e_P held the
-// LOD over the target (the million-triangle facade at 56 m changes 3.3-3.4%
-// of a held-out view with any e_I from 16 down to 0.5 px and e_P = 0.5 px),
-// a tighter e_I alone could not bring it under; with both at 0 only
-// undisplayable triangles go.
-SimplifyOptions fidelity_bounds(SimplifyOptions so, double e);
+// The tries, in order. Tightening e_I alone cannot help where e_P or the
+// deleted undisplayable triangles hold a LOD over the target: the
+// million-triangle facade at 56 m changes 3.3-3.4% of a held-out view with
+// any e_I from 16 down to 0.5 px at e_P = 0.5 px, 2.5% at 0.25 px for both,
+// and 1.55% (194,765 triangles) at 0.25 px for all three labels
+// (bench_fidelity, 2026-12-03). The last try moves nothing and deletes
+// nothing; only collapses of zero error remain.
+constexpr FidelitySearchStep kFidelitySearch[] = {{16, false},  {8, false},   {4, false},     {2, false}, {1, false},
+                                                  {0.5, false}, {0.25, false}, {0.25, true}, {0.125, true}, {0, true}};
+
+SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& step);
 
 // One LOD per distance: out.lod(d), out.labels(d), renders and marking
 // renders, and out.report() (returned too) with its HTML page out.report_html()
