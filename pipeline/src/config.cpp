@@ -121,7 +121,8 @@ const std::set<std::string> kModelKeys = {
     "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins",
     "keep_unsampled_surface", "per_building", "tracer", "verify", "ratio", "simplify", "k", "target",
     "keep_undisplayable", "format",
-    "e_perceptible", "e_imperceptible", "e_undisplayable", "judge_views", "max_changed", "max_silhouette", "min_ssim", "strict",
+    "e_perceptible", "e_imperceptible", "e_undisplayable", "judge_views", "max_changed", "max_silhouette",
+    "min_ssim", "strict",
     "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb", "debug_images", "marking_near"};
 // Keys of the batch itself (top level only).
 const std::set<std::string> kBatchKeys = {"models", "out", "jobs", "memory_budget_mb"};
