@@ -182,7 +182,11 @@ def run_sweeps(a, out):
             with open(part) as f:
                 lines = f.read().splitlines()
             header = "setting," + lines[0]
-            merged += [f'"{name}",{line}' for line in lines[1:]]  # names hold commas
+            method = lines[0].split(",").index("method")
+            # The fidelity LOD's rows only: bench_fidelity also prints the
+            # original moved by a quarter pixel (section 1's noise floor).
+            merged += [f'"{name}",{line}' for line in lines[1:]  # names hold commas
+                       if next(csv.reader([line]))[method].startswith("fidelity")]
             with open(out("sweep_part.txt")) as f:
                 txt.write(f"## {name}\n" + f.read())
             os.remove(part)
