@@ -324,6 +324,15 @@ void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so) {
     j["e_undisplayable"] = so.bound_undisplayable_px;
 }
 
+// The same in words, for progress lines and warnings.
+std::string undisplayable_rule_text(const SimplifyOptions& so) {
+  if (so.delete_undisplayable) return "deleted";
+  if (!std::isfinite(so.bound_undisplayable_px)) return "collapsed, unbounded";
+  std::ostringstream ss;
+  ss << "collapsed within " << so.bound_undisplayable_px << " px";
+  return ss.str();
+}
+
 }  // namespace
 
 nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress, std::vector<Scene>* lods) {
@@ -421,14 +430,8 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       if (progress) {
         std::ostringstream ss;
         ss << "  fidelity target at " << d << " m: e_imperceptible " << so.bound_imperceptible_px
-           << " px, e_perceptible " << so.bound_perceptible_px << " px, undisplayable ";
-        if (so.delete_undisplayable)
-          ss << "deleted";
-        else if (std::isfinite(so.bound_undisplayable_px))
-          ss << "collapsed within " << so.bound_undisplayable_px << " px";
-        else
-          ss << "collapsed, unbounded";
-        ss << " -> " << st.total_after()
+           << " px, e_perceptible " << so.bound_perceptible_px << " px, undisplayable "
+           << undisplayable_rule_text(so) << " -> " << st.total_after()
            << " triangles, worst " << 100 * f["worst"]["changed_fraction"].get<double>() << "% changed, SSIM "
            << f["worst"]["ssim_covered"].get<double>() << ", silhouette "
            << 100 * f["worst"]["silhouette_mismatch"].get<double>() << "%" << (met ? " (met)" : "");
@@ -450,8 +453,8 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       entry["fidelity_search"] = search;
       if (!search.back()["met"].get<bool>()) {
         std::ostringstream ss;
-        ss << lod_path << ": no bound meets the fidelity target at " << d
-           << " m; kept the tightest (0 px, undisplayable triangles kept)";
+        ss << lod_path << ": no bound meets the fidelity target at " << d << " m; kept the tightest (e_imperceptible "
+           << so.bound_imperceptible_px << " px, undisplayable " << undisplayable_rule_text(so) << ")";
         warn(ss.str());
       }
     }
