@@ -5,11 +5,15 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <condition_variable>
+#include <exception>
 #include <filesystem>
+#include <mutex>
 #include <stdexcept>
 #include <utility>
 
 #include "perclod/outputs.h"
+#include "worker.h"
 
 namespace perclod {
 namespace {
@@ -107,60 +111,57 @@ void write_tiff_uint32(const std::string& path, int w, int h, const uint32_t* da
   write_image(path, w, h, 1, OIIO::TypeDesc::UINT32, data);
 }
 
-ImageWriter::ImageWriter(size_t max_queued_bytes)
-    : max_queued_bytes_(max_queued_bytes), thread_([this] { run(); }) {}
+struct ImageWriter::State {
+  explicit State(size_t max) : max_queued_bytes(max) {}
+  std::mutex mutex;
+  std::condition_variable room;  // signalled as each image is done
+  size_t queued_bytes = 0, queued_images = 0;
+  const size_t max_queued_bytes;
+  std::exception_ptr error;  // the first failure finish() has not reported
+  detail::Worker worker;     // last: destroyed (joined) first
+};
+
+ImageWriter::ImageWriter(size_t max_queued_bytes) : state_(std::make_unique<State>(max_queued_bytes)) {}
 
 ImageWriter::~ImageWriter() {
   try {
     finish();
   } catch (...) {
   }
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = true;
-  }
-  wake_.notify_all();
-  thread_.join();
 }
 
 void ImageWriter::png(std::string path, int width, int height, int channels, std::vector<uint8_t> pixels) {
-  std::unique_lock<std::mutex> lock(mutex_);
-  // One image always fits, however large, so a big one cannot wait forever.
-  room_.wait(lock, [&] { return queue_.empty() || queued_bytes_ + pixels.size() <= max_queued_bytes_; });
-  queued_bytes_ += pixels.size();
-  queue_.push_back(Job{std::move(path), width, height, channels, std::move(pixels)});
-  wake_.notify_one();
-}
-
-void ImageWriter::finish() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  room_.wait(lock, [&] { return queue_.empty() && !busy_; });
-  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
-}
-
-void ImageWriter::run() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  for (;;) {
-    wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
-    if (queue_.empty()) return;  // stop_ and nothing left
-    Job job = std::move(queue_.front());
-    queue_.pop_front();
-    busy_ = true;
-    lock.unlock();
+  State& s = *state_;
+  const size_t bytes = pixels.size();
+  {
+    std::unique_lock<std::mutex> lock(s.mutex);
+    // One image always fits, however large, so a big one cannot wait forever.
+    s.room.wait(lock, [&] { return s.queued_images == 0 || s.queued_bytes + bytes <= s.max_queued_bytes; });
+    s.queued_bytes += bytes;
+    ++s.queued_images;
+  }
+  // The future is not kept: a failure is reported through finish().
+  s.worker.submit([&s, bytes, path = std::move(path), width, height, channels, pixels = std::move(pixels)]() mutable {
     std::exception_ptr failure;
     try {
-      write_png(job.path, job.width, job.height, job.channels, job.pixels.data());
+      write_png(path, width, height, channels, pixels.data());
     } catch (...) {
       failure = std::current_exception();
     }
-    const size_t bytes = job.pixels.size();
-    job = Job{};
-    lock.lock();
-    if (failure && !error_) error_ = failure;
-    queued_bytes_ -= bytes;
-    busy_ = false;
-    room_.notify_all();
-  }
+    pixels = {};
+    std::lock_guard<std::mutex> lock(s.mutex);
+    if (failure && !s.error) s.error = failure;
+    s.queued_bytes -= bytes;
+    --s.queued_images;
+    s.room.notify_all();
+  });
+}
+
+void ImageWriter::finish() {
+  State& s = *state_;
+  std::unique_lock<std::mutex> lock(s.mutex);
+  s.room.wait(lock, [&] { return s.queued_images == 0; });
+  if (s.error) std::rethrow_exception(std::exchange(s.error, nullptr));
 }
 
 std::vector<uint32_t> read_tiff_uint32(const std::string& path, int* w, int* h) {

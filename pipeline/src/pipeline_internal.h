@@ -4,19 +4,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
-#include <functional>
-#include <future>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
-#include <type_traits>
 #include <vector>
 
 #include "packing.h"
+#include "worker.h"
 #include "perclod/pipeline.h"
 
 #if defined(__GLIBC__)
@@ -88,59 +82,6 @@ inline void check_framing(const Scene& scene, const LabelJob& job, const std::ve
   for (double d : distances)
     for (const auto& v : views) frame_view(b, job.up, v, d, job.display);
 }
-
-// One worker thread that runs the tasks handed to it in order, each
-// result (or exception) in its future. Unlike a std::async per task, the
-// thread outlives the tasks, so the scratch perception keeps per thread
-// (the DWT's and the FIR filter's, a few MB a view) is allocated once per
-// worker, not page-faulted afresh for every view. The destructor finishes
-// the queued tasks, then joins.
-class Worker {
- public:
-  Worker() : thread_([this] { loop(); }) {}
-  ~Worker() {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stop_ = true;
-    }
-    wake_.notify_one();
-    thread_.join();
-  }
-  Worker(const Worker&) = delete;
-  Worker& operator=(const Worker&) = delete;
-
-  template <class F>
-  std::future<std::invoke_result_t<F&>> submit(F f) {
-    auto task = std::make_shared<std::packaged_task<std::invoke_result_t<F&>()>>(std::move(f));
-    auto result = task->get_future();
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      queue_.emplace_back([task] { (*task)(); });
-    }
-    wake_.notify_one();
-    return result;
-  }
-
- private:
-  void loop() {
-    for (;;) {
-      std::function<void()> task;
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        wake_.wait(lock, [this] { return stop_ || !queue_.empty(); });
-        if (queue_.empty()) return;  // stopped, nothing left
-        task = std::move(queue_.front());
-        queue_.pop_front();
-      }
-      task();  // a packaged_task: an exception goes to its future
-    }
-  }
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  std::deque<std::function<void()>> queue_;
-  bool stop_ = false;
-  std::thread thread_;  // last: started once the members above exist
-};
 
 // Hands memory freed between a job's stages (ID buffers, the simplifier's
 // mesh) back to the system, so the next stage's peak is not stacked on

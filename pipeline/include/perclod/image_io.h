@@ -3,13 +3,9 @@
 // so an interrupted run never leaves a half-written image behind.
 #pragma once
 
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
-#include <exception>
-#include <mutex>
+#include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 namespace perclod {
@@ -48,19 +44,8 @@ class ImageWriter {
   void finish();
 
  private:
-  struct Job {
-    std::string path;
-    int width, height, channels;
-    std::vector<uint8_t> pixels;
-  };
-  void run();
-  std::mutex mutex_;
-  std::condition_variable wake_, room_;
-  std::deque<Job> queue_;
-  size_t queued_bytes_ = 0, max_queued_bytes_;
-  bool busy_ = false, stop_ = false;
-  std::exception_ptr error_;
-  std::thread thread_;
+  struct State;  // a detail::Worker and the queue's byte count (image_io.cpp)
+  std::unique_ptr<State> state_;
 };
 
 // Writes through `writer` when there is one, else at once.
