@@ -20,7 +20,9 @@ Sections (each writes DIR/<name>.csv and its charts):
                threshold T, label ratio, samples per pixel, view set) on the
                demo: labelling time, triangles and fidelity of the default LOD.
   stability    bench_labels --section stability: label flips under a
-               +-0.25 px shift, by count, by traced samples and by size class.
+               +-0.25 px shift, by count, by traced samples and by size class;
+               bench_fidelity --label-shift: what those flips change in the
+               fidelity and paper LODs.
   scaling      perclod run on generated facades of 10k..2M triangles and on
                one facade with 4..28 views: wall time, CPU and peak memory
                (/usr/bin/time), with the fitted exponent.
@@ -223,6 +225,12 @@ def run_stability(a, out):
             os.remove(out(f"stability_{name}.txt"))
     with open(out("stability.csv"), "w") as f:
         f.write("\n".join([header] + merged) + "\n")
+    # What the flips change in the LOD: fidelity and paper LODs from the
+    # labels of the model moved by -1/4, 0 and +1/4 px, judged against the
+    # unmoved model (bench_fidelity --label-shift).
+    models, dists = ("demo", "427") if a.smoke else ("demo,han", "56,132,427")
+    run([a.bin("bench_fidelity"), "--models", models, "--distances", dists, "--e-imperceptible", "0.5",
+         "--only-fidelity", "--label-shift", "--csv", out("stability_lod.csv")], out("stability_lod.txt"))
 
 
 def timed_run(a, work, model, views, distances, name):
@@ -777,6 +785,16 @@ def summarize(out, charts, exponents):
             [[r["model"], r.get("perturb", "shift"), r["distance"], r["views"], r["samples"], r["visible"], r["flip_pi_count"],
               r["flip_vu_count"], r["flip_pi_weighted"], r["flip_vu_weighted"], r["flip_lt1px"], r["flip_1_10px"],
               r["flip_10_100px"], r["flip_ge100px"]] for r in sb]))
+    sl = [r for r in read_csv(out("stability_lod.csv")) if " (labels " in r["method"]]
+    if sl:
+        parts.append("## What label flips change in the LOD (labels of the model moved by -1/4, 0, +1/4 px)\n\n" +
+                     md_table(["model", "d m", "LOD, labels", "triangles", "worst changed", "worst SSIM",
+                               "worst silhouette"],
+                              [[r["model"], r["distance"], r["method"], r["triangles"],
+                                f"{100 * max(float(r['lab_changed']), float(r['held_changed'])):.2f}%",
+                                f"{min(float(r['lab_ssim']), float(r['held_ssim'])):.4f}",
+                                f"{100 * max(float(r['lab_silhouette']), float(r['held_silhouette'])):.2f}%"]
+                               for r in sl]))
     sc = read_csv(out("scaling.csv"))
     if sc:
         parts.append("## perclod run scaling\n\n" + md_table(
@@ -855,7 +873,7 @@ def main():
                   "simplifiers": ["fidelity.csv", "simplify_time.csv", "butteraugli.csv", "fidelity_ssim.png",
                                   "fidelity_time.png"],
                   "sweeps": ["sweeps.csv", "sweeps.png"], "failures": ["failures.csv"],
-                  "stability": ["stability.csv", "stability.png"], "scaling": ["scaling.csv", "scaling.png"]}
+                  "stability": ["stability.csv", "stability_lod.csv", "stability.png"], "scaling": ["scaling.csv", "scaling.png"]}
         for s in sections:
             for name in expect[s]:
                 path = out(name)

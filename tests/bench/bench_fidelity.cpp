@@ -35,11 +35,16 @@
 //                       [--no-meshopt] [--keep-undisplayable [--e-undisplayable E]] [--dump DIR]
 //                       [--facade-triangles N] [--e-area A] [--max-normal-change DEG]
 //                       [--dump-view NAME] [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]
+//                       [--label-shift]
 //   --set: a labelling setting for the sweeps of scripts/bench.py: levels (DWT),
 //   csf_k, csf (fir|weights|kakadu), threshold (grey levels), ratio (label),
 //   samples, keep_unsampled_surface (0|1), views, spins, resolution (a
 //   factor: 1.5 = 1920x1536 at 1.5x the pixel density, same screen).
 //   --only-fidelity: the fidelity rows only.
+//   --label-shift: also fidelity (the first e_I) and paper LODs made from the
+//     labels of the model moved by -1/4, 0 and +1/4 px with anchored views
+//     (bench_labels' stability shift), each judged against the unmoved model:
+//     what label flips change in the LOD.
 //   --pairs DIR: writes DIR/<model>_<d>m_original.png and one
 //   <model>_<d>m_<method>.png per row, all from the held-out view az22.5el45
 //   and cropped to the same rectangle, for an independent image metric
@@ -88,6 +93,7 @@ std::string g_pairs;  // --pairs DIR: original and LOD from kPairView, for butte
 const bench::HausdorffReference* g_hausdorff = nullptr;  // from the model being judged, in run_model
 std::vector<std::pair<std::string, std::string>> g_settings;  // --set KEY=VALUE, in order
 bool g_only_fidelity = false;
+bool g_label_shift = false;  // --label-shift: LODs from labels of the model moved by +-1/4 px
 double g_label_seconds = 0;  // labelling time of the current model and distance
 
 // Applies --set KEY=VALUE to a labelling job; throws on an unknown key.
@@ -438,6 +444,44 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       name << "fidelity e_I=" << ei;
       row(m, d, name.str(), fidelity.back());
     }
+    if (g_label_shift) {
+      // What label flips do to the LOD: the labelling of bench_labels'
+      // stability section (the geometry moved by -1/4, 0 and +1/4 px along
+      // (1, 1, 1), two zero-area anchors holding the views still), each
+      // labelling applied to the unmoved model, simplified and judged like
+      // any LOD. Rows "<mode> (labels <shift>)".
+      const double s = 0.25 * p;
+      LabelJob anchored = job;
+      anchored.distance = d - s;  // the anchors widen the box by s
+      for (double sign : {0.0, 1.0, -1.0}) {
+        const Scene moved = bench::shifted(scene, sign * s, s);
+        OctreeTracer moved_tracer(moved);
+        LabelResult r = label_scene(renderer, moved, moved_tracer, anchored);
+        r.labels.resize(scene.triangle_count());  // the anchors' two labels go
+        const char* shift = sign == 0 ? "anchored" : sign > 0 ? "+1/4 px" : "-1/4 px";
+        for (SimplifyMode mode : {SimplifyMode::Fidelity, SimplifyMode::Paper}) {
+          SimplifyOptions so;
+          so.mode = mode;
+          so.pixel_footprint = p;
+          if (mode == SimplifyMode::Fidelity) {
+            so.bound_perceptible_px = e_p;
+            so.bound_imperceptible_px = e_i.front();
+            so.delete_undisplayable = !g_keep_undisplayable;
+            so.bound_area_px2 = g_area;
+            so.max_normal_change_deg = g_max_normal;
+            so.bound_undisplayable_px = g_e_u;
+          }
+          SimplifyStats st;
+          Judged j = judge(renderer, simplify(scene, r.labels, so, &st), records, job);
+          j.seconds = st.seconds;
+          std::ostringstream name;
+          name << simplify_mode_name(mode);
+          if (mode == SimplifyMode::Fidelity) name << " e_I=" << e_i.front();
+          name << " (labels " << shift << ")";  // no comma: the CSV does not quote
+          row(m, d, name.str(), j);
+        }
+      }
+    }
     {
       // The noise floor of the judge: the original itself, moved by a quarter
       // of a pixel's footprint (along the diagonal of the axes), judged like
@@ -580,6 +624,7 @@ int main(int argc, char** argv) {
     else if (a == "--dump-view" && i + 1 < argc) g_dump_view = argv[++i];
     else if (a == "--pairs" && i + 1 < argc) g_pairs = argv[++i];
     else if (a == "--only-fidelity") g_only_fidelity = true;
+    else if (a == "--label-shift") g_label_shift = true;
     else if (a == "--set" && i + 1 < argc && std::strchr(argv[i + 1], '=')) {
       const std::string kv = argv[++i];
       g_settings.push_back({kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1)});
@@ -591,7 +636,8 @@ int main(int argc, char** argv) {
                            "                      [--no-meshopt] [--keep-undisplayable [--e-undisplayable E]] [--dump DIR]\n"
                            "                      [--facade-triangles N] [--e-area A] [--max-normal-change DEG]\n"
                            "                      [--dump-view NAME]\n"
-                           "                      [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]\n");
+                           "                      [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]\n"
+                           "                      [--label-shift]\n");
       return 2;
     }
   }

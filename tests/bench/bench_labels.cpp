@@ -98,6 +98,7 @@ LabelJob make_job(UpAxis up, const std::string& views, int samples, double d, Pe
 }
 
 using bench::held_out_views;
+using bench::shifted;
 
 void coverage(const Model& m, const Scene& scene, const std::vector<double>& distances,
               const std::vector<std::string>& view_sets, int samples) {
@@ -134,24 +135,6 @@ void coverage(const Model& m, const Scene& scene, const std::vector<double>& dis
                   c.undisplayable, r.outside_views, 100 * sum / double(n), 100 * worst, worst_view.c_str());
       std::fflush(stdout);
     }
-}
-
-// `scene` moved by (s, s, s) with two zero-area triangles pinning the box
-// [lo - a, hi + a].
-Scene shifted(const Scene& scene, double s, double a) {
-  Scene out = scene;
-  for (size_t i = 0; i < out.positions.size(); ++i) out.positions[i] = float(double(out.positions[i]) + s);
-  const Bounds b = scene_bounds(scene);
-  const uint32_t v0 = uint32_t(out.positions.size() / 3);
-  for (int corner = 0; corner < 2; ++corner)
-    for (int k = 0; k < 3; ++k)
-      out.positions.push_back(float(corner ? double(b.hi[k]) + a : double(b.lo[k]) - a));
-  for (uint32_t c = 0; c < 2; ++c) {
-    out.indices.insert(out.indices.end(), {v0 + c, v0 + c, v0 + c});
-    if (!out.component.empty()) out.component.push_back(out.component.back());
-    if (!out.material.empty()) out.material.push_back(out.material.back());
-  }
-  return out;
 }
 
 struct Flips {
