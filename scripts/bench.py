@@ -30,7 +30,8 @@ Sections (each writes DIR/<name>.csv and its charts):
   failures     perclod run on the inputs where methods fail: coplanar
                duplicates, a side seen at 85 degrees, UTM coordinates,
                a non-manifold soup, single-pixel ornaments, a model under 500
-               pixels, the eye 1 m from the model: what perclod reports and
+               pixels, a view whose eye stands inside a neighbouring building,
+               the eye 1 m from the model: what perclod reports and
                how its LOD scores.
 
 --smoke runs every section on tiny inputs (the CI test suite does, to keep
@@ -410,6 +411,11 @@ def run_failures(a, out):
                   DEFAULT_VIEWS, "", {}))
     kiosk = [("kiosk", box_tris((0, 0, 0), (2, 2, 3))), ("roof", box_tris((-0.2, -0.2, 3), (2.2, 2.2, 3.15)))]
     cases.append(("under 500 pixels", kiosk, [427], DEFAULT_VIEWS, "", {}))
+    # Per building, a small building's views at 56 m stand inside its big
+    # neighbour (a hall 36 m away): those views see the hall from inside.
+    neighbours = [("kiosk", box_tris((0, 0, 0), (4, 4, 4))), ("hall", box_tris((40, -30, 0), (120, 30, 40)))]
+    cases.append(("eye inside a neighbour (per building)", neighbours, [427] if a.smoke else [56], DEFAULT_VIEWS,
+                  "per_building: true\n", {}))
     if not a.smoke:
         cases.append(("eye 1 m from the model", facade, [1], "facades", "judge_views: none\n", {}))
     rows = []

@@ -469,6 +469,18 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
         for (int a = 0; a < 3; ++a) bb.lo[a] = std::min(bb.lo[a], p[a]), bb.hi[a] = std::max(bb.hi[a], p[a]);
       }
     }
+    // A view framed on one building may put its eye inside a neighbour's
+    // box (a kiosk beside a hall): it sees that neighbour from inside, and
+    // the building's labels come from its other views. Counted per building.
+    auto eye_inside_other = [&](const Camera& cam, uint32_t b) {
+      for (uint32_t k = 0; k < box.size(); ++k) {
+        if (k == b) continue;
+        bool in = true;
+        for (int a = 0; a < 3 && in; ++a) in = cam.eye[a] >= box[k].lo[a] && cam.eye[a] <= box[k].hi[a];
+        if (in) return true;
+      }
+      return false;
+    };
     nlohmann::json per = nlohmann::json::array();
     size_t views = 0;  // of the building being labelled
     double seconds = 0;
@@ -481,19 +493,26 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       if (!(box[b].lo[0] <= box[b].hi[0])) continue;  // a building without triangles
       views = 0;
       seconds = 0;
+      size_t eyes_inside = 0;
       for (const auto& view : job.views)
-        for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display))
+        for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display)) {
+          eyes_inside += eye_inside_other(tile.camera, b);
           pipeline.add([&, camera = tile.camera](ViewOutcome& o) { see_view(renderer, ps, camera, depth, o); },
                        [&, name = tile.name, camera = tile.camera](ViewOutcome& o) {
                          count_view(scene, tracer, nullptr, job, name, camera, &owner, b, res, acc, o);
                        });
+        }
       pipeline.drain();
-      per.push_back({{"building", buildings.names[b]}, {"views", views}, {"seconds", seconds}});
+      per.push_back({{"building", buildings.names[b]},
+                     {"views", views},
+                     {"eyes_inside_other_buildings", eyes_inside},
+                     {"seconds", seconds}});
       if (progress) {
         std::ostringstream ss;
         ss.precision(3);
         ss << "  building " << b + 1 << "/" << buildings.names.size() << " " << buildings.names[b] << ": " << views
            << " views, " << seconds << " s";
+        if (eyes_inside) ss << "; " << eyes_inside << " with the eye inside another building's box";
         progress(ss.str());
       }
     }

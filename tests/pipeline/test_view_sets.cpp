@@ -157,6 +157,29 @@ TEST(ViewSets, PerBuildingViewsLabelEachBuildingAtItsOwnDistance) {
     }
 }
 
+// A kiosk 36 m in front of a hall: framed on the kiosk at 56 m, the +x view
+// stands inside the hall's box. The report counts such views per building;
+// the hall's own views all stand outside the kiosk.
+TEST(ViewSets, PerBuildingReportCountsViewsWhoseEyeIsInsideANeighbour) {
+  Scene s;
+  s.component_names = {"kiosk/Building/1", "hall/Building/1"};
+  add_box(s, {0, 0, 0}, {4, 4, 4}, 0);
+  add_box(s, {40, -30, 0}, {120, 30, 40}, 1);
+  LabelJob job = job_for("+x,-x", 56);
+  job.per_building = PerBuilding::On;
+  LabelResult r = label(s, job);
+  const auto& per = r.report["per_building"];
+  ASSERT_EQ(per.size(), 2u);
+  EXPECT_EQ(per[0]["building"], "kiosk");
+  EXPECT_EQ(per[0]["eyes_inside_other_buildings"].get<size_t>(), 1u);  // +x; -x stands in the open
+  EXPECT_EQ(per[1]["building"], "hall");
+  EXPECT_EQ(per[1]["eyes_inside_other_buildings"].get<size_t>(), 0u);
+  // The kiosk's -x face, seen from its -x view in the open, is labelled.
+  size_t visible = 0;
+  for (size_t t = 0; t < 12; ++t) visible += r.labels[t] != Label::Undisplayable;
+  EXPECT_GT(visible, 0u);
+}
+
 // One sample per pixel of the default labelling reproduces the paper's
 // single-sample counts exactly; four samples count in quarter pixels.
 TEST(ViewSets, SampleCountsScaleWithSamplesPerPixel) {
