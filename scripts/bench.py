@@ -387,6 +387,8 @@ def run_case(a, work, name, stem, model, distances, views=DEFAULT_VIEWS, extra="
                          worst_ssim=round(min(j["ssim_covered"] for j in held), 5),
                          worst_silhouette=round(max(j["silhouette_mismatch"] for j in held), 5),
                          real_disagreements=sum(agree) if agree else "",
+                         eyes_inside_others=sum(b.get("eyes_inside_other_buildings", 0)
+                                                for b in lod.get("per_building", [])),
                          warnings=len(rep.get("warnings", []))))
     shutil.rmtree(out_dir, ignore_errors=True)
     return rows
