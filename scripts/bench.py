@@ -24,7 +24,7 @@ Sections (each writes DIR/<name>.csv and its charts):
                bench_fidelity --label-shift: what those flips change in the
                fidelity and paper LODs.
   scaling      perclod run on generated facades of 10k..2M triangles and on
-               one facade with 4..28 views: wall time, CPU and peak memory
+               one facade with 4..29 views per distance: wall time, CPU and peak memory
                (/usr/bin/time), with the fitted exponent.
 
   failures     perclod run on the inputs where methods fail: coplanar
