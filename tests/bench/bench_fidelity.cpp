@@ -374,6 +374,19 @@ void row(const Model& m, double d, const std::string& method, const Judged& j, c
   }
 }
 
+// Fidelity mode at e_P / e_I with the command line's other fidelity settings.
+SimplifyOptions fidelity_options(double e_p, double e_i) {
+  SimplifyOptions so;
+  so.mode = SimplifyMode::Fidelity;
+  so.bound_perceptible_px = e_p;
+  so.bound_imperceptible_px = e_i;
+  so.delete_undisplayable = !g_keep_undisplayable;
+  so.bound_area_px2 = g_area;
+  so.max_normal_change_deg = g_max_normal;
+  so.bound_undisplayable_px = g_e_u;
+  return so;
+}
+
 void run_model(const Model& m, const std::vector<double>& distances, const std::vector<double>& e_i, double e_p) {
   const Scene& scene = m.scene;
   const bench::HausdorffReference hausdorff(scene);
@@ -431,15 +444,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     };
     std::vector<Judged> fidelity;
     for (double ei : e_i) {
-      SimplifyOptions so;
-      so.mode = SimplifyMode::Fidelity;
-      so.bound_perceptible_px = e_p;
-      so.bound_imperceptible_px = ei;
-      so.delete_undisplayable = !g_keep_undisplayable;
-      so.bound_area_px2 = g_area;
-      so.max_normal_change_deg = g_max_normal;
-      so.bound_undisplayable_px = g_e_u;
-      fidelity.push_back(simplified(so));
+      fidelity.push_back(simplified(fidelity_options(e_p, ei)));
       std::ostringstream name;
       name << "fidelity e_I=" << ei;
       row(m, d, name.str(), fidelity.back());
@@ -447,7 +452,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     if (g_label_shift) {
       // What label flips do to the LOD: the labelling of bench_labels'
       // stability section (the geometry moved by -1/4, 0 and +1/4 px along
-      // (1, 1, 1), two zero-area anchors holding the views still), each
+      // each axis, two zero-area anchors holding the views still), each
       // labelling applied to the unmoved model, simplified and judged like
       // any LOD. Rows "<mode> (labels <shift>)".
       const double s = 0.25 * p;
@@ -461,16 +466,9 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
         const char* shift = sign == 0 ? "anchored" : sign > 0 ? "+1/4 px" : "-1/4 px";
         for (SimplifyMode mode : {SimplifyMode::Fidelity, SimplifyMode::Paper}) {
           SimplifyOptions so;
+          if (mode == SimplifyMode::Fidelity) so = fidelity_options(e_p, e_i.front());
           so.mode = mode;
           so.pixel_footprint = p;
-          if (mode == SimplifyMode::Fidelity) {
-            so.bound_perceptible_px = e_p;
-            so.bound_imperceptible_px = e_i.front();
-            so.delete_undisplayable = !g_keep_undisplayable;
-            so.bound_area_px2 = g_area;
-            so.max_normal_change_deg = g_max_normal;
-            so.bound_undisplayable_px = g_e_u;
-          }
           SimplifyStats st;
           Judged j = judge(renderer, simplify(scene, r.labels, so, &st), records, job);
           j.seconds = st.seconds;
