@@ -721,6 +721,14 @@ def md_table(header, rows):
     return "\n".join(lines)
 
 
+def worst_cells(r):
+    """A bench_fidelity row's worst view over its labelling and held-out sets:
+    changed, SSIM, silhouette, as table cells."""
+    return [f"{100 * max(float(r['lab_changed']), float(r['held_changed'])):.2f}%",
+            f"{min(float(r['lab_ssim']), float(r['held_ssim'])):.4f}",
+            f"{100 * max(float(r['lab_silhouette']), float(r['held_silhouette'])):.2f}%"]
+
+
 def summarize(out, charts, exponents):
     # The machine the run measured on (machine.json, written when the run
     # started), not the one redrawing the charts (--charts-only).
@@ -758,9 +766,7 @@ def summarize(out, charts, exponents):
             ["model", "d m", "setting", "fidelity tris", "worst SSIM", "meshopt tris (envelope)", "ratio"], rows))
     if fid:
         rows = [[r["model"], r["distance"], r["method"], r["triangles"], r["seconds"],
-                 f"{100 * max(float(r['lab_changed']), float(r['held_changed'])):.2f}%",
-                 f"{min(float(r['lab_ssim']), float(r['held_ssim'])):.4f}",
-                 f"{100 * max(float(r['lab_silhouette']), float(r['held_silhouette'])):.2f}%",
+                 *worst_cells(r),
                  f"{100 * float(r['hausdorff_rel']):.3f}%", r["note"]]
                 for r in fid if not r["method"].startswith(("same_ssim", "meshopt sweep", "meshopt error"))]
         parts.append("## Every LOD (worst view of labelling and held-out sets)\n\n" + md_table(
@@ -782,9 +788,7 @@ def summarize(out, charts, exponents):
         parts.append("## Settings of the perceptual pipeline, one at a time (demo, default fidelity LOD)\n\n" + md_table(
             ["setting", "d m", "label s", "triangles", "worst changed", "worst SSIM", "worst silhouette"],
             [[r["setting"], r["distance"], r["label_seconds"], r["triangles"],
-              f"{100 * max(float(r['lab_changed']), float(r['held_changed'])):.2f}%",
-              f"{min(float(r['lab_ssim']), float(r['held_ssim'])):.4f}",
-              f"{100 * max(float(r['lab_silhouette']), float(r['held_silhouette'])):.2f}%"] for r in sw]))
+              *worst_cells(r)] for r in sw]))
     sb = read_csv(out("stability.csv"))
     if sb:
         parts.append("## Label stability (% of visible triangles)\n\n" + md_table(
@@ -798,10 +802,7 @@ def summarize(out, charts, exponents):
         parts.append("## What label flips change in the LOD (labels of the model moved by -1/4, 0, +1/4 px)\n\n" +
                      md_table(["model", "d m", "LOD, labels", "triangles", "worst changed", "worst SSIM",
                                "worst silhouette"],
-                              [[r["model"], r["distance"], r["method"], r["triangles"],
-                                f"{100 * max(float(r['lab_changed']), float(r['held_changed'])):.2f}%",
-                                f"{min(float(r['lab_ssim']), float(r['held_ssim'])):.4f}",
-                                f"{100 * max(float(r['lab_silhouette']), float(r['held_silhouette'])):.2f}%"]
+                              [[r["model"], r["distance"], r["method"], r["triangles"], *worst_cells(r)]
                                for r in sl]))
     sc = read_csv(out("scaling.csv"))
     if sc:
