@@ -20,7 +20,8 @@ Sections (each writes DIR/<name>.csv and its charts):
                threshold T, label ratio, samples per pixel, view set) on the
                demo: labelling time, triangles and fidelity of the default LOD.
   stability    bench_labels --section stability: label flips under a
-               +-0.25 px shift, by count, by traced samples and by size class;
+               +-0.25 px shift, by count, by traced samples and by size class
+               (views pooled, the default, and perceptible-in-any-view beside it);
                bench_fidelity --label-shift: what those flips change in the
                fidelity and paper LODs.
   scaling      perclod run on generated facades of 10k..2M triangles and on
@@ -207,6 +208,7 @@ def run_stability(a, out):
     else:
         common = ["--distances", "56,132,427", "--samples", "4", "--views", DEFAULT_VIEWS]
         runs = [("shift", ["--models", "demo,han,block"]),
+                ("shift_any", ["--models", "demo,han", "--rule", "any"]),  # the paper's rule, beside it
                 ("shift1px", ["--models", "demo,han", "--shift-scale", "4"]),
                 ("noise", ["--models", "demo,han", "--perturb", "noise"]),
                 ("resolution", ["--models", "demo,han", "--perturb", "resolution"])]

@@ -13,7 +13,8 @@ void register_label(CLI::App& app) {
     ModelArgs model;
     DisplayArgs display;
     double distance = 0;
-    std::string views = kDefaultViews, out = "out", tracer = "octree", per_building = "auto";
+    std::string views = kDefaultViews, out = "out", tracer = "octree", per_building = "auto",
+                combine_views = kDefaultCombineViews;
     int samples = kDefaultSamples, spins = 1;
     bool verify = false, json = false, keep_unsampled_surface = false;
     double ratio = 0.5, threshold = -1, closer = 0.25;
@@ -41,6 +42,11 @@ void register_label(CLI::App& app) {
   cmd->add_flag("--verify", a->verify, "Also trace with Embree (tie-rule reference) and report per-pixel agreement");
   cmd->add_option("--ratio", a->ratio, "Imperceptible when imperceptible/traced >= ratio (default 0.5)")
       ->check(in_range(0, 1));
+  cmd->add_option("--combine-views", a->combine_views,
+                  std::string("How views combine: pooled (imperceptible/traced >= ratio over every view's samples\n"
+                              "together) or any (perceptible in any view wins: the paper); default ") +
+                      kDefaultCombineViews + " (README, Combining views)")
+      ->check(CLI::IsMember({"any", "pooled"}));
   cmd->add_option("--threshold", a->threshold, "Perception threshold T in grey levels (default: calibrated)")
       ->check(kNonNegative);
   cmd->add_option("--closer", a->closer, "Second marking render at distance x this factor (default 0.25)")
@@ -65,6 +71,7 @@ void register_label(CLI::App& app) {
     job.per_building = parse_per_building(a->per_building);
     job.distance = a->distance;
     job.ratio = a->ratio;
+    job.combine = parse_combine_views(a->combine_views);
     job.verify = a->verify;
     job.closer_factor = a->closer;
     job.out = output_names_for(a->out, a->model.path);

@@ -16,7 +16,7 @@ namespace perclod::cli {
 namespace {
 
 struct RunArgs {
-  std::string config, views, shard;
+  std::string config, views, shard, combine_views;
   int samples = 0, jobs = 0;
   double memory_budget_mb = -1;
   bool json = false, strict = false, force = false, keep_unsampled_surface = false;
@@ -93,6 +93,10 @@ void register_run(CLI::App& app) {
   cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
                 "Label sub-pixel triangles that lie between the samples of a drawn surface from their pixel\n"
                 "instead of undisplayable (README, Unsampled surface; also 'keep_unsampled_surface: true' in the config)");
+  cmd->add_option("--combine-views", a->combine_views,
+                  "How views combine perceptible and imperceptible: pooled (the default) or any (the paper)\n"
+                  "(README, Combining views; overrides the config's combine_views)")
+      ->check(CLI::IsMember({"any", "pooled"}));
   cmd->add_flag("--strict", a->strict,
                 "Fail (exit 1, after every output is written) when a LOD exceeds the config's max_changed or\n"
                 "max_silhouette, or falls below its min_ssim, in any judged view (also 'strict: true' in the config)");
@@ -130,6 +134,7 @@ void register_run(CLI::App& app) {
       }
       if (a->samples) m.config.samples = a->samples;
       if (a->keep_unsampled_surface) m.config.keep_unsampled_surface = true;
+      if (!a->combine_views.empty()) m.config.combine_views = a->combine_views;
     }
     if (f.batch) run_many(*a, f);
     else run_one(*a, f);

@@ -119,7 +119,7 @@ namespace {
 // overrides of a `models:` entry.
 const std::set<std::string> kModelKeys = {
     "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins",
-    "keep_unsampled_surface", "per_building", "tracer", "verify", "ratio", "simplify", "k", "target",
+    "keep_unsampled_surface", "per_building", "combine_views", "tracer", "verify", "ratio", "simplify", "k", "target",
     "keep_undisplayable", "format",
     "e_perceptible", "e_imperceptible", "e_undisplayable", "judge_views", "max_changed", "max_silhouette",
     "min_ssim", "strict",
@@ -196,6 +196,12 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
     } catch (const std::invalid_argument& e) {
       throw config_error(path, std::string("'per_building': ") + e.what());
     }
+  }
+  c.combine_views = get<std::string>(n, path, "combine_views", c.combine_views);
+  try {
+    parse_combine_views(c.combine_views);
+  } catch (const std::invalid_argument& e) {
+    throw config_error(path, std::string("'combine_views': ") + e.what());
   }
   c.tracer = get<std::string>(n, path, "tracer", c.tracer);
   if (c.tracer != "octree" && c.tracer != "embree") throw config_error(path, "'tracer' must be octree or embree");
@@ -458,6 +464,9 @@ nlohmann::json settings_json(const BatchConfig& c) {
                                                        {"height", c.origin_height}}
                                       : nlohmann::json(nullptr)}};
   if (c.min_ssim > 0) s["min_ssim"] = c.min_ssim;
+  // Likewise combine_views when it is the paper's rule; the default (pooled)
+  // joins, so a manifest redoes models labelled before the key existed.
+  if (c.combine_views != "any") s["combine_views"] = c.combine_views;
   if (std::isfinite(c.e_undisplayable)) s["e_undisplayable"] = c.e_undisplayable;
   return s;
 }
@@ -473,6 +482,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.label.perception.spins = c.spins;
   job.label.per_building = parse_per_building(c.per_building);
   job.label.ratio = c.ratio;
+  job.label.combine = parse_combine_views(c.combine_views);
   job.label.verify = c.verify;
   job.label.out = output_names_for(c.out, c.model);
   job.label.write_view_images = c.debug_images;

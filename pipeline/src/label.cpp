@@ -84,6 +84,12 @@ PerBuilding parse_per_building(const std::string& s) {
   throw std::invalid_argument("per_building must be true, false or auto, not '" + s + "'");
 }
 
+CombineViews parse_combine_views(const std::string& s) {
+  if (s == "any") return CombineViews::AnyView;
+  if (s == "pooled") return CombineViews::Pooled;
+  throw std::invalid_argument("combine_views must be any or pooled, not '" + s + "'");
+}
+
 Buildings find_buildings(const Scene& scene) {
   Buildings b;
   const size_t nc = std::max<size_t>(scene.component_count(), 1);
@@ -520,6 +526,10 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   }
 
   res.labels = std::move(acc.combined);
+  // Pooled: the totals hold every view's samples of a triangle (a building's
+  // own views count only its own triangles, as combined above), and traced
+  // is 0 exactly where every view left it undisplayable.
+  if (job.combine == CombineViews::Pooled) res.labels = label_triangles(res.totals, job.ratio);
   for (size_t t = 0; t < nt; ++t) {
     if (res.labels[t] == Label::Undisplayable && !acc.in_frustum[t]) {
       res.labels[t] = Label::Imperceptible;  // no view could have seen it: the view set was incomplete

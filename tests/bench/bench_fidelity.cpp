@@ -44,7 +44,8 @@
 //   --label-shift: also fidelity (the first e_I) and paper LODs made from the
 //     labels of the model moved by -1/4, 0 and +1/4 px with anchored views
 //     (bench_labels' stability shift), each judged against the unmoved model:
-//     what label flips change in the LOD.
+//     what label flips change in the LOD (paper LODs from labels combined by
+//     the paper's rule, combine_views: any).
 //   --pairs DIR: writes DIR/<model>_<d>m_original.png and one
 //   <model>_<d>m_<method>.png per row, all from the held-out view az22.5el45
 //   and cropped to the same rectangle, for an independent image metric
@@ -112,6 +113,7 @@ void apply_settings(LabelJob& job) {
     else if (key == "ratio") job.ratio = v;
     else if (key == "samples") job.samples = int(v);
     else if (key == "keep_unsampled_surface") job.keep_unsampled_surface = v != 0;
+    else if (key == "combine_views") job.combine = parse_combine_views(value);
     else if (key == "views") job.views = parse_views(value, job.up);
     else if (key == "csf") {
       if (value == "fir") job.perception.csf = PerceptionSettings::CsfMode::Fir;
@@ -400,6 +402,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     job.perception = perception_settings_for(job.display);
     job.views = parse_views(kDefaultViews, m.up);
     job.samples = kDefaultSamples;
+    job.combine = parse_combine_views(kDefaultCombineViews);
     job.per_building = m.per_building;
     job.distance = d;
     job.write_perception_images = false;
@@ -454,17 +457,23 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       // stability section (the geometry moved by -1/4, 0 and +1/4 px along
       // each axis, two zero-area anchors holding the views still), each
       // labelling applied to the unmoved model, simplified and judged like
-      // any LOD. Rows "<mode> (labels <shift>)".
+      // any LOD. Rows "<mode> (labels <shift>)". The fidelity LOD takes the
+      // labels of `job` (views pooled, the default); the paper LOD the
+      // paper's rule over the same views (combine_views: any), as
+      // configs/paper.yaml has it.
       const double s = 0.25 * p;
       LabelJob anchored = job;
       anchored.distance = d - s;  // the anchors widen the box by s
+      LabelJob anchored_any = anchored;
+      anchored_any.combine = CombineViews::AnyView;
       for (double sign : {0.0, 1.0, -1.0}) {
         const Scene moved = bench::shifted(scene, sign * s, s);
         OctreeTracer moved_tracer(moved);
-        LabelResult r = label_scene(renderer, moved, moved_tracer, anchored);
-        r.labels.resize(scene.triangle_count());  // the anchors' two labels go
         const char* shift = sign == 0 ? "anchored" : sign > 0 ? "+1/4 px" : "-1/4 px";
         for (SimplifyMode mode : {SimplifyMode::Fidelity, SimplifyMode::Paper}) {
+          LabelResult r = label_scene(renderer, moved, moved_tracer,
+                                      mode == SimplifyMode::Paper ? anchored_any : anchored);
+          r.labels.resize(scene.triangle_count());  // the anchors' two labels go
           SimplifyOptions so;
           if (mode == SimplifyMode::Fidelity) so = fidelity_options(e_p, e_i.front());
           so.mode = mode;

@@ -31,6 +31,7 @@
 //                [--keep-unsampled-surface] (LabelJob::keep_unsampled_surface)
 //                [--shift-scale 0] (relabel without moving: the noise floor, 0 when deterministic)
 //                [--per-building true|false|auto] (the block runs per building unless told otherwise)
+//                [--rule any|pooled] (LabelJob::combine: how views combine P and I; see rule_for)
 //   [--csv FILE]: the stability section's rows as CSV (flips in percent).
 //   [--perturb shift|noise|resolution]: see g_perturb.
 #include <algorithm>
@@ -64,12 +65,22 @@ FILE* g_csv = nullptr;    // --csv FILE: the stability rows, one per model, dist
 //   noise       every vertex by uniform noise of +-1e-6 of the bounding-box diagonal (x --shift-scale)
 //   resolution  the display: 1920x1536 at 1.5x the pixel density (same screen, same field of view)
 std::string g_perturb = "shift";
+// --rule any|pooled: LabelJob::combine (how the views of a distance combine
+// P and I). Unless told: the paper's (any) for the paper's setting (facades,
+// one sample), the product's default otherwise.
+std::string g_rule;
+std::string rule_for(const std::string& views, int samples) {
+  if (!g_rule.empty()) return g_rule;
+  return views == "facades" && samples == 1 ? "any" : kDefaultCombineViews;
+}
 
 // The perturbation as the tables name it: "shift", "shift x4" (one pixel), "noise", "resolution".
+// A --rule is named ("shift any"): the CSV's perturb column tells such rows apart.
 std::string perturb_name() {
-  if (g_perturb == "resolution" || g_shift_scale == 1.0) return g_perturb;
   std::ostringstream ss;
-  ss << g_perturb << " x" << g_shift_scale;
+  ss << g_perturb;
+  if (g_perturb != "resolution" && g_shift_scale != 1.0) ss << " x" << g_shift_scale;
+  if (!g_rule.empty()) ss << " " << g_rule;
   return ss.str();
 }
 
@@ -93,6 +104,7 @@ LabelJob make_job(UpAxis up, const std::string& views, int samples, double d, Pe
   job.write_perception_images = false;
   if (g_spins) job.perception.spins = g_spins;
   job.keep_unsampled_surface = g_keep_unsampled_surface;
+  job.combine = parse_combine_views(rule_for(views, samples));
   if (g_threshold >= 0) job.perception.threshold = g_threshold;
   return job;
 }
@@ -304,6 +316,13 @@ int main(int argc, char** argv) {
     else if (a == "--keep-unsampled-surface") g_keep_unsampled_surface = true;
     else if (a == "--shift-scale") g_shift_scale = std::stod(next());
     else if (a == "--threshold") g_threshold = std::stod(next());
+    else if (a == "--rule") {
+      g_rule = next();
+      if (g_rule != "any" && g_rule != "pooled") {
+        std::fprintf(stderr, "bench_labels: --rule must be any or pooled\n");
+        return 2;
+      }
+    }
     else if (a == "--per-building") g_per_building = next();
     else if (a == "--facade-triangles") facade_triangles = std::stoul(next());
     else if (a == "--perturb") {
@@ -334,7 +353,7 @@ int main(int argc, char** argv) {
                            "  [--distances 56,132,427] [--samples 1,4] [--views \"facades;facades,ring8el30\"]\n"
                            "  [--runs R] [--facade-triangles N] [--spins S] [--threshold T] [--shift-scale F]\n"
                            "  [--keep-unsampled-surface]\n"
-                           "  [--per-building true|false|auto] [--csv FILE] (stability rows)\n"
+                           "  [--per-building true|false|auto] [--rule any|pooled] [--csv FILE] (stability rows)\n"
                            "  [--perturb shift|noise|resolution] (what the stability section changes)\n");
       return 2;
     }

@@ -195,6 +195,36 @@ TEST(ViewSets, SampleCountsScaleWithSamplesPerPixel) {
   EXPECT_THROW(label(s, job_for("facades", 30, 3)), std::invalid_argument);
 }
 
+// combine_views: pooled decides P and I from every view's samples together.
+// It leaves the undisplayable set as it is, it can only turn a triangle
+// perceptible in some view imperceptible (if every view's fraction reaches
+// the ratio, so does their sum), and on a wall of small boxes seen from the
+// side and from above it does: a box perceptible only in the views that hold
+// few of its samples.
+TEST(ViewSets, PooledViewsDecideFromEveryViewsSamplesTogether) {
+  Scene s = wall(30, 12);
+  for (int i = 0; i < 30; ++i)
+    for (int k = 0; k < 12; ++k)
+      add_box(s, {i + 0.3f, -0.3f, k + 0.3f}, {i + 0.6f, 0.0f, k + 0.6f}, 0);
+  LabelJob job = job_for("facades,ring8el30", 60, 4);
+  LabelResult any = label(s, job);
+  job.combine = CombineViews::Pooled;
+  LabelResult pooled = label(s, job);
+  ASSERT_EQ(any.totals.traced, pooled.totals.traced);  // the same samples, combined otherwise
+  EXPECT_EQ(pooled.labels, label_triangles(pooled.totals, job.ratio));
+  size_t turned = 0;
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    ASSERT_EQ(any.labels[t] == Label::Undisplayable, pooled.labels[t] == Label::Undisplayable) << t;
+    if (pooled.labels[t] == Label::Perceptible) {
+      ASSERT_EQ(any.labels[t], Label::Perceptible) << t;
+    }
+    turned += any.labels[t] == Label::Perceptible && pooled.labels[t] == Label::Imperceptible;
+  }
+  EXPECT_GT(turned, 0u);
+  EXPECT_EQ(parse_combine_views("pooled"), CombineViews::Pooled);
+  EXPECT_THROW(parse_combine_views("all"), std::invalid_argument);
+}
+
 // A 1 m square in the plane y = `y`, facing -y, tessellated in squares of
 // `cell` metres (two triangles each); returns its first triangle.
 size_t add_fine_grid(Scene& s, float y, float cell, uint32_t comp) {

@@ -190,7 +190,7 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   const std::string base = "model: m.obj\ndistances: [56]\n";
   expect_error(load_batch_config, write("typo.yaml", base + "verfy: true\n"), "unknown key 'verfy' (did you mean 'verify'?)");
   expect_error(load_batch_config, write("typo2.yaml", base + "colour: red\n"),
-               "known keys: cityjson_lod, crs_origin, debug_images, display");
+               "known keys: cityjson_lod, combine_views, crs_origin, debug_images, display");
   expect_error(load_batch_config, write("dup.yaml", base + "model: other.obj\n"), "'model' appears twice");
   expect_error(load_batch_config, write("qem.yaml", base + "simplify: qem\n"), "needs 'target'");
   expect_error(load_batch_config, write("target0.yaml", base + "simplify: qem\ntarget: 0\n"), "'target'");
@@ -202,6 +202,8 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   expect_error(load_batch_config, write("both.yaml", base + "views: top\nfacades: all\n"), "not both");
   expect_error(load_batch_config, write("spp.yaml", base + "samples: 3\n"), "'samples'");
   expect_error(load_batch_config, write("pb.yaml", base + "per_building: maybe\n"), "'per_building'");
+  expect_error(load_batch_config, write("cv.yaml", base + "combine_views: all\n"),
+               "'combine_views': combine_views must be any or pooled, not 'all'");
   expect_error(load_batch_config, write("out.yaml", base + "out: \"\"\n"), "'out'");
   expect_error(load_batch_config, write("mode.yaml", base + "simplify: fidel\n"), "'simplify' must be fidelity");
   expect_error(load_batch_config, write("ep.yaml", base + "e_perceptible: -1\n"), "'e_perceptible' must be");

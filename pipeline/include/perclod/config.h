@@ -33,6 +33,7 @@ struct BatchConfig {
   std::string tracer = "octree";     // octree | embree
   bool verify = false;               // also trace with Embree and report agreement
   double ratio = 0.5;                // label rule: imperceptible / traced >= ratio
+  std::string combine_views = kDefaultCombineViews;  // label rule over views: pooled | any (the paper; LabelJob::combine)
   std::string simplify = "fidelity"; // fidelity | paper | bounded | qem | cluster
   double e_perceptible = kDefaultBoundPerceptiblePx;      // fidelity: bound of perceptible triangles, pixels
   double e_imperceptible = kDefaultBoundImperceptiblePx;  // fidelity: bound of imperceptible triangles, pixels

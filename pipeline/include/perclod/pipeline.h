@@ -71,6 +71,14 @@ std::unique_ptr<Tracer> make_tracer(const Scene& scene, TracerKind kind);
 enum class PerBuilding { Off, On, Auto };
 PerBuilding parse_per_building(const std::string& s);  // "false" | "true" | "auto"
 
+// How the views of one distance combine perceptible and imperceptible
+// (undisplayable is the same in both: no sample of any view hit it).
+//   AnyView  perceptible in any view wins (the paper)
+//   Pooled   imperceptible / traced >= ratio over the samples of every view
+//            together (LabelResult::totals)
+enum class CombineViews { AnyView, Pooled };
+CombineViews parse_combine_views(const std::string& s);  // "any" | "pooled"
+
 // Buildings of a scene: component names "<building>/<part>/..." (CityGML-
 // derived OBJ groups) share a building when their text before the first '/'
 // is the same; a component without '/' is a building of its own. Returns the
@@ -85,6 +93,9 @@ Buildings find_buildings(const Scene& scene);
 // Samples per pixel `perclod run` and `label` take unless told otherwise
 // (README, "Stable labels", says how it was chosen).
 constexpr int kDefaultSamples = 4;
+// How `perclod run` and `label` combine views unless told otherwise
+// (README, "Combining views", says how it was chosen): "pooled".
+constexpr const char* kDefaultCombineViews = "pooled";
 
 struct LabelJob {
   UpAxis up = UpAxis::Y;
@@ -105,6 +116,7 @@ struct LabelJob {
   PerBuilding per_building = PerBuilding::Off;
   double distance = 56;
   double ratio = 0.5;                 // imperceptible / traced >= ratio -> imperceptible
+  CombineViews combine = CombineViews::AnyView;  // the paper's; run and label take kDefaultCombineViews
   bool verify = false;                // also trace with Embree (tie-rule mode) and compare
   double closer_factor = 0.25;        // marking render from d * closer_factor too
   OutputNames out;                    // out.dir "" = write no files
