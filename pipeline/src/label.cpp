@@ -413,6 +413,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   res.report = {{"distance", job.distance},
                 {"tracer", tracer.name()},
                 {"samples_per_pixel", job.samples},
+                {"combine_views", job.combine == CombineViews::Pooled ? "pooled" : "any"},
                 {"keep_unsampled_surface", depth},
                 {"views", nlohmann::json::array()}};
   Accumulator acc(nt);

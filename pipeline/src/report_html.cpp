@@ -621,6 +621,7 @@ std::string model_report_html(const json& report, const OutputNames& names) {
     std::vector<std::pair<std::string, std::string>> facts = {
         {"pixel footprint", fixed(num(l, "pixel_footprint"), 4) + "&nbsp;m"},
         {"samples per pixel", count(num(l, "samples_per_pixel"))},
+        {"views combined", str(l, "combine_views").empty() ? "any" : html_escape(str(l, "combine_views"))},
         {"vertices", count(num(simp, "vertices_before")) + " &rarr; " + count(num(simp, "vertices_after"))}};
     if (!str(simp, "stop_reason").empty()) facts.push_back({"stop reason", html_escape(str(simp, "stop_reason"))});
     if (member(l, "bounds_px"))

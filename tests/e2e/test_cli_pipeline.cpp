@@ -73,6 +73,7 @@ TEST(CliPipeline, LabelTakesViewSetsSamplesAndTilesCloseViews) {
   ASSERT_EQ(j["views"].size(), 2u);
   EXPECT_EQ(j["views"][0]["view"], "top");
   EXPECT_EQ(j["samples_per_pixel"], 2);
+  EXPECT_EQ(j["combine_views"], "pooled");  // the default
   EXPECT_TRUE(fs::exists(out / "bldg_4018215_az45el30_56m.png"));
   auto lf = perclod::read_labels(j["labels_file"].get<std::string>());
   EXPECT_EQ(lf.samples, 2);
@@ -81,9 +82,11 @@ TEST(CliPipeline, LabelTakesViewSetsSamplesAndTilesCloseViews) {
 
   // 8 m in front of the -y face: the facade overfills one frame, so the view is tiled.
   fs::path near = fresh_dir("label-tiles");
-  auto t = run_cli("label " + kBuilding + " --up z -d 8 --views -y --samples 1 --json -o " + near.string());
+  auto t = run_cli("label " + kBuilding + " --up z -d 8 --views -y --samples 1 --combine-views any --json -o " +
+                   near.string());
   ASSERT_EQ(t.exit_code, 0) << t.err;
   auto k = nlohmann::json::parse(t.out);
+  EXPECT_EQ(k["combine_views"], "any");
   EXPECT_GT(k["views"].size(), 1u);
   EXPECT_EQ(k["views"][0]["view"], "-y_t0");
   EXPECT_TRUE(fs::exists(near / "bldg_4018215_-y_t0_8m.png"));

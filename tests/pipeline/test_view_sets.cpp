@@ -221,6 +221,8 @@ TEST(ViewSets, PooledViewsDecideFromEveryViewsSamplesTogether) {
     turned += any.labels[t] == Label::Perceptible && pooled.labels[t] == Label::Imperceptible;
   }
   EXPECT_GT(turned, 0u);
+  EXPECT_EQ(any.report["combine_views"], "any");
+  EXPECT_EQ(pooled.report["combine_views"], "pooled");
   EXPECT_EQ(parse_combine_views("pooled"), CombineViews::Pooled);
   EXPECT_THROW(parse_combine_views("all"), std::invalid_argument);
 }
