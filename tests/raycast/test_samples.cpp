@@ -105,6 +105,50 @@ TEST(Samples, SubPixelSquareMissedByTheCentreIsFoundByFourSamples) {
   EXPECT_TRUE(labels[0] == Label::Imperceptible || labels[1] == Label::Imperceptible);
 }
 
+// cropped(): a window of the image as a camera of its own samples exactly
+// what the whole camera samples there, shifted or not, so a render or trace
+// of the window is the whole image's over it (mask_per_sample renders only
+// the window where the model lies).
+TEST(Samples, CroppedCameraSamplesTheSamePointsAsTheWholeImage) {
+  // A fan of thin triangles across the frame at several depths: many edges
+  // pass close to pixel centres, so any error in the window's rays shows.
+  Scene s;
+  for (int i = 0; i < 40; ++i) {
+    const float x = -30.0f + 1.53f * float(i), z = -40.0f - 0.7f * float(i);
+    const uint32_t v = uint32_t(s.positions.size() / 3);
+    s.positions.insert(s.positions.end(), {x, -25.0f, z, x + 0.61f, 27.0f, z, x + 1.9f, -20.0f, z});
+    s.indices.insert(s.indices.end(), {v, v + 1, v + 2});
+  }
+  OctreeTracer octree(s);
+  for (std::array<double, 2> shift : {std::array<double, 2>{0, 0}, std::array<double, 2>{0.375, -0.125}}) {
+    Camera whole = unit_camera();
+    whole.width = 80;  // not square: the window's pitch must follow the height's
+    whole.shift_x = shift[0];
+    whole.shift_y = shift[1];
+    const std::vector<uint32_t> all = octree.trace(whole);
+    const int x0 = 13, y0 = 6, w = 37, h = 29;
+    const Camera win = cropped(whole, x0, y0, w, h);
+    ASSERT_EQ(win.width, w);
+    ASSERT_EQ(win.height, h);
+    EXPECT_NEAR(win.pixel_footprint(64), whole.pixel_footprint(64), 1e-12);
+    const std::vector<uint32_t> part = octree.trace(win);
+    size_t differ = 0, hits = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        differ += part[size_t(y) * w + x] != all[size_t(y + y0) * whole.width + x + x0];
+        hits += part[size_t(y) * w + x] != 0;  // 0: a miss
+      }
+    EXPECT_EQ(differ, 0u) << shift[0];
+    EXPECT_GT(hits, size_t(w * h / 4));
+    // A world point lands on the window's pixel less the window's origin.
+    double ax, ay, bx, by, depth;
+    ASSERT_TRUE(whole.project(Eigen::Vector3d(3.3, -7.1, -50), ax, ay, depth));
+    ASSERT_TRUE(win.project(Eigen::Vector3d(3.3, -7.1, -50), bx, by, depth));
+    EXPECT_NEAR(bx, ax - x0, 1e-9);
+    EXPECT_NEAR(by, ay - y0, 1e-9);
+  }
+}
+
 TEST(Frustum, MarksTrianglesInsideAndLeavesThoseBesideOrBehind) {
   const Camera c = unit_camera();
   Scene s;

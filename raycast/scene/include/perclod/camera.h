@@ -88,6 +88,20 @@ struct Camera {
   double pixel_footprint(double d) const { return 2.0 * d * tan_half_y() / height; }
 };
 
+// The part [x0, x0 + w) x [y0, y0 + h) of `c`'s image as a camera of its own:
+// its pixel (x, y) samples what `c`'s pixel (x0 + x, y0 + y) samples (same
+// eye, axes and pixel pitch; the window is an off-axis shift). Rendering or
+// tracing a crop costs its own pixels, not the whole image's.
+inline Camera cropped(const Camera& c, int x0, int y0, int w, int h) {
+  Camera out = c;
+  out.width = w;
+  out.height = h;
+  out.fov_y = 2.0 * std::atan(c.tan_half_y() * double(h) / double(c.height));
+  out.shift_x = c.shift_x + x0 + 0.5 * (w - c.width);
+  out.shift_y = c.shift_y + y0 + 0.5 * (h - c.height);
+  return out;
+}
+
 // A camera at `eye` looking at `target`; `world_up` must not be parallel to the view.
 inline Camera look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
                       const Eigen::Vector3d& world_up, double fov_y, int width, int height,
