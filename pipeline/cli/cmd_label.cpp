@@ -16,7 +16,7 @@ void register_label(CLI::App& app) {
     std::string views = kDefaultViews, out = "out", tracer = "octree", per_building = "auto",
                 combine_views = kDefaultCombineViews;
     int samples = kDefaultSamples, spins = 1;
-    bool verify = false, json = false, keep_unsampled_surface = false;
+    bool verify = false, json = false, keep_unsampled_surface = false, mask_per_sample = false;
     double ratio = 0.5, threshold = -1, closer = 0.25;
   };
   auto a = std::make_shared<Args>();
@@ -30,6 +30,10 @@ void register_label(CLI::App& app) {
                 "With samples > 1: a sub-pixel triangle no sample hit but lying on the drawn surface, where\n"
                 "such triangles fill half a pixel or more, is labelled from that pixel, not undisplayable\n"
                 "(README, Unsampled surface)");
+  cmd->add_flag("--mask-per-sample", a->mask_per_sample,
+                "Render and perceive each sample offset on its own (SAMPLES renders per view, one ray per\n"
+                "pixel each), so every sample reads the mask of its own picture: labels that a sub-pixel move\n"
+                "hardly changes (README, Stable labels)");
   cmd->add_option("--spins", a->spins,
                   "Perception cycle spinning: 1 (the paper), 2 or 4 DWT phases averaged (shift-invariant mask)")
       ->check(CLI::IsMember({1, 2, 4}));
@@ -68,6 +72,7 @@ void register_label(CLI::App& app) {
     job.views = views_option(a->views, job.up);
     job.samples = a->samples;
     job.keep_unsampled_surface = a->keep_unsampled_surface;
+    job.mask_per_sample = a->mask_per_sample;
     job.per_building = parse_per_building(a->per_building);
     job.distance = a->distance;
     job.ratio = a->ratio;

@@ -19,7 +19,7 @@ struct RunArgs {
   std::string config, views, shard, combine_views;
   int samples = 0, jobs = 0;
   double memory_budget_mb = -1;
-  bool json = false, strict = false, force = false, keep_unsampled_surface = false;
+  bool json = false, strict = false, force = false, keep_unsampled_surface = false, mask_per_sample = false;
 };
 
 void print_warnings(const nlohmann::json& report) {
@@ -93,6 +93,9 @@ void register_run(CLI::App& app) {
   cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
                 "Label sub-pixel triangles that lie between the samples of a drawn surface from their pixel\n"
                 "instead of undisplayable (README, Unsampled surface; also 'keep_unsampled_surface: true' in the config)");
+  cmd->add_flag("--mask-per-sample", a->mask_per_sample,
+                "Render and perceive each sample offset on its own, so labels hardly change under a sub-pixel\n"
+                "move (README, Stable labels; also 'mask_per_sample: true' in the config)");
   cmd->add_option("--combine-views", a->combine_views,
                   "How views combine perceptible and imperceptible: pooled (the default) or any (the paper)\n"
                   "(README, Combining views; overrides the config's combine_views)")
@@ -134,6 +137,7 @@ void register_run(CLI::App& app) {
       }
       if (a->samples) m.config.samples = a->samples;
       if (a->keep_unsampled_surface) m.config.keep_unsampled_surface = true;
+      if (a->mask_per_sample) m.config.mask_per_sample = true;
       if (!a->combine_views.empty()) m.config.combine_views = a->combine_views;
     }
     if (f.batch) run_many(*a, f);

@@ -119,7 +119,7 @@ namespace {
 // overrides of a `models:` entry.
 const std::set<std::string> kModelKeys = {
     "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins",
-    "keep_unsampled_surface", "per_building", "combine_views", "tracer", "verify", "ratio", "simplify", "k", "target",
+    "keep_unsampled_surface", "mask_per_sample", "per_building", "combine_views", "tracer", "verify", "ratio", "simplify", "k", "target",
     "keep_undisplayable", "format",
     "e_perceptible", "e_imperceptible", "e_undisplayable", "judge_views", "max_changed", "max_silhouette",
     "min_ssim", "strict",
@@ -188,6 +188,9 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   c.spins = get<int>(n, path, "spins", c.spins);
   if (c.spins != 1 && c.spins != 2 && c.spins != 4) throw config_error(path, "'spins' must be 1, 2 or 4");
   c.keep_unsampled_surface = get<bool>(n, path, "keep_unsampled_surface", c.keep_unsampled_surface);
+  c.mask_per_sample = get<bool>(n, path, "mask_per_sample", c.mask_per_sample);
+  if (c.mask_per_sample && c.keep_unsampled_surface && c.samples > 1)
+    throw config_error(path, "'mask_per_sample' and 'keep_unsampled_surface' cannot both be true");
   if (n["per_building"]) {
     const YAML::Node pb = n["per_building"];
     c.per_building = pb.IsScalar() ? pb.Scalar() : std::string("?");
@@ -467,6 +470,7 @@ nlohmann::json settings_json(const BatchConfig& c) {
   // Likewise combine_views when it is the paper's rule; the default (pooled)
   // joins, so a manifest redoes models labelled before the key existed.
   if (c.combine_views != "any") s["combine_views"] = c.combine_views;
+  if (c.mask_per_sample) s["mask_per_sample"] = true;  // off: the hashes of older configs stay
   if (std::isfinite(c.e_undisplayable)) s["e_undisplayable"] = c.e_undisplayable;
   return s;
 }
@@ -479,6 +483,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.label.views = parse_views(c.views, c.up);
   job.label.samples = c.samples;
   job.label.keep_unsampled_surface = c.keep_unsampled_surface;
+  job.label.mask_per_sample = c.mask_per_sample;
   job.label.perception.spins = c.spins;
   job.label.per_building = parse_per_building(c.per_building);
   job.label.ratio = c.ratio;

@@ -280,8 +280,9 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
 }
 
 // The second half, on any thread: trace the view seen by see_view at
-// job.samples samples per pixel; adds its counts and labels for the
-// triangles of `owner[t] == building` (all when `owner` is null).
+// job.samples samples per pixel (with job.mask_per_sample, `cam` is one
+// sample pass, traced at its pixel centres); adds its counts and labels for
+// the triangles of `owner[t] == building` (all when `owner` is null).
 void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
                 const std::string& name, const Camera& cam, const std::vector<uint32_t>* owner, uint32_t building,
                 LabelResult& res, Accumulator& acc, ViewOutcome& out) {
@@ -295,13 +296,15 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   counts.imperceptible.assign(nt, 0);
   t0 = Clock::now();
   // Every sample of the view in one call: the octree walks its structure
-  // once for all of them.
-  std::vector<std::array<double, 2>> offsets = sample_offsets(job.samples);
+  // once for all of them. With a mask per sample this render is one sample
+  // pass, its camera shifted by the pass's offset: one ray per pixel centre.
+  const int samples = job.mask_per_sample ? 1 : job.samples;
+  std::vector<std::array<double, 2>> offsets =
+      job.mask_per_sample ? std::vector<std::array<double, 2>>{{cam.shift_x, cam.shift_y}} : sample_offsets(job.samples);
   // verify compares the octree with Embree and with the ID buffer at the
   // pixel centres: with several samples the centre rides along in the same
   // walk, as one more sample, when the walk has room for it.
-  const bool centre_in_walk =
-      reference && !owner && job.samples > 1 && job.samples < OctreeTracer::kMaxSamples;
+  const bool centre_in_walk = reference && !owner && samples > 1 && samples < OctreeTracer::kMaxSamples;
   if (centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `unshifted`
   std::vector<std::vector<uint32_t>>& traced = out.samples;
   traced.resize(offsets.size());
@@ -313,7 +316,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   Camera unshifted = cam;  // the offsets are from the pixel centres
   unshifted.shift_x = unshifted.shift_y = 0;
   tracer.trace_samples(unshifted, offsets, buffers.data());
-  for (size_t k = 0; k < size_t(job.samples); ++k) {
+  for (size_t k = 0; k < size_t(samples); ++k) {
     std::vector<uint32_t>& rays = traced[k];
     if (owner)
       for (uint32_t& id : rays)
@@ -321,7 +324,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
     add_counts(counts, rays.data(), out.perception.mask.data(), pixels);
   }
   const std::vector<uint32_t>& rays = traced[0];
-  if (job.samples > 1) add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
+  if (samples > 1) add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
   size_t unsampled_surface = 0;
   if (finds_unsampled_surface(job))
     unsampled_surface = add_unsampled_surface(scene, cam, out.image.depth.data(), out.image.ids.data(),
@@ -358,8 +361,8 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
     // the centres once more, and without verify the comparison is left out.
     std::vector<uint32_t> traced_centre;
     const uint32_t* centre = nullptr;
-    if (job.samples == 1) {
-      centre = rays.data();  // the one sample is the centre
+    if (samples == 1) {
+      centre = rays.data();  // the one sample is the centre (of this pass's camera)
     } else if (centre_in_walk) {
       centre = traced.back().data();
     } else if (reference) {
@@ -379,12 +382,66 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   }
 }
 
-std::string progress_line(const std::string& name, double d, const ViewOutcome& o) {
+// The sample passes of a view: one render that every sample reads, or with
+// job.mask_per_sample one render per sample offset, its camera shifted by it.
+std::vector<std::array<double, 2>> sample_passes(const LabelJob& job) {
+  return job.mask_per_sample ? sample_offsets(job.samples) : std::vector<std::array<double, 2>>{{0.0, 0.0}};
+}
+
+// The cameras of a view's passes. One pass: the view's camera. Several:
+// each renders only the part of the image where `box` lies, widened by
+// 12 x 2^L pixels (more than the reach of the L-level DWT, its CSF filters
+// and its inverse) and aligned to the DWT's 2^L grid, so the perception of
+// the crop is the whole image's over the box; the crop shifted by the
+// pass's offset.
+std::vector<Camera> pass_cameras(const Camera& cam, const Bounds& box, const std::vector<std::array<double, 2>>& passes,
+                                 const PerceptionSettings& ps) {
+  if (passes.size() == 1) return {cam};
+  const int levels = ps.levels > 0 ? ps.levels : default_levels(0.5 * ps.ppd, ps.k);
+  const int align = 1 << std::min(levels, 10), margin = 12 * align;
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  bool in_front = true;
+  for (int c = 0; c < 8 && in_front; ++c) {
+    const Eigen::Vector3d p(box.lo[0] + (c & 1 ? box.hi[0] - box.lo[0] : 0.f),
+                            box.lo[1] + (c & 2 ? box.hi[1] - box.lo[1] : 0.f),
+                            box.lo[2] + (c & 4 ? box.hi[2] - box.lo[2] : 0.f));
+    double px = 0, py = 0, depth = 0;
+    in_front = cam.project(p, px, py, depth);
+    lo[0] = std::min(lo[0], px), hi[0] = std::max(hi[0], px);
+    lo[1] = std::min(lo[1], py), hi[1] = std::max(hi[1], py);
+  }
+  Camera window = cam;
+  const int size[2] = {cam.width, cam.height};
+  int a[2], b[2];
+  for (int k = 0; k < 2; ++k) {
+    a[k] = int(std::clamp(std::floor((lo[k] - margin) / align) * align, 0.0, double(size[k])));
+    b[k] = int(std::clamp(std::ceil(hi[k] + margin), 0.0, double(size[k])));
+  }
+  if (in_front && b[0] > a[0] && b[1] > a[1]) window = cropped(cam, a[0], a[1], b[0] - a[0], b[1] - a[1]);
+  std::vector<Camera> out;
+  for (const auto& o : passes) {
+    Camera c = window;
+    c.shift_x += o[0];
+    c.shift_y += o[1];
+    out.push_back(c);
+  }
+  return out;
+}
+
+// Adds a later pass's timings to the report of the view's first pass.
+void add_pass_report(nlohmann::json& first, const nlohmann::json& pass, size_t passes) {
+  for (const auto& [k, v] : pass["seconds"].items()) first["seconds"][k] = first["seconds"][k].get<double>() + v.get<double>();
+  first["passes"] = passes;
+}
+
+std::string progress_line(const std::string& name, double d, const nlohmann::json& report) {
   std::ostringstream ss;
   ss.precision(3);
-  const auto& s = o.report["seconds"];
-  ss << "  " << name << " at " << d << " m: " << o.perception.counted_pixels << " px, "
-     << 100 * o.perception.imperceptible_fraction << "% imperceptible; render " << 1e3 * s["render"].get<double>()
+  const auto& s = report["seconds"];
+  ss << "  " << name << " at " << d << " m: " << report["covered_pixels"].get<size_t>() << " px, "
+     << 100 * report["imperceptible_fraction"].get<double>() << "% imperceptible";
+  if (report.contains("passes")) ss << " (first of " << report["passes"].get<size_t>() << " passes)";
+  ss << "; render " << 1e3 * s["render"].get<double>()
      << " ms, perceive " << 1e3 * s["perceive"].get<double>() << " ms, trace " << 1e3 * s["trace"].get<double>()
      << " ms";
   return ss.str();
@@ -396,6 +453,10 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
                         const Progress& progress, const EmbreeTracer* verify_tracer) {
   if (job.views.empty()) throw std::invalid_argument("no views to label from");
   sample_offsets(job.samples);  // checks the count
+  if (job.mask_per_sample && job.keep_unsampled_surface && job.samples > 1)
+    throw std::invalid_argument(
+        "keep_unsampled_surface and mask_per_sample cannot be combined: the unsampled-surface rule needs every "
+        "sample of a pixel in one render");
   const size_t nt = scene.triangle_count();
   Bounds bounds = scene_bounds(scene);
   const PerceptionSettings ps = perception_for(job);
@@ -416,16 +477,24 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
                 {"combine_views", job.combine == CombineViews::Pooled ? "pooled" : "any"},
                 {"keep_unsampled_surface", depth},
                 {"views", nlohmann::json::array()}};
+  if (job.mask_per_sample) res.report["mask_per_sample"] = true;
   Accumulator acc(nt);
   std::vector<ViewTile> tiles;
   for (const auto& view : job.views)
     for (ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) tiles.push_back(std::move(tile));
+  // Pipeline item k is pass k % P of tile k / P; a view's first pass stands
+  // for it in the records, images and report.
+  const std::vector<std::array<double, 2>> passes = sample_passes(job);
+  const size_t P = passes.size();
+  std::vector<std::vector<Camera>> cams;  // per tile, its passes' cameras
+  for (const ViewTile& tile : tiles) cams.push_back(pass_cameras(tile.camera, bounds, passes, ps));
   {
     ViewPipeline pipeline(
         job.overlap,
         [&](size_t k, ViewOutcome& o) {  // rendered and perceived: record it, queue its images
-          const ViewTile& tile = tiles[k];
-          res.views.push_back(view_record(tile.name, tile.camera, o.image.rgb, o.background, "labelling"));
+          if (k % P) return;
+          const ViewTile& tile = tiles[k / P];
+          res.views.push_back(view_record(tile.name, cams[k / P][0], o.image.rgb, o.background, "labelling"));
           if (!write_files) return;
           auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
           const int w = o.image.width, h = o.image.height;
@@ -437,19 +506,24 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
           }
         },
         [&](size_t k, ViewOutcome& o) {  // traced and counted
-          const ViewTile& tile = tiles[k];
-          if (write_files && job.write_view_images)
-            res.id_buffers.push_back(IdBuffer{tile.name, tile.camera, std::move(o.packed_ids)});
-          res.report["views"].push_back(o.report);
-          if (progress) progress(progress_line(tile.name, job.distance, o));
+          const ViewTile& tile = tiles[k / P];
+          if (k % P == 0) {
+            if (write_files && job.write_view_images)
+              res.id_buffers.push_back(IdBuffer{tile.name, cams[k / P][0], std::move(o.packed_ids)});
+            res.report["views"].push_back(o.report);
+          } else {
+            add_pass_report(res.report["views"].back(), o.report, P);
+          }
+          if (progress && k % P == P - 1) progress(progress_line(tile.name, job.distance, res.report["views"].back()));
         });
-    for (const ViewTile& tile : tiles)
-      pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, tile.camera, depth, o); },
-                   [&](ViewOutcome& o) {
-                     count_view(scene, tracer, reference, job, tile.name, tile.camera, nullptr, 0, res, acc, o);
-                     if (write_files && job.write_view_images)  // packed here, on the worker
-                       o.packed_ids = pack_bytes(o.image.ids.data(), o.image.ids.size() * sizeof(uint32_t));
-                   });
+    for (size_t i = 0; i < tiles.size(); ++i)
+      for (size_t p = 0; p < P; ++p)
+        pipeline.add([&, cam = cams[i][p]](ViewOutcome& o) { see_view(renderer, ps, cam, depth, o); },
+                     [&, p, cam = cams[i][p], name = tiles[i].name](ViewOutcome& o) {
+                       count_view(scene, tracer, reference, job, name, cam, nullptr, 0, res, acc, o);
+                       if (p == 0 && write_files && job.write_view_images)  // packed here, on the worker
+                         o.packed_ids = pack_bytes(o.image.ids.data(), o.image.ids.size() * sizeof(uint32_t));
+                     });
     pipeline.drain();
   }
 
@@ -492,9 +566,9 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
     size_t views = 0;  // of the building being labelled
     double seconds = 0;
     ViewPipeline pipeline(job.overlap, [](size_t, ViewOutcome&) {},
-                          [&](size_t, ViewOutcome& o) {
-                            ++views;
-                            for (const auto& [k, v] : o.report["seconds"].items()) seconds += v.get<double>();
+                          [&](size_t k, ViewOutcome& o) {
+                            views += k % P == 0;
+                            for (const auto& [key, v] : o.report["seconds"].items()) seconds += v.get<double>();
                           });
     for (uint32_t b = 0; b < buildings.names.size(); ++b) {
       if (!(box[b].lo[0] <= box[b].hi[0])) continue;  // a building without triangles
@@ -504,10 +578,12 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       for (const auto& view : job.views)
         for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display)) {
           eyes_inside += eye_inside_other(tile.camera, b);
-          pipeline.add([&, camera = tile.camera](ViewOutcome& o) { see_view(renderer, ps, camera, depth, o); },
-                       [&, name = tile.name, camera = tile.camera](ViewOutcome& o) {
-                         count_view(scene, tracer, nullptr, job, name, camera, &owner, b, res, acc, o);
-                       });
+          const std::vector<Camera> pc = pass_cameras(tile.camera, box[b], passes, ps);
+          for (size_t p = 0; p < P; ++p)
+            pipeline.add([&, camera = pc[p]](ViewOutcome& o) { see_view(renderer, ps, camera, depth, o); },
+                         [&, name = tile.name, camera = pc[p]](ViewOutcome& o) {
+                           count_view(scene, tracer, nullptr, job, name, camera, &owner, b, res, acc, o);
+                         });
         }
       pipeline.drain();
       per.push_back({{"building", buildings.names[b]},

@@ -91,8 +91,20 @@ TEST(CliPipeline, LabelTakesViewSetsSamplesAndTilesCloseViews) {
   EXPECT_EQ(k["views"][0]["view"], "-y_t0");
   EXPECT_TRUE(fs::exists(near / "bldg_4018215_-y_t0_8m.png"));
   EXPECT_EQ(k["outside_views"], 0);
+
+  // --mask-per-sample: one render per sample offset, one report entry per view.
+  fs::path mps = fresh_dir("label-mps");
+  auto m = run_cli("label " + kBuilding + " --up z -d 132 --views top --samples 2 --mask-per-sample --json -o " +
+                   mps.string());
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  auto mj = nlohmann::json::parse(m.out);
+  EXPECT_EQ(mj["mask_per_sample"], true);
+  ASSERT_EQ(mj["views"].size(), 1u);
+  EXPECT_EQ(mj["views"][0]["passes"], 2);
+  EXPECT_EQ(perclod::read_labels(mj["labels_file"].get<std::string>()).samples, 2);
   fs::remove_all(out);
   fs::remove_all(near);
+  fs::remove_all(mps);
 }
 
 TEST(CliPipeline, RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput) {

@@ -138,6 +138,27 @@ TEST(BatchConfig, KeepUnsampledSurfaceReachesTheLabellingJob) {
   EXPECT_NE(err.find("'keep_unsampled_surface'"), std::string::npos) << err;
 }
 
+// mask_per_sample reaches the labelling job and joins the settings hash only
+// when set (older batches keep their hashes); a value that is not a boolean,
+// or the pair with keep_unsampled_surface, is an error naming the file.
+TEST(BatchConfig, MaskPerSampleReachesTheLabellingJob) {
+  BatchFolder b;
+  ConfigFile f = load_config_file(b.dir.file(
+      "batch.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, mask_per_sample: true}\n"));
+  ASSERT_EQ(f.models.size(), 2u);
+  EXPECT_FALSE(lod_job(f.models[0].config).label.mask_per_sample);
+  EXPECT_TRUE(lod_job(f.models[1].config).label.mask_per_sample);
+  EXPECT_FALSE(settings_json(f.models[0].config).contains("mask_per_sample"));
+  EXPECT_EQ(settings_json(f.models[1].config)["mask_per_sample"], true);
+  for (const char* bad : {"mask_per_sample: sometimes\n", "mask_per_sample: true\nkeep_unsampled_surface: true\n"}) {
+    const std::string err = error_of([&] {
+      load_config_file(b.dir.file("bad.yaml", std::string("distances: [56]\nmodel: city/a/house.obj\n") + bad));
+    });
+    EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;
+    EXPECT_NE(err.find("'mask_per_sample'"), std::string::npos) << err;
+  }
+}
+
 TEST(BatchShards, ShardsPartitionTheListExactly) {
   for (size_t count : {0u, 1u, 5u, 17u})
     for (int n : {1, 2, 3, 8}) {

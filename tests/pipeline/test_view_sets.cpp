@@ -227,6 +227,44 @@ TEST(ViewSets, PooledViewsDecideFromEveryViewsSamplesTogether) {
   EXPECT_THROW(parse_combine_views("all"), std::invalid_argument);
 }
 
+// mask_per_sample: each sample offset gets a render of its own, cropped to
+// the model, traced at its pixel centres. The samples are the ones a single
+// render would trace, so the traced counts match sample for sample; the
+// report keeps one entry per view, naming its passes. With one sample it is
+// the plain labelling exactly, and it refuses keep_unsampled_surface.
+TEST(ViewSets, MaskPerSampleTracesTheSameSamplesFromARenderEach) {
+  Scene s = wall(30, 12);
+  LabelJob job = job_for("facades,az30el30", 60, 4);
+  const LabelResult plain = label(s, job);
+  job.mask_per_sample = true;
+  const LabelResult mps = label(s, job);
+  uint64_t a = 0, b = 0;
+  size_t same = 0;
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    a += plain.totals.traced[t], b += mps.totals.traced[t];
+    same += plain.totals.traced[t] == mps.totals.traced[t];
+    EXPECT_EQ(plain.labels[t] == Label::Undisplayable, mps.labels[t] == Label::Undisplayable) << t;
+  }
+  EXPECT_GT(a, 10000u);
+  EXPECT_NEAR(double(b) / double(a), 1.0, 1e-3);
+  EXPECT_GE(same, s.triangle_count() * 99 / 100);
+  ASSERT_EQ(mps.report["views"].size(), plain.report["views"].size());
+  for (const auto& v : mps.report["views"]) EXPECT_EQ(v["passes"], 4);
+  EXPECT_EQ(mps.report["mask_per_sample"], true);
+  EXPECT_FALSE(plain.report.contains("mask_per_sample"));
+
+  LabelJob one = job_for("facades", 60, 1);
+  const LabelResult one_plain = label(s, one);
+  one.mask_per_sample = true;
+  const LabelResult one_mps = label(s, one);
+  EXPECT_EQ(one_mps.labels, one_plain.labels);
+  EXPECT_EQ(one_mps.totals.traced, one_plain.totals.traced);
+  EXPECT_EQ(one_mps.totals.imperceptible, one_plain.totals.imperceptible);
+
+  job.keep_unsampled_surface = true;
+  EXPECT_THROW(label(s, job), std::invalid_argument);
+}
+
 // A 1 m square in the plane y = `y`, facing -y, tessellated in squares of
 // `cell` metres (two triangles each); returns its first triangle.
 size_t add_fine_grid(Scene& s, float y, float cell, uint32_t comp) {

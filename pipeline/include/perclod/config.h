@@ -28,6 +28,7 @@ struct BatchConfig {
   int samples = kDefaultSamples;     // samples per pixel: 1, 2, 4, 8
   int spins = 1;                     // perception cycle spinning: 1 (the paper), 2, 4
   bool keep_unsampled_surface = false;  // label rule: sub-pixel triangles between the samples of a drawn surface are seen (LabelJob)
+  bool mask_per_sample = false;      // one render and perception mask per sample offset (LabelJob)
   std::string per_building = "auto"; // true | false | auto (two or more buildings named "<building>/<part>")
   std::string out = "out";
   std::string tracer = "octree";     // octree | embree

@@ -111,6 +111,13 @@ struct LabelJob {
   // the pixel's decision with one sample's weight (README, "Unsampled
   // surface"). false: the paper's rule, unsampled = undisplayable.
   bool keep_unsampled_surface = false;
+  // false: one render and perception mask per view, read by all of its
+  // samples. true: each sample offset gets a render and mask of its own
+  // (the camera shifted by that offset, one ray per pixel), so a sample reads
+  // the mask of the picture drawn at its own position: `samples` renders per
+  // view, and labels that a sub-pixel move of the model hardly changes
+  // (README, "Stable labels").
+  bool mask_per_sample = false;
   // Also label each building from views framed on it (its neighbours drawn
   // and occluding); Auto = when find_buildings finds two or more.
   PerBuilding per_building = PerBuilding::Off;
@@ -189,10 +196,12 @@ struct LabelResult {
 //  * each view is framed (frame_view: tiled when the model overfills it),
 //    rendered, perceived and traced at job.samples samples per pixel; a
 //    sample counts for the triangle it hits, and is imperceptible when its
-//    pixel is in the perception mask;
-//  * per view, traced == 0 -> undisplayable, imperceptible / traced >= ratio
-//    -> imperceptible, else perceptible; over views perceptible wins, then
-//    imperceptible;
+//    pixel is in the perception mask (with job.mask_per_sample each sample
+//    offset is a render, mask and trace of its own, cropped to the model);
+//  * traced == 0 over every view -> undisplayable; else job.combine decides:
+//    pooled (the default) sums every view's samples and calls a triangle
+//    imperceptible when imperceptible / traced >= ratio; any (the paper)
+//    applies that rule per view and perceptible in any view wins;
 //  * a triangle no view's frustum contains is never undisplayable: it is
 //    labelled imperceptible and counted in outside_views;
 //  * per building (job.per_building): each building is also labelled from
