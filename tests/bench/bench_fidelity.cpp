@@ -38,7 +38,7 @@
 //                       [--label-shift]
 //   --set: a labelling setting for the sweeps of scripts/bench.py: levels (DWT),
 //   csf_k, csf (fir|weights|kakadu), threshold (grey levels), ratio (label),
-//   samples, keep_unsampled_surface (0|1), views, spins, resolution (a
+//   samples, keep_unsampled_surface (0|1), mask_per_sample (0|1), views, spins, resolution (a
 //   factor: 1.5 = 1920x1536 at 1.5x the pixel density, same screen).
 //   --only-fidelity: the fidelity rows only.
 //   --label-shift: also fidelity (the first e_I) and paper LODs made from the
@@ -113,6 +113,7 @@ void apply_settings(LabelJob& job) {
     else if (key == "ratio") job.ratio = v;
     else if (key == "samples") job.samples = int(v);
     else if (key == "keep_unsampled_surface") job.keep_unsampled_surface = v != 0;
+    else if (key == "mask_per_sample") job.mask_per_sample = v != 0;
     else if (key == "combine_views") job.combine = parse_combine_views(value);
     else if (key == "views") job.views = parse_views(value, job.up);
     else if (key == "csf") {

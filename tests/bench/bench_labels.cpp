@@ -18,7 +18,9 @@
 //             class (projected area in pixels at d: <1, 1-10, 10-100, >=100).
 //  cost       Labelling seconds per view (render, perceive, trace) for the
 //             paper's set (facades, 1 sample) beside the default (views and
-//             samples), medians of R runs, same process.
+//             samples) and beside a mask per sample (4 and 8 samples; each
+//             view's times include all of its passes), medians of R runs,
+//             same process.
 //
 // Models: the demo building (ingolstadt/bldg_4018215.obj), han_ministry.obj,
 // the 53-building block (per building), and a generated facade (`facade`,
@@ -29,6 +31,7 @@
 //                     [--runs R] [--facade-triangles N]
 //   experiments: [--spins 1|2|4] (perception cycle spinning) [--threshold T] (grey levels)
 //                [--keep-unsampled-surface] (LabelJob::keep_unsampled_surface)
+//                [--mask-per-sample] (LabelJob::mask_per_sample: a render and mask per sample offset)
 //                [--shift-scale 0] (relabel without moving: the noise floor, 0 when deterministic)
 //                [--per-building true|false|auto] (the block runs per building unless told otherwise)
 //                [--rule any|pooled] (LabelJob::combine: how views combine P and I; see rule_for)
@@ -56,6 +59,7 @@ namespace {
 
 int g_spins = 0;  // 0 = the job's default
 bool g_keep_unsampled_surface = false;
+bool g_mask_per_sample = false;
 double g_shift_scale = 1.0;  // --shift-scale 0: the noise floor (relabel without moving)
 std::string g_per_building;  // --per-building true|false|auto: overrides the model's setting
 double g_threshold = -1;  // --threshold T: perception threshold (grey levels)
@@ -81,6 +85,7 @@ std::string perturb_name() {
   ss << g_perturb;
   if (g_perturb != "resolution" && g_shift_scale != 1.0) ss << " x" << g_shift_scale;
   if (!g_rule.empty()) ss << " " << g_rule;
+  if (g_mask_per_sample) ss << " mps";
   return ss.str();
 }
 
@@ -104,6 +109,7 @@ LabelJob make_job(UpAxis up, const std::string& views, int samples, double d, Pe
   job.write_perception_images = false;
   if (g_spins) job.perception.spins = g_spins;
   job.keep_unsampled_surface = g_keep_unsampled_surface;
+  job.mask_per_sample = g_mask_per_sample;
   job.combine = parse_combine_views(rule_for(views, samples));
   if (g_threshold >= 0) job.perception.threshold = g_threshold;
   return job;
@@ -255,9 +261,12 @@ void cost(const std::string& key, const Scene& scene, UpAxis up, double d, int r
     const char* name;
     std::string views;
     int samples;
-  } setups[] = {{"paper: facades, 1 spp", "facades", 1},
-                {"facades, default spp", "facades", kDefaultSamples},
-                {"default views and spp", kDefaultViews, kDefaultSamples}};
+    bool mask_per_sample;
+  } setups[] = {{"paper: facades, 1 spp", "facades", 1, false},
+                {"facades, default spp", "facades", kDefaultSamples, false},
+                {"default views and spp", kDefaultViews, kDefaultSamples, false},
+                {"default views, 4 spp, mps", kDefaultViews, 4, true},
+                {"default views, 8 spp, mps", kDefaultViews, 8, true}};
   // One untimed labelling first: the first setup timed would otherwise pay
   // for the process's first renders, allocations and worker threads.
   label_scene(renderer, scene, tracer, make_job(up, setups[0].views, setups[0].samples, d, PerBuilding::Off));
@@ -267,6 +276,7 @@ void cost(const std::string& key, const Scene& scene, UpAxis up, double d, int r
     size_t views = 0;
     for (int r = 0; r < runs; ++r) {
       LabelJob job = make_job(up, st.views, st.samples, d, PerBuilding::Off);
+      job.mask_per_sample = st.mask_per_sample;
       auto t0 = std::chrono::steady_clock::now();
       LabelResult res = label_scene(renderer, scene, tracer, job);
       double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -284,7 +294,7 @@ void cost(const std::string& key, const Scene& scene, UpAxis up, double d, int r
     }
     const double pv = median(per_view);
     if (paper_per_view == 0) paper_per_view = pv;
-    std::printf("%-8s %5.0f m  %-24s %3zu views  per view %7.1f ms (render %6.1f, perceive %6.1f, trace %6.1f)  x%.2f of paper\n",
+    std::printf("%-8s %5.0f m  %-26s %3zu views  per view %7.1f ms (render %6.1f, perceive %6.1f, trace %6.1f)  x%.2f of paper\n",
                 key.c_str(), d, st.name, views, 1e3 * pv, 1e3 * median(render), 1e3 * median(perceive),
                 1e3 * median(trace), pv / paper_per_view);
     std::fflush(stdout);
@@ -314,6 +324,7 @@ int main(int argc, char** argv) {
     else if (a == "--runs") runs = std::stoi(next());
     else if (a == "--spins") g_spins = std::stoi(next());
     else if (a == "--keep-unsampled-surface") g_keep_unsampled_surface = true;
+    else if (a == "--mask-per-sample") g_mask_per_sample = true;
     else if (a == "--shift-scale") g_shift_scale = std::stod(next());
     else if (a == "--threshold") g_threshold = std::stod(next());
     else if (a == "--rule") {
@@ -352,7 +363,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]\n"
                            "  [--distances 56,132,427] [--samples 1,4] [--views \"facades;facades,ring8el30\"]\n"
                            "  [--runs R] [--facade-triangles N] [--spins S] [--threshold T] [--shift-scale F]\n"
-                           "  [--keep-unsampled-surface]\n"
+                           "  [--keep-unsampled-surface] [--mask-per-sample]\n"
                            "  [--per-building true|false|auto] [--rule any|pooled] [--csv FILE] (stability rows)\n"
                            "  [--perturb shift|noise|resolution] (what the stability section changes)\n");
       return 2;
