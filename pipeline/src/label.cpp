@@ -300,7 +300,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   // pass, its camera shifted by the pass's offset: one ray per pixel centre.
   const int samples = job.mask_per_sample ? 1 : job.samples;
   std::vector<std::array<double, 2>> offsets =
-      job.mask_per_sample ? std::vector<std::array<double, 2>>{{cam.shift_x, cam.shift_y}} : sample_offsets(job.samples);
+      job.mask_per_sample ? std::vector<std::array<double, 2>>{{0.0, 0.0}} : sample_offsets(job.samples);
   // verify compares the octree with Embree and with the ID buffer at the
   // pixel centres: with several samples the centre rides along in the same
   // walk, as one more sample, when the walk has room for it.
@@ -313,8 +313,8 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
     t.resize(pixels);  // every pixel is written by the trace
     buffers.push_back(t.data());
   }
-  Camera unshifted = cam;  // the offsets are from the pixel centres
-  unshifted.shift_x = unshifted.shift_y = 0;
+  Camera unshifted = cam;  // the offsets are from the pixel centres; a pass traces its own camera's
+  if (!job.mask_per_sample) unshifted.shift_x = unshifted.shift_y = 0;
   tracer.trace_samples(unshifted, offsets, buffers.data());
   for (size_t k = 0; k < size_t(samples); ++k) {
     std::vector<uint32_t>& rays = traced[k];
