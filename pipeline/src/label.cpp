@@ -440,8 +440,9 @@ std::string progress_line(const std::string& name, double d, const nlohmann::jso
   const auto& s = report["seconds"];
   ss << "  " << name << " at " << d << " m: " << report["covered_pixels"].get<size_t>() << " px, "
      << 100 * report["imperceptible_fraction"].get<double>() << "% imperceptible";
-  if (report.contains("passes")) ss << " (first of " << report["passes"].get<size_t>() << " passes)";
-  ss << "; render " << 1e3 * s["render"].get<double>()
+  if (report.contains("passes")) ss << " in the first of " << report["passes"].get<size_t>() << " passes; all passes:";
+  else ss << ";";
+  ss << " render " << 1e3 * s["render"].get<double>()
      << " ms, perceive " << 1e3 * s["perceive"].get<double>() << " ms, trace " << 1e3 * s["trace"].get<double>()
      << " ms";
   return ss.str();
