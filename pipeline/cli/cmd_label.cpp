@@ -26,14 +26,15 @@ void register_label(CLI::App& app) {
   cmd->add_option("--views,--facade,-f", a->views, std::string("View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); default ") + kDefaultViews + ")");
   cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4 or 8 (default " + std::to_string(kDefaultSamples) + ")")
       ->check(CLI::IsMember({1, 2, 4, 8}));
-  cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
+  CLI::Option* keep = cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
                 "With samples > 1: a sub-pixel triangle no sample hit but lying on the drawn surface, where\n"
                 "such triangles fill half a pixel or more, is labelled from that pixel, not undisplayable\n"
                 "(README, Unsampled surface)");
   cmd->add_flag("--mask-per-sample", a->mask_per_sample,
                 "Render and perceive each sample offset on its own (SAMPLES renders per view, one ray per\n"
                 "pixel each), so every sample reads the mask of its own picture: labels that a sub-pixel move\n"
-                "hardly changes (README, Stable labels)");
+                "hardly changes (README, Stable labels)")
+      ->excludes(keep);
   cmd->add_option("--spins", a->spins,
                   "Perception cycle spinning: 1 (the paper), 2 or 4 DWT phases averaged (shift-invariant mask)")
       ->check(CLI::IsMember({1, 2, 4}));

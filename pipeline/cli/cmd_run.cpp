@@ -90,12 +90,13 @@ void register_run(CLI::App& app) {
   cmd->add_option("--views", a->views, "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); overrides the config's views)");
   cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4 or 8 (overrides the config's samples)")
       ->check(CLI::IsMember({1, 2, 4, 8}));
-  cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
+  CLI::Option* keep = cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
                 "Label sub-pixel triangles that lie between the samples of a drawn surface from their pixel\n"
                 "instead of undisplayable (README, Unsampled surface; also 'keep_unsampled_surface: true' in the config)");
   cmd->add_flag("--mask-per-sample", a->mask_per_sample,
                 "Render and perceive each sample offset on its own, so labels hardly change under a sub-pixel\n"
-                "move (README, Stable labels; also 'mask_per_sample: true' in the config)");
+                "move (README, Stable labels; also 'mask_per_sample: true' in the config)")
+      ->excludes(keep);
   cmd->add_option("--combine-views", a->combine_views,
                   "How views combine perceptible and imperceptible: pooled (the default) or any (the paper)\n"
                   "(README, Combining views; overrides the config's combine_views)")

@@ -102,6 +102,10 @@ TEST(CliPipeline, LabelTakesViewSetsSamplesAndTilesCloseViews) {
   ASSERT_EQ(mj["views"].size(), 1u);
   EXPECT_EQ(mj["views"][0]["passes"], 2);
   EXPECT_EQ(perclod::read_labels(mj["labels_file"].get<std::string>()).samples, 2);
+  auto both = run_cli("label " + kBuilding + " --up z -d 132 --views top --mask-per-sample --keep-unsampled-surface -o " +
+                      mps.string());
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_NE(both.err.find("--keep-unsampled-surface"), std::string::npos) << both.err;
   fs::remove_all(out);
   fs::remove_all(near);
   fs::remove_all(mps);
