@@ -389,35 +389,11 @@ std::vector<std::array<double, 2>> sample_passes(const LabelJob& job) {
 }
 
 // The cameras of a view's passes. One pass: the view's camera. Several:
-// each renders only the part of the image where `box` lies, widened by
-// 12 x 2^L pixels (more than the reach of the L-level DWT, its CSF filters
-// and its inverse) and aligned to the DWT's 2^L grid, so the perception of
-// the crop is the whole image's over the box; the crop shifted by the
-// pass's offset.
+// each renders perception_window(cam, box), shifted by the pass's offset.
 std::vector<Camera> pass_cameras(const Camera& cam, const Bounds& box, const std::vector<std::array<double, 2>>& passes,
                                  const PerceptionSettings& ps) {
   if (passes.size() == 1) return {cam};
-  const int levels = ps.levels > 0 ? ps.levels : default_levels(0.5 * ps.ppd, ps.k);
-  const int align = 1 << std::min(levels, 10), margin = 12 * align;
-  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-  bool in_front = true;
-  for (int c = 0; c < 8 && in_front; ++c) {
-    const Eigen::Vector3d p(box.lo[0] + (c & 1 ? box.hi[0] - box.lo[0] : 0.f),
-                            box.lo[1] + (c & 2 ? box.hi[1] - box.lo[1] : 0.f),
-                            box.lo[2] + (c & 4 ? box.hi[2] - box.lo[2] : 0.f));
-    double px = 0, py = 0, depth = 0;
-    in_front = cam.project(p, px, py, depth);
-    lo[0] = std::min(lo[0], px), hi[0] = std::max(hi[0], px);
-    lo[1] = std::min(lo[1], py), hi[1] = std::max(hi[1], py);
-  }
-  Camera window = cam;
-  const int size[2] = {cam.width, cam.height};
-  int a[2], b[2];
-  for (int k = 0; k < 2; ++k) {
-    a[k] = int(std::clamp(std::floor((lo[k] - margin) / align) * align, 0.0, double(size[k])));
-    b[k] = int(std::clamp(std::ceil(hi[k] + margin), 0.0, double(size[k])));
-  }
-  if (in_front && b[0] > a[0] && b[1] > a[1]) window = cropped(cam, a[0], a[1], b[0] - a[0], b[1] - a[1]);
+  const Camera window = perception_window(cam, box, ps);
   std::vector<Camera> out;
   for (const auto& o : passes) {
     Camera c = window;
@@ -449,6 +425,27 @@ std::string progress_line(const std::string& name, double d, const nlohmann::jso
 }
 
 }  // namespace
+
+Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps) {
+  const int levels = ps.levels > 0 ? ps.levels : default_levels(0.5 * ps.ppd, ps.k);
+  const int align = 1 << std::min(levels, 10), margin = 12 * align;
+  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d p(c & 1 ? box.hi[0] : box.lo[0], c & 2 ? box.hi[1] : box.lo[1], c & 4 ? box.hi[2] : box.lo[2]);
+    double px = 0, py = 0, depth = 0;
+    if (!cam.project(p, px, py, depth)) return cam;  // a corner behind the eye: the whole frame
+    lo[0] = std::min(lo[0], px), hi[0] = std::max(hi[0], px);
+    lo[1] = std::min(lo[1], py), hi[1] = std::max(hi[1], py);
+  }
+  const int size[2] = {cam.width, cam.height};
+  int a[2], b[2];
+  for (int k = 0; k < 2; ++k) {
+    a[k] = int(std::clamp(std::floor((lo[k] - margin) / align) * align, 0.0, double(size[k])));
+    b[k] = int(std::clamp(std::ceil(hi[k] + margin), 0.0, double(size[k])));
+  }
+  if (b[0] <= a[0] || b[1] <= a[1]) return cam;
+  return cropped(cam, a[0], a[1], b[0] - a[0], b[1] - a[1]);
+}
 
 LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& job,
                         const Progress& progress, const EmbreeTracer* verify_tracer) {

@@ -265,6 +265,40 @@ TEST(ViewSets, MaskPerSampleTracesTheSameSamplesFromARenderEach) {
   EXPECT_THROW(label(s, job), std::invalid_argument);
 }
 
+// The window a mask-per-sample pass renders perceives as the whole frame
+// does over the model: the same mask on every pixel the model covers.
+TEST(ViewSets, PerceptionWindowPerceivesAsTheWholeFrameOverTheModel) {
+  Scene s = wall(30, 12);
+  for (int i = 0; i < 30; ++i)
+    for (int k = 0; k < 12; ++k) add_box(s, {i + 0.3f, -0.3f, k + 0.3f}, {i + 0.6f, 0.0f, k + 0.6f}, 0);
+  const LabelJob job = job_for("az30el30", 120, 1);
+  const Bounds box = scene_bounds(s);
+  const Camera whole = frame_view(box, UpAxis::Z, "az30el30", job.distance, job.display)[0].camera;
+  const Camera win = perception_window(whole, box, job.perception);
+  ASSERT_LT(win.width * win.height, whole.width * whole.height);  // the model leaves part of the frame
+  const int x0 = int(std::lround(win.shift_x - 0.5 * (win.width - whole.width)));
+  const int y0 = int(std::lround(win.shift_y - 0.5 * (win.height - whole.height)));
+  Renderer r;
+  r.set_scene(s);
+  RenderOutput a, b;
+  r.render(whole, a, {});
+  r.render(win, b, {});
+  const PerceptionResult pa = perceive(a.rgb.data(), a.width, a.height, job.perception);
+  const PerceptionResult pb = perceive(b.rgb.data(), b.width, b.height, job.perception);
+  size_t covered = 0, differ = 0, ids_differ = 0;
+  for (int y = 0; y < win.height; ++y)
+    for (int x = 0; x < win.width; ++x) {
+      const size_t i = size_t(y) * win.width + x, j = size_t(y + y0) * whole.width + x + x0;
+      ids_differ += a.ids[j] != b.ids[i];
+      if (!a.ids[j]) continue;
+      ++covered;
+      differ += pa.mask[j] != pb.mask[i];
+    }
+  EXPECT_GT(covered, 1000u);
+  EXPECT_EQ(ids_differ, 0u);
+  EXPECT_EQ(differ, 0u) << "of " << covered;
+}
+
 // A 1 m square in the plane y = `y`, facing -y, tessellated in squares of
 // `cell` metres (two triangles each); returns its first triangle.
 size_t add_fine_grid(Scene& s, float y, float cell, uint32_t comp) {

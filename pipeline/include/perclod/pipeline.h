@@ -191,6 +191,13 @@ struct LabelResult {
   nlohmann::json report;                   // per view: pixels, fractions, agreement, timings
 };
 
+// The part of `cam`'s frame a mask-per-sample pass renders: where `box`
+// projects, widened by 12 x 2^L pixels (more than the reach of the L-level
+// DWT of `ps`, its CSF filters and its inverse) and with its corner on the
+// DWT's 2^L grid, so its perception equals the whole frame's over the box.
+// The whole camera when a box corner is behind the eye.
+Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps);
+
 // Labels every triangle of `scene` from the job's views at one distance
 // (docs/method.md section 4):
 //  * each view is framed (frame_view: tiled when the model overfills it),
