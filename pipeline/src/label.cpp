@@ -305,7 +305,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   // pixel centres: with several samples the centre rides along in the same
   // walk, as one more sample, when the walk has room for it.
   const bool centre_in_walk = reference && !owner && samples > 1 && samples < OctreeTracer::kMaxSamples;
-  if (centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `unshifted`
+  if (centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `base`
   std::vector<std::vector<uint32_t>>& traced = out.samples;
   traced.resize(offsets.size());
   std::vector<uint32_t*> buffers;
@@ -313,9 +313,11 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
     t.resize(pixels);  // every pixel is written by the trace
     buffers.push_back(t.data());
   }
-  Camera unshifted = cam;  // the offsets are from the pixel centres; a pass traces its own camera's
-  if (!job.mask_per_sample) unshifted.shift_x = unshifted.shift_y = 0;
-  tracer.trace_samples(unshifted, offsets, buffers.data());
+  // The offsets are from base's pixel centres: the view's camera unshifted,
+  // or a mask-per-sample pass's own camera (shifted, one offset of zero).
+  Camera base = cam;
+  if (!job.mask_per_sample) base.shift_x = base.shift_y = 0;
+  tracer.trace_samples(base, offsets, buffers.data());
   for (size_t k = 0; k < size_t(samples); ++k) {
     std::vector<uint32_t>& rays = traced[k];
     if (owner)
