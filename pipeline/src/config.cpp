@@ -191,6 +191,9 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   c.mask_per_sample = get<bool>(n, path, "mask_per_sample", c.mask_per_sample);
   if (c.mask_per_sample && c.keep_unsampled_surface && c.samples > 1)
     throw config_error(path, "'mask_per_sample' and 'keep_unsampled_surface' cannot both be true");
+  if (sample_grid(c.samples) && c.keep_unsampled_surface)
+    throw config_error(path, "'keep_unsampled_surface' needs 'samples' of 2, 4 or 8 (" + std::to_string(c.samples) +
+                                 " samples are a grid with a picture per sample)");
   if (n["per_building"]) {
     const YAML::Node pb = n["per_building"];
     c.per_building = pb.IsScalar() ? pb.Scalar() : std::string("?");

@@ -123,6 +123,13 @@ struct ViewOutcome {
   RenderOutput image;
   std::vector<std::vector<uint32_t>> samples;  // the traced samples, kept for the slot's next view
   std::vector<uint8_t> packed_ids;             // image.ids packed, for a marking image
+  // With an ordered grid of samples (sample_grid): the render at grid times
+  // the resolution, and its sample images 1.. (image and perception above
+  // are sample 0's).
+  std::vector<RenderOutput> more_images;
+  std::vector<PerceptionResult> more_perceptions;
+  std::vector<std::vector<uint8_t>> more_backgrounds;
+  RenderOutput fine;
   double t_render = 0, t_perceive = 0;
   nlohmann::json report;
 };
@@ -265,12 +272,56 @@ size_t add_unsampled_surface(const Scene& scene, const Camera& cam, const float*
   return added;
 }
 
+// Sample (a, b) of a render at `s` times the resolution: its pixel (x, y) is
+// fine pixel (s x + a, s y + b).
+void decimate(const RenderOutput& fine, int s, int a, int b, RenderOutput& out) {
+  out.width = fine.width / s;
+  out.height = fine.height / s;
+  const size_t n = size_t(out.width) * out.height;
+  out.rgb.resize(3 * n);
+  out.ids.resize(fine.ids.empty() ? 0 : n);
+  out.depth.resize(fine.depth.empty() ? 0 : n);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      const size_t i = size_t(y) * out.width + x, f = size_t(s * y + b) * fine.width + size_t(s * x + a);
+      for (int c = 0; c < 3; ++c) out.rgb[3 * i + c] = fine.rgb[3 * f + c];
+      if (!out.ids.empty()) out.ids[i] = fine.ids[f];
+      if (!out.depth.empty()) out.depth[i] = fine.depth[f];
+    }
+}
+
 // The first half of labelling a view, on the thread that owns the OpenGL
-// context: render and perceive one camera.
-void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& cam, bool want_depth, ViewOutcome& out) {
+// context: render and perceive one camera. grid >= 2: render it at grid
+// times the resolution and perceive each of the grid x grid sample pictures.
+void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& cam, bool want_depth, ViewOutcome& out,
+              int grid = 0) {
   auto t0 = Clock::now();
   RenderOptions ro;
   ro.want_depth = want_depth;  // add_unsampled_surface reads it
+  if (grid >= 2) {
+    renderer.render(refined(cam, grid), out.fine, ro);
+    const size_t n = size_t(grid) * grid;
+    out.more_images.resize(n - 1);
+    out.more_perceptions.resize(n - 1);
+    out.more_backgrounds.resize(n - 1);
+    decimate(out.fine, grid, 0, 0, out.image);
+    for (size_t k = 1; k < n; ++k) decimate(out.fine, grid, int(k % grid), int(k / grid), out.more_images[k - 1]);
+    out.t_render = since(t0);
+    t0 = Clock::now();
+    for (size_t k = 1; k < n; ++k) {
+      background_of(out.more_images[k - 1], out.more_backgrounds[k - 1]);
+      const RenderOutput& im = out.more_images[k - 1];
+      perceive_into(im.rgb.data(), im.width, im.height, ps, out.more_backgrounds[k - 1].data(),
+                    out.more_perceptions[k - 1]);
+    }
+    const double t_more = since(t0);
+    background_of(out.image, out.background);
+    t0 = Clock::now();
+    perceive_into(out.image.rgb.data(), out.image.width, out.image.height, ps, out.background.data(), out.perception);
+    out.t_perceive = since(t0) + t_more;
+    return;
+  }
+  out.more_images.clear();
   renderer.render(cam, out.image, ro);
   out.t_render = since(t0);
   background_of(out.image, out.background);
@@ -298,13 +349,16 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   // Every sample of the view in one call: the octree walks its structure
   // once for all of them. With a mask per sample this render is one sample
   // pass, its camera shifted by the pass's offset: one ray per pixel centre.
-  const int samples = job.mask_per_sample ? 1 : job.samples;
+  const int grid = sample_grid(job.samples);
+  const int samples = grid ? grid * grid : job.mask_per_sample ? 1 : job.samples;
   std::vector<std::array<double, 2>> offsets =
-      job.mask_per_sample ? std::vector<std::array<double, 2>>{{0.0, 0.0}} : sample_offsets(job.samples);
+      grid                 ? grid_offsets(grid)
+      : job.mask_per_sample ? std::vector<std::array<double, 2>>{{0.0, 0.0}}
+                            : sample_offsets(job.samples);
   // verify compares the octree with Embree and with the ID buffer at the
   // pixel centres: with several samples the centre rides along in the same
   // walk, as one more sample, when the walk has room for it.
-  const bool centre_in_walk = reference && !owner && samples > 1 && samples < OctreeTracer::kMaxSamples;
+  const bool centre_in_walk = !grid && reference && !owner && samples > 1 && samples < OctreeTracer::kMaxSamples;
   if (centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `base`
   std::vector<std::vector<uint32_t>>& traced = out.samples;
   traced.resize(offsets.size());
@@ -316,17 +370,30 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   // The offsets are from base's pixel centres: the view's camera unshifted,
   // or a mask-per-sample pass's own camera (shifted, one offset of zero).
   Camera base = cam;
-  if (!job.mask_per_sample) base.shift_x = base.shift_y = 0;
-  tracer.trace_samples(base, offsets, buffers.data());
+  if (!job.mask_per_sample && !grid) base.shift_x = base.shift_y = 0;
+  for (size_t k0 = 0; k0 < offsets.size(); k0 += OctreeTracer::kMaxSamples) {  // at most kMaxSamples a walk
+    const size_t k1 = std::min(offsets.size(), k0 + OctreeTracer::kMaxSamples);
+    tracer.trace_samples(base, std::vector<std::array<double, 2>>(offsets.begin() + k0, offsets.begin() + k1),
+                         buffers.data() + k0);
+  }
+  auto mask_of = [&](size_t k) -> const uint8_t* {
+    return grid && k ? out.more_perceptions[k - 1].mask.data() : out.perception.mask.data();
+  };
   for (size_t k = 0; k < size_t(samples); ++k) {
     std::vector<uint32_t>& rays = traced[k];
     if (owner)
       for (uint32_t& id : rays)
         if (id && (*owner)[id - 1] != building) id = 0;
-    add_counts(counts, rays.data(), out.perception.mask.data(), pixels);
+    add_counts(counts, rays.data(), mask_of(k), pixels);
   }
   const std::vector<uint32_t>& rays = traced[0];
-  if (samples > 1) add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
+  if (grid) {
+    for (size_t k = 0; k < size_t(samples); ++k)
+      add_drawn_but_missed(k ? out.more_images[k - 1].ids.data() : out.image.ids.data(), mask_of(k), pixels, owner,
+                           building, counts);
+  } else if (samples > 1) {
+    add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
+  }
   size_t unsampled_surface = 0;
   if (finds_unsampled_surface(job))
     unsampled_surface = add_unsampled_surface(scene, cam, out.image.depth.data(), out.image.ids.data(),
@@ -350,6 +417,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
     if (owner) acc.in_frustum[t] |= seen[t];
   }
   out.report = {{"view", name},
+                {"rendered_pixels", grid ? pixels * size_t(samples) : pixels},
                 {"covered_pixels", out.perception.counted_pixels},
                 {"imperceptible_fraction", out.perception.imperceptible_fraction},
                 {"levels", out.perception.levels},
@@ -363,8 +431,10 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
     // the centres once more, and without verify the comparison is left out.
     std::vector<uint32_t> traced_centre;
     const uint32_t* centre = nullptr;
-    if (samples == 1) {
-      centre = rays.data();  // the one sample is the centre (of this pass's camera)
+    Camera drawn = cam;  // the camera of out.image
+    if (grid) drawn.shift_x += offsets[0][0], drawn.shift_y += offsets[0][1];
+    if (samples == 1 || grid) {
+      centre = rays.data();  // the one sample is the centre (of this pass's camera; with grid, sample 0's image)
     } else if (centre_in_walk) {
       centre = traced.back().data();
     } else if (reference) {
@@ -373,32 +443,35 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
       centre = traced_centre.data();
     }
     if (centre)
-      out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, cam, centre, out.image.ids.data()));
+      out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, drawn, centre, out.image.ids.data()));
     if (reference) {
       std::vector<uint32_t> ref(pixels);
       t0 = Clock::now();
-      reference->trace(cam, ref.data());
+      reference->trace(drawn, ref.data());
       out.report["seconds"]["trace_embree_verify"] = since(t0);
-      out.report["octree_vs_embree"] = to_json(compare_traced(scene, cam, centre, ref.data()));
+      out.report["octree_vs_embree"] = to_json(compare_traced(scene, drawn, centre, ref.data()));
     }
   }
 }
 
-// The sample passes of a view: one render that every sample reads, or with
-// job.mask_per_sample one render per sample offset, its camera shifted by it.
+// The sample passes of a view: one render that every sample reads (a grid
+// of samples: one refined render), or with job.mask_per_sample one render
+// per sample offset, its camera shifted by it.
 std::vector<std::array<double, 2>> sample_passes(const LabelJob& job) {
-  return job.mask_per_sample ? sample_offsets(job.samples) : std::vector<std::array<double, 2>>{{0.0, 0.0}};
+  if (!job.mask_per_sample || sample_grid(job.samples)) return {{0.0, 0.0}};  // one render (a grid's: refined)
+  return sample_offsets(job.samples);
 }
 
-// The cameras of a view's passes. One pass: the view's camera. Several:
-// each renders perception_window(cam, box), shifted by the pass's offset.
+// The cameras of a view's passes. One pass: the view's camera, or with
+// `window` (a grid of samples) perception_window(cam, box). Several: each
+// renders perception_window(cam, box), shifted by the pass's offset.
 std::vector<Camera> pass_cameras(const Camera& cam, const Bounds& box, const std::vector<std::array<double, 2>>& passes,
-                                 const PerceptionSettings& ps) {
-  if (passes.size() == 1) return {cam};
-  const Camera window = perception_window(cam, box, ps);
+                                 const PerceptionSettings& ps, bool window) {
+  if (passes.size() == 1) return {window ? perception_window(cam, box, ps) : cam};
+  const Camera window_cam = perception_window(cam, box, ps);
   std::vector<Camera> out;
   for (const auto& o : passes) {
-    Camera c = window;
+    Camera c = window_cam;
     c.shift_x += o[0];
     c.shift_y += o[1];
     out.push_back(c);
@@ -409,6 +482,7 @@ std::vector<Camera> pass_cameras(const Camera& cam, const Bounds& box, const std
 // Adds a later pass's timings to the report of the view's first pass.
 void add_pass_report(nlohmann::json& first, const nlohmann::json& pass, size_t passes) {
   for (const auto& [k, v] : pass["seconds"].items()) first["seconds"][k] = first["seconds"][k].get<double>() + v.get<double>();
+  first["rendered_pixels"] = first["rendered_pixels"].get<size_t>() + pass["rendered_pixels"].get<size_t>();
   first["passes"] = passes;
 }
 
@@ -453,10 +527,10 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
                         const Progress& progress, const EmbreeTracer* verify_tracer) {
   if (job.views.empty()) throw std::invalid_argument("no views to label from");
   sample_offsets(job.samples);  // checks the count
-  if (job.mask_per_sample && job.keep_unsampled_surface && job.samples > 1)
+  if ((job.mask_per_sample || sample_grid(job.samples)) && job.keep_unsampled_surface && job.samples > 1)
     throw std::invalid_argument(
-        "keep_unsampled_surface and mask_per_sample cannot be combined: the unsampled-surface rule needs every "
-        "sample of a pixel in one render");
+        "keep_unsampled_surface cannot be combined with mask_per_sample or a grid of samples (9, 16): the "
+        "unsampled-surface rule needs every sample of a pixel in one picture");
   const size_t nt = scene.triangle_count();
   Bounds bounds = scene_bounds(scene);
   const PerceptionSettings ps = perception_for(job);
@@ -477,7 +551,8 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
                 {"combine_views", job.combine == CombineViews::Pooled ? "pooled" : "any"},
                 {"keep_unsampled_surface", depth},
                 {"views", nlohmann::json::array()}};
-  if (job.mask_per_sample) res.report["mask_per_sample"] = true;
+  if (job.mask_per_sample || sample_grid(job.samples)) res.report["mask_per_sample"] = true;
+  if (sample_grid(job.samples)) res.report["sample_grid"] = sample_grid(job.samples);
   Accumulator acc(nt);
   std::vector<ViewTile> tiles;
   for (const auto& view : job.views)
@@ -487,14 +562,21 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   const std::vector<std::array<double, 2>> passes = sample_passes(job);
   const size_t P = passes.size();
   std::vector<std::vector<Camera>> cams;  // per tile, its passes' cameras
-  for (const ViewTile& tile : tiles) cams.push_back(pass_cameras(tile.camera, bounds, passes, ps));
+  // The camera of the picture a view keeps (its image, record and ID
+  // buffer): with a grid of samples, sample 0's of the refined render.
+  const int grid = sample_grid(job.samples);
+  auto drawn_camera = [&](Camera c) {
+    if (grid) c.shift_x += grid_offsets(grid)[0][0], c.shift_y += grid_offsets(grid)[0][1];
+    return c;
+  };
+  for (const ViewTile& tile : tiles) cams.push_back(pass_cameras(tile.camera, bounds, passes, ps, grid > 0));
   {
     ViewPipeline pipeline(
         job.overlap,
         [&](size_t k, ViewOutcome& o) {  // rendered and perceived: record it, queue its images
           if (k % P) return;
           const ViewTile& tile = tiles[k / P];
-          res.views.push_back(view_record(tile.name, cams[k / P][0], o.image.rgb, o.background, "labelling"));
+          res.views.push_back(view_record(tile.name, drawn_camera(cams[k / P][0]), o.image.rgb, o.background, "labelling"));
           if (!write_files) return;
           auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
           const int w = o.image.width, h = o.image.height;
@@ -509,7 +591,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
           const ViewTile& tile = tiles[k / P];
           if (k % P == 0) {
             if (write_files && job.write_view_images)
-              res.id_buffers.push_back(IdBuffer{tile.name, cams[k / P][0], std::move(o.packed_ids)});
+              res.id_buffers.push_back(IdBuffer{tile.name, drawn_camera(cams[k / P][0]), std::move(o.packed_ids)});
             res.report["views"].push_back(o.report);
           } else {
             add_pass_report(res.report["views"].back(), o.report, P);
@@ -518,7 +600,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
         });
     for (size_t i = 0; i < tiles.size(); ++i)
       for (size_t p = 0; p < P; ++p)
-        pipeline.add([&, cam = cams[i][p]](ViewOutcome& o) { see_view(renderer, ps, cam, depth, o); },
+        pipeline.add([&, cam = cams[i][p]](ViewOutcome& o) { see_view(renderer, ps, cam, depth, o, grid); },
                      [&, p, cam = cams[i][p], name = tiles[i].name](ViewOutcome& o) {
                        count_view(scene, tracer, reference, job, name, cam, nullptr, 0, res, acc, o);
                        if (p == 0 && write_files && job.write_view_images)  // packed here, on the worker
@@ -578,9 +660,9 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       for (const auto& view : job.views)
         for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display)) {
           eyes_inside += eye_inside_other(tile.camera, b);
-          const std::vector<Camera> pc = pass_cameras(tile.camera, box[b], passes, ps);
+          const std::vector<Camera> pc = pass_cameras(tile.camera, box[b], passes, ps, grid > 0);
           for (size_t p = 0; p < P; ++p)
-            pipeline.add([&, camera = pc[p]](ViewOutcome& o) { see_view(renderer, ps, camera, depth, o); },
+            pipeline.add([&, camera = pc[p]](ViewOutcome& o) { see_view(renderer, ps, camera, depth, o, grid); },
                          [&, name = tile.name, camera = pc[p]](ViewOutcome& o) {
                            count_view(scene, tracer, nullptr, job, name, camera, &owner, b, res, acc, o);
                          });

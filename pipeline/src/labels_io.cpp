@@ -147,8 +147,8 @@ LabelFile read_labels(const std::string& path) {
   bool pending = next();  // the optional samples line, or the first triangle's
   if (pending && !w.empty() && w[0] == "samples") {
     uint64_t s = 0;
-    if (w.size() != 2 || !parse_uint(w[1], s) || !(s == 2 || s == 4 || s == 8))
-      throw bad(line, "expected 'samples S' with S one of 2, 4, 8");
+    if (w.size() != 2 || !parse_uint(w[1], s) || !(s == 2 || s == 4 || s == 8 || s == 9 || s == 16))
+      throw bad(line, "expected 'samples S' with S one of 2, 4, 8, 9, 16");
     f.samples = int(s);
     pending = next();
   }

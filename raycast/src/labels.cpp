@@ -45,9 +45,21 @@ std::vector<std::array<double, 2>> sample_offsets(int n) {
         s.push_back({x / 16.0, y / 16.0});
       return s;
     }
+    case 9: return grid_offsets(3);
+    case 16: return grid_offsets(4);
   }
-  throw std::invalid_argument("samples per pixel must be 1, 2, 4 or 8, not " + std::to_string(n));
+  throw std::invalid_argument("samples per pixel must be 1, 2, 4, 8, 9 or 16, not " + std::to_string(n));
 }
+
+std::vector<std::array<double, 2>> grid_offsets(int s) {
+  if (s < 1 || s > 4) throw std::invalid_argument("sample grid must be 1 to 4 per axis, not " + std::to_string(s));
+  std::vector<std::array<double, 2>> out;
+  for (int b = 0; b < s; ++b)
+    for (int a = 0; a < s; ++a) out.push_back({(a + 0.5) / s - 0.5, (b + 0.5) / s - 0.5});
+  return out;
+}
+
+int sample_grid(int n) { return n == 9 ? 3 : n == 16 ? 4 : 0; }
 
 void mark_in_frustum(const Scene& scene, const Camera& cam, std::vector<uint8_t>& inside) {
   const size_t nt = scene.triangle_count();

@@ -266,7 +266,9 @@ void cost(const std::string& key, const Scene& scene, UpAxis up, double d, int r
                 {"facades, default spp", "facades", kDefaultSamples, false},
                 {"default views and spp", kDefaultViews, kDefaultSamples, false},
                 {"default views, 4 spp, mps", kDefaultViews, 4, true},
-                {"default views, 8 spp, mps", kDefaultViews, 8, true}};
+                {"default views, 8 spp, mps", kDefaultViews, 8, true},
+                {"default views, 9 spp grid", kDefaultViews, 9, false},
+                {"default views, 16 spp grid", kDefaultViews, 16, false}};
   // One untimed labelling first: the first setup timed would otherwise pay
   // for the process's first renders, allocations and worker threads.
   label_scene(renderer, scene, tracer, make_job(up, setups[0].views, setups[0].samples, d, PerBuilding::Off));

@@ -159,6 +159,25 @@ TEST(BatchConfig, MaskPerSampleReachesTheLabellingJob) {
   }
 }
 
+// samples: 9 and 16 are the ordered grids read from one refined render;
+// with keep_unsampled_surface they are refused, naming the file and key.
+TEST(BatchConfig, GridSamplesReachTheLabellingJob) {
+  BatchFolder b;
+  ConfigFile f = load_config_file(
+      b.dir.file("grid.yaml", "distances: [56]\nmodels:\n  - {model: city/a/house.obj, samples: 16}\n"));
+  ASSERT_EQ(f.models.size(), 1u);
+  EXPECT_EQ(lod_job(f.models[0].config).label.samples, 16);
+  EXPECT_EQ(sample_grid(16), 4);
+  EXPECT_EQ(sample_grid(9), 3);
+  EXPECT_EQ(sample_grid(8), 0);
+  const std::string err = error_of([&] {
+    load_config_file(b.dir.file("bad.yaml", "distances: [56]\nmodel: city/a/house.obj\nsamples: 9\n"
+                                            "keep_unsampled_surface: true\n"));
+  });
+  EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;
+  EXPECT_NE(err.find("'keep_unsampled_surface'"), std::string::npos) << err;
+}
+
 TEST(BatchShards, ShardsPartitionTheListExactly) {
   for (size_t count : {0u, 1u, 5u, 17u})
     for (int n : {1, 2, 3, 8}) {

@@ -65,6 +65,19 @@ TEST(LabelsFile, FilesWithoutTheModelLineAreStillRead) {
   EXPECT_EQ(g.labels[1], Label::Undisplayable);
 }
 
+// The samples line: counts of a grid of samples (9, 16) read back; other
+// counts are refused.
+TEST(LabelsFile, SamplesLineTakesEveryPattern) {
+  test::TempDir dir("labels-samples");
+  for (int n : {2, 4, 8, 9, 16}) {
+    LabelFile f{{Label::Perceptible}, {32}, {5}, {{"+x", 56}}};
+    f.samples = n;
+    write_labels(dir / "s.txt", f);
+    EXPECT_EQ(read_labels(dir / "s.txt").samples, n);
+  }
+  expect_refused(dir, "three.txt", "perclod-labels 1\ntriangles 1\nviews 0\nsamples 3\nP 1 0\n", "samples S");
+}
+
 TEST(LabelsFile, MistakesAreRefusedNamingTheFileAndLine) {
   test::TempDir dir("labels-bad");
   const std::string head = "perclod-labels 1\ntriangles 2\nviews 0\n";

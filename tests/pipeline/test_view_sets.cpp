@@ -265,6 +265,54 @@ TEST(ViewSets, MaskPerSampleTracesTheSameSamplesFromARenderEach) {
   EXPECT_THROW(label(s, job), std::invalid_argument);
 }
 
+// samples: 16 is the 4 x 4 ordered grid, each sample read from its own
+// picture, all 16 pictures from one render of the view's window at 4x the
+// resolution: one report entry and one render per view, four times the
+// traced samples of 4 samples per pixel on the same triangles, and the
+// view's record drawn from sample 0's camera.
+TEST(ViewSets, AGridOfSamplesComesFromOneRefinedRender) {
+  Scene s = wall(30, 12);
+  LabelJob job = job_for("facades,az30el30", 60, 4);
+  const LabelResult plain = label(s, job);
+  job.samples = 16;
+  const LabelResult grid = label(s, job);
+  uint64_t a = 0, b = 0;
+  size_t seen_differently = 0;  // a sliver on the box's edge that one pattern hits and the other misses
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    a += plain.totals.traced[t], b += grid.totals.traced[t];
+    seen_differently += (plain.labels[t] == Label::Undisplayable) != (grid.labels[t] == Label::Undisplayable);
+  }
+  EXPECT_LE(seen_differently, 2u);  // 1 of 732 measured
+  EXPECT_GT(a, 10000u);
+  EXPECT_NEAR(double(b) / double(4 * a), 1.0, 2e-3);
+  EXPECT_EQ(grid.report["sample_grid"], 4);
+  EXPECT_EQ(grid.report["mask_per_sample"], true);
+  ASSERT_EQ(grid.report["views"].size(), plain.report["views"].size());
+  for (size_t v = 0; v < grid.report["views"].size(); ++v) {
+    const auto& g = grid.report["views"][v];
+    EXPECT_FALSE(g.contains("passes"));
+    const Camera c = grid.views[v].camera;
+    EXPECT_EQ(g["rendered_pixels"].get<size_t>(), 16 * size_t(c.width) * c.height);
+    EXPECT_LT(c.width * c.height, 1280 * 1024);  // the model's window, not the frame
+  }
+  // The record's camera is sample 0's: its ID buffer is what that camera draws.
+  Renderer r;
+  r.set_scene(s);
+  RenderOutput o;
+  r.render(grid.views[0].camera, o, {});
+  std::vector<uint8_t> kept;
+  grid.views[0].render_into(kept);
+  ASSERT_EQ(kept.size(), o.rgb.size());
+  size_t differ = 0, covered = 0;
+  for (size_t i = 0; i < o.ids.size(); ++i) covered += o.ids[i] != 0;
+  for (size_t i = 0; i < o.rgb.size(); ++i) differ += o.rgb[i] != kept[i];
+  EXPECT_GT(covered, 1000u);
+  EXPECT_LE(differ, o.rgb.size() / 1000);
+
+  job.keep_unsampled_surface = true;
+  EXPECT_THROW(label(s, job), std::invalid_argument);
+}
+
 // The window a mask-per-sample pass renders perceives as the whole frame
 // does over the model: the same mask on every pixel the model covers.
 TEST(ViewSets, PerceptionWindowPerceivesAsTheWholeFrameOverTheModel) {
@@ -297,6 +345,54 @@ TEST(ViewSets, PerceptionWindowPerceivesAsTheWholeFrameOverTheModel) {
   EXPECT_GT(covered, 1000u);
   EXPECT_EQ(ids_differ, 0u);
   EXPECT_EQ(differ, 0u) << "of " << covered;
+}
+
+// One render at s times the resolution holds the s x s renders at
+// grid_offsets(s): every fine pixel (s x + a, s y + b) shows what pixel (x, y)
+// of the render shifted by offset b s + a shows, and their perception masks
+// agree over the model.
+TEST(ViewSets, ARefinedRenderHoldsTheGridOfShiftedRenders) {
+  Scene s = wall(30, 12);
+  for (int i = 0; i < 30; ++i)
+    for (int k = 0; k < 12; ++k) add_box(s, {i + 0.3f, -0.3f, k + 0.3f}, {i + 0.6f, 0.0f, k + 0.6f}, 0);
+  const LabelJob job = job_for("az30el30", 120, 1);
+  const Bounds box = scene_bounds(s);
+  const Camera whole = frame_view(box, UpAxis::Z, "az30el30", job.distance, job.display)[0].camera;
+  const Camera win = perception_window(whole, box, job.perception);
+  Renderer r;
+  r.set_scene(s);
+  for (int g : {2, 3}) {
+    RenderOutput fine;
+    r.render(refined(win, g), fine, {});
+    ASSERT_EQ(fine.width, g * win.width);
+    const auto offsets = grid_offsets(g);
+    for (int k = 0; k < g * g; ++k) {
+      Camera c = win;
+      c.shift_x += offsets[k][0], c.shift_y += offsets[k][1];
+      RenderOutput one;
+      r.render(c, one, {});
+      RenderOutput part = one;
+      const int a = k % g, b = k / g;
+      for (int y = 0; y < win.height; ++y)
+        for (int x = 0; x < win.width; ++x) {
+          const size_t i = size_t(y) * win.width + x, f = size_t(g * y + b) * fine.width + size_t(g * x + a);
+          part.ids[i] = fine.ids[f];
+          for (int ch = 0; ch < 3; ++ch) part.rgb[3 * i + ch] = fine.rgb[3 * f + ch];
+        }
+      size_t covered = 0, ids_differ = 0, differ = 0;
+      const PerceptionResult p1 = perceive(one.rgb.data(), one.width, one.height, job.perception);
+      const PerceptionResult p2 = perceive(part.rgb.data(), part.width, part.height, job.perception);
+      for (size_t i = 0; i < one.ids.size(); ++i) {
+        ids_differ += one.ids[i] != part.ids[i];
+        if (!one.ids[i]) continue;
+        ++covered;
+        differ += p1.mask[i] != p2.mask[i];
+      }
+      EXPECT_GT(covered, 1000u);
+      EXPECT_LE(ids_differ, covered / 1000) << "grid " << g << " sample " << k;
+      EXPECT_LE(differ, covered / 1000) << "grid " << g << " sample " << k;
+    }
+  }
 }
 
 // A 1 m square in the plane y = `y`, facing -y, tessellated in squares of

@@ -102,7 +102,12 @@ struct LabelJob {
   DisplayProfile display;
   PerceptionSettings perception;      // ppd is taken from `display`
   std::vector<std::string> views;     // view names, e.g. parse_views("facades", up)
-  int samples = 1;                    // samples per pixel (1, 2, 4, 8; see sample_offsets)
+  // Samples per pixel (1, 2, 4, 8; see sample_offsets). 9 and 16 are the
+  // ordered 3 x 3 and 4 x 4 grids, a mask per sample from one render: the
+  // view's window (perception_window) drawn at 3 or 4 times its resolution
+  // per axis, whose fine pixels are the samples, split into one picture per
+  // sample offset, each perceived on its own (README, Mask per sample).
+  int samples = 1;
   // With samples > 1: a triangle smaller than a pixel that no sample and no
   // pixel centre hit, lying on the drawn surface at its centroid's pixel
   // (within half a pixel footprint of the depth drawn there) and not under

@@ -206,10 +206,21 @@ DoubleHit intersect_pixel_double(const Scene& scene, const Camera& camera, int x
 // Sub-pixel sample positions for `n` samples per pixel, as offsets from the
 // pixel centre (Camera::shift_x, shift_y): n = 1 the centre; 2 the diagonal
 // (-1/4, -1/4), (1/4, 1/4); 4 the rotated grid (+-1/8, +-3/8 rotated);
-// 8 the 8-rooks pattern of D3D's standard multisample positions. Every pattern
-// has one sample in each row and column of an n x n sub-grid, so thin
-// horizontal and vertical parts are sampled evenly. Throws for other n.
+// 8 the 8-rooks pattern of D3D's standard multisample positions; 9 and 16
+// the ordered 3 x 3 and 4 x 4 grids (grid_offsets). Every pattern has one
+// sample in each row and column of an n x n sub-grid (the grids: of an s x
+// s one), so thin horizontal and vertical parts are sampled evenly. Throws
+// for other n.
 std::vector<std::array<double, 2>> sample_offsets(int n);
+
+// The s x s ordered grid of sub-pixel offsets, ((a + 0.5) / s - 0.5, (b +
+// 0.5) / s - 0.5), sample k = b s + a: the pixel centres of a render at s
+// times the resolution (perclod/camera.h, refined). Throws unless 1 <= s <= 4.
+std::vector<std::array<double, 2>> grid_offsets(int s);
+
+// s when sample_offsets(n) is the s x s ordered grid (n = 9: 3, n = 16: 4),
+// else 0.
+int sample_grid(int n);
 
 // Marks (sets to 1) the triangles that may lie inside `camera`'s frustum
 // (between znear and zfar and within the image's four edge planes): a

@@ -102,6 +102,19 @@ inline Camera cropped(const Camera& c, int x0, int y0, int w, int h) {
   return out;
 }
 
+// `c` at s times its resolution per axis: the same frustum, each pixel split
+// into s x s. Fine pixel (s x + a, s y + b) samples what `c`'s pixel (x, y)
+// samples with its shift moved by ((a + 0.5) / s - 0.5, (b + 0.5) / s - 0.5),
+// so one render holds s x s renders of `c` at those sub-pixel offsets.
+inline Camera refined(const Camera& c, int s) {
+  Camera out = c;
+  out.width = c.width * s;
+  out.height = c.height * s;
+  out.shift_x = c.shift_x * s;
+  out.shift_y = c.shift_y * s;
+  return out;
+}
+
 // A camera at `eye` looking at `target`; `world_up` must not be parallel to the view.
 inline Camera look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
                       const Eigen::Vector3d& world_up, double fov_y, int width, int height,
