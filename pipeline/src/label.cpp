@@ -124,12 +124,14 @@ struct ViewOutcome {
   std::vector<std::vector<uint32_t>> samples;  // the traced samples, kept for the slot's next view
   std::vector<uint8_t> packed_ids;             // image.ids packed, for a marking image
   // With an ordered grid of samples (sample_grid): the render at grid times
-  // the resolution, and its sample images 1.. (image and perception above
-  // are sample 0's).
-  std::vector<RenderOutput> more_images;
-  std::vector<PerceptionResult> more_perceptions;
-  std::vector<std::vector<uint8_t>> more_backgrounds;
-  RenderOutput fine;
+  // the resolution, and of its sample pictures 1.. what counting reads, the
+  // ID buffer and the mask (image and perception above are sample 0's);
+  // each picture is split and perceived in the scratch buffers.
+  RenderOutput fine, scratch;
+  PerceptionResult scratch_perception;
+  std::vector<uint8_t> scratch_background;
+  std::vector<std::vector<uint32_t>> more_ids;
+  std::vector<std::vector<uint8_t>> more_masks;
   double t_render = 0, t_perceive = 0;
   nlohmann::json report;
 };
@@ -300,28 +302,26 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
   ro.want_depth = want_depth;  // add_unsampled_surface reads it
   if (grid >= 2) {
     renderer.render(refined(cam, grid), out.fine, ro);
-    const size_t n = size_t(grid) * grid;
-    out.more_images.resize(n - 1);
-    out.more_perceptions.resize(n - 1);
-    out.more_backgrounds.resize(n - 1);
-    decimate(out.fine, grid, 0, 0, out.image);
-    for (size_t k = 1; k < n; ++k) decimate(out.fine, grid, int(k % grid), int(k / grid), out.more_images[k - 1]);
     out.t_render = since(t0);
     t0 = Clock::now();
-    for (size_t k = 1; k < n; ++k) {
-      background_of(out.more_images[k - 1], out.more_backgrounds[k - 1]);
-      const RenderOutput& im = out.more_images[k - 1];
-      perceive_into(im.rgb.data(), im.width, im.height, ps, out.more_backgrounds[k - 1].data(),
-                    out.more_perceptions[k - 1]);
+    const size_t n = size_t(grid) * grid;
+    out.more_ids.resize(n - 1);
+    out.more_masks.resize(n - 1);
+    for (size_t k = n; k-- > 0;) {  // sample 0 last: out.perception's buffers stay its own
+      RenderOutput& im = k ? out.scratch : out.image;
+      PerceptionResult& pr = k ? out.scratch_perception : out.perception;
+      std::vector<uint8_t>& bg = k ? out.scratch_background : out.background;
+      decimate(out.fine, grid, int(k % grid), int(k / grid), im);
+      background_of(im, bg);
+      perceive_into(im.rgb.data(), im.width, im.height, ps, bg.data(), pr);
+      if (k) {  // swapped, not copied: the scratch takes the old buffers back for the next picture
+        out.more_ids[k - 1].swap(im.ids);
+        out.more_masks[k - 1].swap(pr.mask);
+      }
     }
-    const double t_more = since(t0);
-    background_of(out.image, out.background);
-    t0 = Clock::now();
-    perceive_into(out.image.rgb.data(), out.image.width, out.image.height, ps, out.background.data(), out.perception);
-    out.t_perceive = since(t0) + t_more;
+    out.t_perceive = since(t0);
     return;
   }
-  out.more_images.clear();
   renderer.render(cam, out.image, ro);
   out.t_render = since(t0);
   background_of(out.image, out.background);
@@ -377,7 +377,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
                          buffers.data() + k0);
   }
   auto mask_of = [&](size_t k) -> const uint8_t* {
-    return grid && k ? out.more_perceptions[k - 1].mask.data() : out.perception.mask.data();
+    return grid && k ? out.more_masks[k - 1].data() : out.perception.mask.data();
   };
   for (size_t k = 0; k < size_t(samples); ++k) {
     std::vector<uint32_t>& rays = traced[k];
@@ -389,8 +389,8 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   const std::vector<uint32_t>& rays = traced[0];
   if (grid) {
     for (size_t k = 0; k < size_t(samples); ++k)
-      add_drawn_but_missed(k ? out.more_images[k - 1].ids.data() : out.image.ids.data(), mask_of(k), pixels, owner,
-                           building, counts);
+      add_drawn_but_missed(k ? out.more_ids[k - 1].data() : out.image.ids.data(), mask_of(k), pixels, owner, building,
+                           counts);
   } else if (samples > 1) {
     add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
   }
