@@ -106,6 +106,18 @@ TEST(CliPipeline, LabelTakesViewSetsSamplesAndTilesCloseViews) {
                       mps.string());
   EXPECT_NE(both.exit_code, 0);
   EXPECT_NE(both.err.find("--keep-unsampled-surface"), std::string::npos) << both.err;
+  // --samples 16: the 4 x 4 grid from one refined render, labels file and
+  // report saying so; with --keep-unsampled-surface an error.
+  auto g = run_cli("label " + kBuilding + " --up z -d 427 --views top --samples 16 --json -o " + mps.string());
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  auto gj = nlohmann::json::parse(g.out);
+  EXPECT_EQ(gj["sample_grid"], 4);
+  EXPECT_FALSE(gj["views"][0].contains("passes"));
+  EXPECT_EQ(perclod::read_labels(gj["labels_file"].get<std::string>()).samples, 16);
+  auto grid_keep =
+      run_cli("label " + kBuilding + " --up z -d 427 --views top --samples 16 --keep-unsampled-surface -o " + mps.string());
+  EXPECT_NE(grid_keep.exit_code, 0);
+  EXPECT_NE(grid_keep.err.find("keep_unsampled_surface"), std::string::npos) << grid_keep.err;
   fs::remove_all(out);
   fs::remove_all(near);
   fs::remove_all(mps);
