@@ -313,16 +313,22 @@ TEST(ViewSets, AGridOfSamplesComesFromOneRefinedRender) {
   EXPECT_THROW(label(s, job), std::invalid_argument);
 }
 
-// The window a mask-per-sample pass renders perceives as the whole frame
-// does over the model: the same mask on every pixel the model covers.
-TEST(ViewSets, PerceptionWindowPerceivesAsTheWholeFrameOverTheModel) {
+// wall(30, 12) with a 0.3 m box standing out of each square: small parts
+// for the perception to resolve or not.
+Scene studded_wall() {
   Scene s = wall(30, 12);
   for (int i = 0; i < 30; ++i)
     for (int k = 0; k < 12; ++k) add_box(s, {i + 0.3f, -0.3f, k + 0.3f}, {i + 0.6f, 0.0f, k + 0.6f}, 0);
+  return s;
+}
+
+// The window a mask-per-sample pass renders perceives as the whole frame
+// does over the model: the same mask on every pixel the model covers.
+TEST(ViewSets, PerceptionWindowPerceivesAsTheWholeFrameOverTheModel) {
+  const Scene s = studded_wall();
   const LabelJob job = job_for("az30el30", 120, 1);
-  const Bounds box = scene_bounds(s);
-  const Camera whole = frame_view(box, UpAxis::Z, "az30el30", job.distance, job.display)[0].camera;
-  const Camera win = perception_window(whole, box, job.perception);
+  const Camera whole = frame_view(scene_bounds(s), UpAxis::Z, "az30el30", job.distance, job.display)[0].camera;
+  const Camera win = perception_window(whole, scene_bounds(s), job.perception);
   ASSERT_LT(win.width * win.height, whole.width * whole.height);  // the model leaves part of the frame
   const int x0 = int(std::lround(win.shift_x - 0.5 * (win.width - whole.width)));
   const int y0 = int(std::lround(win.shift_y - 0.5 * (win.height - whole.height)));
@@ -352,13 +358,10 @@ TEST(ViewSets, PerceptionWindowPerceivesAsTheWholeFrameOverTheModel) {
 // of the render shifted by offset b s + a shows, and their perception masks
 // agree over the model.
 TEST(ViewSets, ARefinedRenderHoldsTheGridOfShiftedRenders) {
-  Scene s = wall(30, 12);
-  for (int i = 0; i < 30; ++i)
-    for (int k = 0; k < 12; ++k) add_box(s, {i + 0.3f, -0.3f, k + 0.3f}, {i + 0.6f, 0.0f, k + 0.6f}, 0);
+  const Scene s = studded_wall();
   const LabelJob job = job_for("az30el30", 120, 1);
-  const Bounds box = scene_bounds(s);
-  const Camera whole = frame_view(box, UpAxis::Z, "az30el30", job.distance, job.display)[0].camera;
-  const Camera win = perception_window(whole, box, job.perception);
+  const Camera whole = frame_view(scene_bounds(s), UpAxis::Z, "az30el30", job.distance, job.display)[0].camera;
+  const Camera win = perception_window(whole, scene_bounds(s), job.perception);
   Renderer r;
   r.set_scene(s);
   for (int g : {2, 3}) {
