@@ -25,7 +25,7 @@ void register_label(CLI::App& app) {
   cmd->add_option("--distance,-d", a->distance, "Viewing distance in metres")->required()->check(kPositive);
   cmd->add_option("--views,--facade,-f", a->views, std::string("View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); default ") + kDefaultViews + ")");
   cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4, 8, or 9 / 16 (an ordered grid from one render at 3x / 4x\n"
-                  "the resolution, a mask per sample; README, Mask per sample) (default " + std::to_string(kDefaultSamples) + ")")
+                  "the resolution, a mask per sample; README, Grids of samples) (default " + std::to_string(kDefaultSamples) + ")")
       ->check(CLI::IsMember({1, 2, 4, 8, 9, 16}));
   CLI::Option* keep = cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
                 "With samples > 1: a sub-pixel triangle no sample hit but lying on the drawn surface, where\n"

@@ -89,7 +89,7 @@ void register_run(CLI::App& app) {
   cmd->add_option("CONFIG", a->config, "Batch config YAML")->required()->check(kNotEmpty);
   cmd->add_option("--views", a->views, "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); overrides the config's views)");
   cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4, 8, or 9 / 16 (an ordered grid from one render at 3x / 4x\n"
-                  "the resolution, a mask per sample; README, Mask per sample) (overrides the config's samples)")
+                  "the resolution, a mask per sample; README, Grids of samples) (overrides the config's samples)")
       ->check(CLI::IsMember({1, 2, 4, 8, 9, 16}));
   CLI::Option* keep = cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
                 "Label sub-pixel triangles that lie between the samples of a drawn surface from their pixel\n"

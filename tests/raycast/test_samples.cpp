@@ -51,6 +51,33 @@ TEST(Samples, PatternsHaveOneSamplePerRowAndColumnInsideThePixel) {
   EXPECT_THROW(sample_offsets(0), std::invalid_argument);
 }
 
+// 9 and 16 are the ordered grids: one sample in each cell of an s x s
+// sub-grid, at its centre, and the pixel centres of a camera refined s times.
+TEST(Samples, GridPatternsAreTheCentresOfARefinedCamera) {
+  for (int s : {3, 4}) {
+    const auto g = sample_offsets(s * s);
+    ASSERT_EQ(g, grid_offsets(s));
+    EXPECT_EQ(sample_grid(s * s), s);
+    std::set<std::pair<int, int>> cells;
+    for (auto [x, y] : g) cells.insert({int(std::floor((x + 0.5) * s)), int(std::floor((y + 0.5) * s))});
+    EXPECT_EQ(cells.size(), size_t(s * s));
+    Camera c = unit_camera();
+    c.shift_x = 0.3, c.shift_y = -0.2;  // a refined camera keeps the shift
+    const Camera f = refined(c, s);
+    for (int k = 0; k < s * s; ++k) {  // fine pixel (s x + a, s y + b) = pixel (x, y) at offset k = b s + a
+      const int a = k % s, b = k / s, x = 5, y = 7;
+      Camera shifted = c;
+      shifted.shift_x += g[k][0], shifted.shift_y += g[k][1];
+      const Eigen::Vector3d d1 = f.ray_direction(s * x + a + 0.5, s * y + b + 0.5);
+      const Eigen::Vector3d d2 = shifted.ray_direction(x + 0.5, y + 0.5);
+      EXPECT_LT((d1 - d2).norm(), 1e-12) << s << " " << k;
+    }
+  }
+  EXPECT_EQ(sample_grid(8), 0);
+  EXPECT_THROW(grid_offsets(5), std::invalid_argument);
+  EXPECT_THROW(grid_offsets(0), std::invalid_argument);
+}
+
 TEST(Samples, ShiftMovesTheSamplingPointInsideThePixel) {
   Camera c = unit_camera();
   double px, py, depth;

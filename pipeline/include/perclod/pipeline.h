@@ -106,7 +106,7 @@ struct LabelJob {
   // ordered 3 x 3 and 4 x 4 grids, a mask per sample from one render: the
   // view's window (perception_window) drawn at 3 or 4 times its resolution
   // per axis, whose fine pixels are the samples, split into one picture per
-  // sample offset, each perceived on its own (README, Mask per sample).
+  // sample offset, each perceived on its own (README, Grids of samples).
   int samples = 1;
   // With samples > 1: a triangle smaller than a pixel that no sample and no
   // pixel centre hit, lying on the drawn surface at its centroid's pixel

@@ -207,10 +207,10 @@ DoubleHit intersect_pixel_double(const Scene& scene, const Camera& camera, int x
 // pixel centre (Camera::shift_x, shift_y): n = 1 the centre; 2 the diagonal
 // (-1/4, -1/4), (1/4, 1/4); 4 the rotated grid (+-1/8, +-3/8 rotated);
 // 8 the 8-rooks pattern of D3D's standard multisample positions; 9 and 16
-// the ordered 3 x 3 and 4 x 4 grids (grid_offsets). Every pattern has one
-// sample in each row and column of an n x n sub-grid (the grids: of an s x
-// s one), so thin horizontal and vertical parts are sampled evenly. Throws
-// for other n.
+// the ordered 3 x 3 and 4 x 4 grids (grid_offsets). Patterns 2-8 have one
+// sample in each row and column of an n x n sub-grid and the grids one in
+// each cell of theirs, so thin horizontal and vertical parts are sampled
+// evenly. Throws for other n.
 std::vector<std::array<double, 2>> sample_offsets(int n);
 
 // The s x s ordered grid of sub-pixel offsets, ((a + 0.5) / s - 0.5, (b +
