@@ -307,7 +307,7 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
     const size_t n = size_t(grid) * grid;
     out.more_ids.resize(n - 1);
     out.more_masks.resize(n - 1);
-    for (size_t k = n; k-- > 0;) {  // sample 0 last: out.perception's buffers stay its own
+    for (size_t k = 0; k < n; ++k) {  // sample 0 into out.image / out.perception, the others via the scratch
       RenderOutput& im = k ? out.scratch : out.image;
       PerceptionResult& pr = k ? out.scratch_perception : out.perception;
       std::vector<uint8_t>& bg = k ? out.scratch_background : out.background;
@@ -319,7 +319,7 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
         out.more_masks[k - 1].swap(pr.mask);
       }
     }
-    out.t_perceive = since(t0);
+    out.t_perceive = since(t0);  // splitting included
     return;
   }
   renderer.render(cam, out.image, ro);
