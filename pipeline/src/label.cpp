@@ -274,6 +274,17 @@ size_t add_unsampled_surface(const Scene& scene, const Camera& cam, const float*
   return added;
 }
 
+// The camera of the picture a view keeps (its image, record, ID buffer):
+// `cam` itself, or with a grid of samples sample 0's picture of the refined
+// render, `cam` shifted by grid_offsets(grid)[0].
+Camera kept_picture_camera(Camera cam, int grid) {
+  if (grid) {
+    const auto o = grid_offsets(grid)[0];
+    cam.shift_x += o[0], cam.shift_y += o[1];
+  }
+  return cam;
+}
+
 // Sample (a, b) of a render at `s` times the resolution: its pixel (x, y) is
 // fine pixel (s x + a, s y + b).
 void decimate(const RenderOutput& fine, int s, int a, int b, RenderOutput& out) {
@@ -431,8 +442,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
     // the centres once more, and without verify the comparison is left out.
     std::vector<uint32_t> traced_centre;
     const uint32_t* centre = nullptr;
-    Camera drawn = cam;  // the camera of out.image
-    if (grid) drawn.shift_x += offsets[0][0], drawn.shift_y += offsets[0][1];
+    const Camera drawn = kept_picture_camera(cam, grid);  // the camera of out.image
     if (samples == 1 || grid) {
       centre = rays.data();  // the one sample is the centre (of this pass's camera; with grid, sample 0's image)
     } else if (centre_in_walk) {
@@ -527,7 +537,8 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
                         const Progress& progress, const EmbreeTracer* verify_tracer) {
   if (job.views.empty()) throw std::invalid_argument("no views to label from");
   sample_offsets(job.samples);  // checks the count
-  if ((job.mask_per_sample || sample_grid(job.samples)) && job.keep_unsampled_surface && job.samples > 1)
+  const int grid = sample_grid(job.samples);  // 0 unless an ordered grid of samples
+  if ((job.mask_per_sample || grid) && job.keep_unsampled_surface && job.samples > 1)
     throw std::invalid_argument(
         "keep_unsampled_surface cannot be combined with mask_per_sample or a grid of samples (9, 16): the "
         "unsampled-surface rule needs every sample of a pixel in one picture");
@@ -551,8 +562,8 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
                 {"combine_views", job.combine == CombineViews::Pooled ? "pooled" : "any"},
                 {"keep_unsampled_surface", depth},
                 {"views", nlohmann::json::array()}};
-  if (job.mask_per_sample || sample_grid(job.samples)) res.report["mask_per_sample"] = true;
-  if (sample_grid(job.samples)) res.report["sample_grid"] = sample_grid(job.samples);
+  if (job.mask_per_sample || grid) res.report["mask_per_sample"] = true;
+  if (grid) res.report["sample_grid"] = grid;
   Accumulator acc(nt);
   std::vector<ViewTile> tiles;
   for (const auto& view : job.views)
@@ -562,13 +573,6 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   const std::vector<std::array<double, 2>> passes = sample_passes(job);
   const size_t P = passes.size();
   std::vector<std::vector<Camera>> cams;  // per tile, its passes' cameras
-  // The camera of the picture a view keeps (its image, record and ID
-  // buffer): with a grid of samples, sample 0's of the refined render.
-  const int grid = sample_grid(job.samples);
-  auto drawn_camera = [&](Camera c) {
-    if (grid) c.shift_x += grid_offsets(grid)[0][0], c.shift_y += grid_offsets(grid)[0][1];
-    return c;
-  };
   for (const ViewTile& tile : tiles) cams.push_back(pass_cameras(tile.camera, bounds, passes, ps, grid > 0));
   {
     ViewPipeline pipeline(
@@ -576,7 +580,8 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
         [&](size_t k, ViewOutcome& o) {  // rendered and perceived: record it, queue its images
           if (k % P) return;
           const ViewTile& tile = tiles[k / P];
-          res.views.push_back(view_record(tile.name, drawn_camera(cams[k / P][0]), o.image.rgb, o.background, "labelling"));
+          res.views.push_back(
+              view_record(tile.name, kept_picture_camera(cams[k / P][0], grid), o.image.rgb, o.background, "labelling"));
           if (!write_files) return;
           auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
           const int w = o.image.width, h = o.image.height;
@@ -591,7 +596,8 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
           const ViewTile& tile = tiles[k / P];
           if (k % P == 0) {
             if (write_files && job.write_view_images)
-              res.id_buffers.push_back(IdBuffer{tile.name, drawn_camera(cams[k / P][0]), std::move(o.packed_ids)});
+              res.id_buffers.push_back(
+                  IdBuffer{tile.name, kept_picture_camera(cams[k / P][0], grid), std::move(o.packed_ids)});
             res.report["views"].push_back(o.report);
           } else {
             add_pass_report(res.report["views"].back(), o.report, P);
