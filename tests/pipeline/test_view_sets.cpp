@@ -295,7 +295,7 @@ TEST(ViewSets, AGridOfSamplesComesFromOneRefinedRender) {
     EXPECT_EQ(g["rendered_pixels"].get<size_t>(), 16 * size_t(c.width) * c.height);
     EXPECT_LT(c.width * c.height, 1280 * 1024);  // the model's window, not the frame
   }
-  // The record's camera is sample 0's: its ID buffer is what that camera draws.
+  // The record's camera is sample 0's: the record's picture is what that camera draws.
   Renderer r;
   r.set_scene(s);
   RenderOutput o;
