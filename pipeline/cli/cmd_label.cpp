@@ -15,7 +15,8 @@ void register_label(CLI::App& app) {
     double distance = 0;
     std::string views = kDefaultViews, out = "out", tracer = "octree", per_building = "auto",
                 combine_views = kDefaultCombineViews;
-    int samples = kDefaultSamples, spins = 1;
+    std::string samples = samples_name(kDefaultSamples);
+    int spins = 1;
     bool verify = false, json = false, keep_unsampled_surface = false, mask_per_sample = false;
     double ratio = 0.5, threshold = -1, closer = 0.25;
   };
@@ -24,9 +25,8 @@ void register_label(CLI::App& app) {
   a->display.add(cmd);
   cmd->add_option("--distance,-d", a->distance, "Viewing distance in metres")->required()->check(kPositive);
   cmd->add_option("--views,--facade,-f", a->views, std::string("View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); default ") + kDefaultViews + ")");
-  cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4, 8, or 9 / 16 (an ordered grid from one render at 3x / 4x\n"
-                  "the resolution, a mask per sample; README, Grids of samples) (default " + std::to_string(kDefaultSamples) + ")")
-      ->check(CLI::IsMember({1, 2, 4, 8, 9, 16}));
+  cmd->add_option("--samples", a->samples, kSamplesHelp + std::string(" (default ") + samples_name(kDefaultSamples) + ")")
+      ->check(samples_check());
   CLI::Option* keep = cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
                 "With samples > 1: a sub-pixel triangle no sample hit but lying on the drawn surface, where\n"
                 "such triangles fill half a pixel or more, is labelled from that pixel, not undisplayable\n"
@@ -72,7 +72,7 @@ void register_label(CLI::App& app) {
     if (a->threshold >= 0) job.perception.threshold = a->threshold;
     job.perception.spins = a->spins;
     job.views = views_option(a->views, job.up);
-    job.samples = a->samples;
+    job.samples = parse_samples(a->samples);
     job.keep_unsampled_surface = a->keep_unsampled_surface;
     job.mask_per_sample = a->mask_per_sample;
     job.per_building = parse_per_building(a->per_building);

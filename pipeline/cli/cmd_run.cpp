@@ -17,7 +17,8 @@ namespace {
 
 struct RunArgs {
   std::string config, views, shard, combine_views;
-  int samples = 0, jobs = 0;
+  std::string samples;  // "" = the config's
+  int jobs = 0;
   double memory_budget_mb = -1;
   bool json = false, strict = false, force = false, keep_unsampled_surface = false, mask_per_sample = false;
 };
@@ -88,9 +89,8 @@ void register_run(CLI::App& app) {
   auto a = std::make_shared<RunArgs>();
   cmd->add_option("CONFIG", a->config, "Batch config YAML")->required()->check(kNotEmpty);
   cmd->add_option("--views", a->views, "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); overrides the config's views)");
-  cmd->add_option("--samples", a->samples, "Samples per pixel: 1, 2, 4, 8, or 9 / 16 (an ordered grid from one render at 3x / 4x\n"
-                  "the resolution, a mask per sample; README, Grids of samples) (overrides the config's samples)")
-      ->check(CLI::IsMember({1, 2, 4, 8, 9, 16}));
+  cmd->add_option("--samples", a->samples, kSamplesHelp + std::string(" (overrides the config's samples)"))
+      ->check(samples_check());
   CLI::Option* keep = cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
                 "Label sub-pixel triangles that lie between the samples of a drawn surface from their pixel\n"
                 "instead of undisplayable (README, Unsampled surface; also 'keep_unsampled_surface: true' in the config)");
@@ -137,7 +137,7 @@ void register_run(CLI::App& app) {
         views_option(a->views, m.config.up);  // a bad --views fails before any work
         m.config.views = {a->views};
       }
-      if (a->samples) m.config.samples = a->samples;
+      if (!a->samples.empty()) m.config.samples = parse_samples(a->samples);
       if (a->keep_unsampled_surface) m.config.keep_unsampled_surface = true;
       if (a->mask_per_sample) m.config.mask_per_sample = true;
       if (!a->combine_views.empty()) m.config.combine_views = a->combine_views;

@@ -126,6 +126,23 @@ CLI::Validator in_range(double lo, double hi) {
       desc.str());
 }
 
+const char* const kSamplesHelp =
+    "Samples per pixel: auto (per view, README, Choosing the samples per view), 1, 2, 4, 8, or 9 / 16\n"
+    "(an ordered grid from one render at 3x / 4x the resolution, a mask per sample; README, Grids of samples)";
+
+CLI::Validator samples_check() {
+  return CLI::Validator(
+      [](std::string& s) -> std::string {
+        try {
+          parse_samples(s);
+          return "";
+        } catch (const std::invalid_argument& e) {
+          return e.what();
+        }
+      },
+      "auto|1|2|4|8|9|16");
+}
+
 void set_error_files(std::vector<std::string> files) { error_files() = std::move(files); }
 
 std::string error_message(const std::string& what) {

@@ -55,6 +55,8 @@ extern const CLI::Validator kPositive;     // a finite number > 0
 extern const CLI::Validator kNonNegative;  // a finite number >= 0
 extern const CLI::Validator kNotEmpty;     // a non-empty string (output directories)
 CLI::Validator in_range(double lo, double hi);
+extern const char* const kSamplesHelp;  // --samples of label and run
+CLI::Validator samples_check();          // auto, 1, 2, 4, 8, 9 or 16
 
 // The files an error is about, for messages that name none (e.g. "scene:
 // index out of range" from the library): main() prefixes the first. Each

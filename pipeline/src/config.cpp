@@ -179,17 +179,18 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
     } catch (const std::invalid_argument& e) {
       throw config_error(path, std::string("'judge_views': ") + e.what() + " (or 'none')");
     }
-  c.samples = get<int>(n, path, "samples", c.samples);
-  try {
-    sample_offsets(c.samples);
-  } catch (const std::invalid_argument& e) {
-    throw config_error(path, std::string("'samples': ") + e.what());
+  if (const YAML::Node sn = n["samples"]) {
+    try {
+      c.samples = parse_samples(sn.IsScalar() ? sn.Scalar() : std::string("(not a single value)"));
+    } catch (const std::invalid_argument& e) {
+      throw config_error(path, std::string("'samples': ") + e.what());
+    }
   }
   c.spins = get<int>(n, path, "spins", c.spins);
   if (c.spins != 1 && c.spins != 2 && c.spins != 4) throw config_error(path, "'spins' must be 1, 2 or 4");
   c.keep_unsampled_surface = get<bool>(n, path, "keep_unsampled_surface", c.keep_unsampled_surface);
   c.mask_per_sample = get<bool>(n, path, "mask_per_sample", c.mask_per_sample);
-  if (c.mask_per_sample && c.keep_unsampled_surface && c.samples > 1)
+  if (c.mask_per_sample && c.keep_unsampled_surface && c.samples != 1)
     throw config_error(path, "'mask_per_sample' and 'keep_unsampled_surface' cannot both be true");
   if (sample_grid(c.samples) && c.keep_unsampled_surface)
     throw config_error(path, "'keep_unsampled_surface' needs 'samples' of 2, 4 or 8 (" + std::to_string(c.samples) +
@@ -457,7 +458,7 @@ nlohmann::json settings_json(const BatchConfig& c) {
   nlohmann::json s = {{"up", c.up == UpAxis::Z ? "z" : "y"}, {"scale", c.scale},
           {"display", {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"dpi", d.dpi},
                        {"viewer_distance_m", d.viewer_distance}, {"fov_y_deg", d.fov_y_override_deg}}},
-          {"distances", c.distances}, {"views", c.views}, {"samples", c.samples}, {"spins", c.spins},
+          {"distances", c.distances}, {"views", c.views}, {"samples", samples_name(c.samples)}, {"spins", c.spins},
           {"keep_unsampled_surface", c.keep_unsampled_surface},
           {"per_building", c.per_building}, {"tracer", c.tracer}, {"verify", c.verify}, {"ratio", c.ratio},
           {"simplify", c.simplify}, {"e_perceptible", c.e_perceptible}, {"e_imperceptible", c.e_imperceptible},

@@ -84,6 +84,34 @@ PerBuilding parse_per_building(const std::string& s) {
   throw std::invalid_argument("per_building must be true, false or auto, not '" + s + "'");
 }
 
+int parse_samples(const std::string& s) {
+  if (s == "auto") return kAutoSamples;
+  int n = 0;
+  size_t used = 0;
+  try {
+    n = std::stoi(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != s.size() || s.empty()) throw std::invalid_argument("samples must be auto, 1, 2, 4, 8, 9 or 16, not '" + s + "'");
+  sample_offsets(n);  // checks the count
+  return n;
+}
+
+int effective_samples(const LabelJob& job) {
+  if (job.samples == kAutoSamples && (job.mask_per_sample || job.keep_unsampled_surface)) return 4;
+  return job.samples;
+}
+
+std::string samples_name(int samples) { return samples == kAutoSamples ? "auto" : std::to_string(samples); }
+
+ViewSampling choose_sampling(size_t window_pixels, size_t frame_pixels, size_t triangles) {
+  if (16 * triangles > frame_pixels) return {4, false};
+  if (16 * window_pixels <= frame_pixels) return {16, true};
+  if (4 * window_pixels <= 2 * frame_pixels) return {4, true};
+  return {4, false};
+}
+
 CombineViews parse_combine_views(const std::string& s) {
   if (s == "any") return CombineViews::AnyView;
   if (s == "pooled") return CombineViews::Pooled;
@@ -221,6 +249,10 @@ void add_drawn_but_missed(const uint32_t* ids, const uint8_t* mask, size_t pixel
 constexpr double kSurfaceDepthPx = 0.5;
 constexpr double kOpenPixelArea = 0.5;
 
+// With samples auto, LabelResult::totals count this many samples a pixel
+// (each view's counts times kAutoCountUnit / its samples).
+constexpr int kAutoCountUnit = 16;
+
 // Whether labelling runs add_unsampled_surface (and so renders depth).
 bool finds_unsampled_surface(const LabelJob& job) { return job.samples > 1 && job.keep_unsampled_surface; }
 
@@ -342,12 +374,13 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
 }
 
 // The second half, on any thread: trace the view seen by see_view at
-// job.samples samples per pixel (with job.mask_per_sample, `cam` is one
+// vs.samples samples per pixel (with vs.mask_per_sample, `cam` is one
 // sample pass, traced at its pixel centres); adds its counts and labels for
 // the triangles of `owner[t] == building` (all when `owner` is null).
 void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
-                const std::string& name, const Camera& cam, const std::vector<uint32_t>* owner, uint32_t building,
-                LabelResult& res, Accumulator& acc, ViewOutcome& out) {
+                const ViewSampling& vs, const std::string& name, const Camera& cam,
+                const std::vector<uint32_t>* owner, uint32_t building, LabelResult& res, Accumulator& acc,
+                ViewOutcome& out) {
   const size_t nt = scene.triangle_count();
   const double t_render = out.t_render, t_perceive = out.t_perceive;
   auto t0 = Clock::now();
@@ -360,12 +393,12 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   // Every sample of the view in one call: the octree walks its structure
   // once for all of them. With a mask per sample this render is one sample
   // pass, its camera shifted by the pass's offset: one ray per pixel centre.
-  const int grid = sample_grid(job.samples);
-  const int samples = grid ? grid * grid : job.mask_per_sample ? 1 : job.samples;
+  const int grid = sample_grid(vs.samples);
+  const int samples = grid ? grid * grid : vs.mask_per_sample ? 1 : vs.samples;
   std::vector<std::array<double, 2>> offsets =
       grid                 ? grid_offsets(grid)
-      : job.mask_per_sample ? std::vector<std::array<double, 2>>{{0.0, 0.0}}
-                            : sample_offsets(job.samples);
+      : vs.mask_per_sample ? std::vector<std::array<double, 2>>{{0.0, 0.0}}
+                           : sample_offsets(vs.samples);
   // verify compares the octree with Embree and with the ID buffer at the
   // pixel centres: with several samples the centre rides along in the same
   // walk, as one more sample, when the walk has room for it.
@@ -381,7 +414,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   // The offsets are from base's pixel centres: the view's camera unshifted,
   // or a mask-per-sample pass's own camera (shifted, one offset of zero).
   Camera base = cam;
-  if (!job.mask_per_sample && !grid) base.shift_x = base.shift_y = 0;
+  if (!vs.mask_per_sample && !grid) base.shift_x = base.shift_y = 0;
   for (size_t k0 = 0; k0 < offsets.size(); k0 += OctreeTracer::kMaxSamples) {  // at most kMaxSamples a walk
     const size_t k1 = std::min(offsets.size(), k0 + OctreeTracer::kMaxSamples);
     tracer.trace_samples(base, std::vector<std::array<double, 2>>(offsets.begin() + k0, offsets.begin() + k1),
@@ -420,10 +453,13 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   } else {
     mark_in_frustum(scene, cam, acc.in_frustum);
   }
+  // With samples auto the views' sample counts differ (4 or 16 a pixel):
+  // the totals count sixteenths of a pixel, so every view weighs by area.
+  const uint32_t weight = job.samples == kAutoSamples ? uint32_t(kAutoCountUnit / vs.samples) : 1;
   for (size_t t = 0; t < nt; ++t) {
     if (owner && (*owner)[t] != building) continue;
-    res.totals.traced[t] += counts.traced[t];
-    res.totals.imperceptible[t] += counts.imperceptible[t];
+    res.totals.traced[t] += weight * counts.traced[t];
+    res.totals.imperceptible[t] += weight * counts.imperceptible[t];
     acc.combined[t] = combine_labels(acc.combined[t], labels[t]);
     if (owner) acc.in_frustum[t] |= seen[t];
   }
@@ -464,29 +500,49 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   }
 }
 
-// The sample passes of a view: one render that every sample reads (a grid
-// of samples: one refined render), or with job.mask_per_sample one render
-// per sample offset, its camera shifted by it.
-std::vector<std::array<double, 2>> sample_passes(const LabelJob& job) {
-  if (!job.mask_per_sample || sample_grid(job.samples)) return {{0.0, 0.0}};  // one render (a grid's: refined)
-  return sample_offsets(job.samples);
+// One render of a view to label: pass `pass` of the view's `passes`
+// (its first stands for the view in the records, images and report).
+struct ViewPass {
+  size_t tile = 0;  // index into the job's tiles (or a building's)
+  size_t pass = 0, passes = 1;
+  Camera camera;     // what see_view renders (a grid's: before refining)
+  ViewSampling sampling;
+  int grid = 0;      // sample_grid(sampling.samples)
+};
+
+// How the view of camera `cam` on `box` is sampled: the job's samples, or
+// with kAutoSamples the choice for its window.
+ViewSampling sampling_of(const LabelJob& job, const Camera& cam, const Bounds& box, size_t triangles,
+                         const PerceptionSettings& ps) {
+  if (job.samples != kAutoSamples) return {job.samples, job.mask_per_sample};
+  const Camera w = perception_window(cam, box, ps);
+  return choose_sampling(size_t(w.width) * w.height, size_t(cam.width) * cam.height, triangles);
 }
 
-// The cameras of a view's passes. One pass: the view's camera, or with
-// `window` (a grid of samples) perception_window(cam, box). Several: each
-// renders perception_window(cam, box), shifted by the pass's offset.
-std::vector<Camera> pass_cameras(const Camera& cam, const Bounds& box, const std::vector<std::array<double, 2>>& passes,
-                                 const PerceptionSettings& ps, bool window) {
-  if (passes.size() == 1) return {window ? perception_window(cam, box, ps) : cam};
-  const Camera window_cam = perception_window(cam, box, ps);
-  std::vector<Camera> out;
-  for (const auto& o : passes) {
-    Camera c = window_cam;
-    c.shift_x += o[0];
-    c.shift_y += o[1];
-    out.push_back(c);
+// The renders of one view: one that every sample reads (the whole frame; a
+// grid's is the window at grid times the resolution), or with a mask per
+// sample one render of the window (perception_window) per sample offset,
+// its camera shifted by it. Appended to `out`.
+void add_view_passes(size_t tile, const Camera& cam, const Bounds& box, const ViewSampling& vs,
+                     const PerceptionSettings& ps, std::vector<ViewPass>& out) {
+  const int grid = sample_grid(vs.samples);
+  if (grid || !vs.mask_per_sample || vs.samples == 1) {
+    out.push_back({tile, 0, 1, grid ? perception_window(cam, box, ps) : cam, vs, grid});
+    return;
   }
-  return out;
+  const Camera window = perception_window(cam, box, ps);
+  const auto offsets = sample_offsets(vs.samples);
+  for (size_t p = 0; p < offsets.size(); ++p) {
+    Camera c = window;
+    c.shift_x += offsets[p][0];
+    c.shift_y += offsets[p][1];
+    out.push_back({tile, p, offsets.size(), c, vs, 0});
+  }
+}
+
+std::string sampling_name(const ViewSampling& vs) {
+  if (sample_grid(vs.samples)) return std::to_string(vs.samples) + " (grid)";
+  return std::to_string(vs.samples) + (vs.mask_per_sample && vs.samples > 1 ? " (mask per sample)" : "");
 }
 
 // Adds a later pass's timings to the report of the view's first pass.
@@ -533,15 +589,18 @@ Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionS
   return cropped(cam, a[0], a[1], b[0] - a[0], b[1] - a[1]);
 }
 
-LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& job,
+LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& asked,
                         const Progress& progress, const EmbreeTracer* verify_tracer) {
+  LabelJob job = asked;
+  job.samples = effective_samples(asked);
   if (job.views.empty()) throw std::invalid_argument("no views to label from");
-  sample_offsets(job.samples);  // checks the count
+  const bool automatic = job.samples == kAutoSamples;
+  if (!automatic) sample_offsets(job.samples);  // checks the count
   const int grid = sample_grid(job.samples);  // 0 unless an ordered grid of samples
-  if ((job.mask_per_sample || grid) && job.keep_unsampled_surface && job.samples > 1)
+  if ((job.mask_per_sample || grid || automatic) && job.keep_unsampled_surface && job.samples != 1)
     throw std::invalid_argument(
-        "keep_unsampled_surface cannot be combined with mask_per_sample or a grid of samples (9, 16): the "
-        "unsampled-surface rule needs every sample of a pixel in one picture");
+        "keep_unsampled_surface cannot be combined with mask_per_sample, a grid of samples (9, 16) or samples auto: "
+        "the unsampled-surface rule needs every sample of a pixel in one picture");
   const size_t nt = scene.triangle_count();
   Bounds bounds = scene_bounds(scene);
   const PerceptionSettings ps = perception_for(job);
@@ -558,7 +617,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   res.totals.imperceptible.assign(nt, 0);
   res.report = {{"distance", job.distance},
                 {"tracer", tracer.name()},
-                {"samples_per_pixel", job.samples},
+                {"samples_per_pixel", automatic ? nlohmann::json("auto") : nlohmann::json(job.samples)},
                 {"combine_views", job.combine == CombineViews::Pooled ? "pooled" : "any"},
                 {"keep_unsampled_surface", depth},
                 {"views", nlohmann::json::array()}};
@@ -568,20 +627,25 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   std::vector<ViewTile> tiles;
   for (const auto& view : job.views)
     for (ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) tiles.push_back(std::move(tile));
-  // Pipeline item k is pass k % P of tile k / P; a view's first pass stands
-  // for it in the records, images and report.
-  const std::vector<std::array<double, 2>> passes = sample_passes(job);
-  const size_t P = passes.size();
-  std::vector<std::vector<Camera>> cams;  // per tile, its passes' cameras
-  for (const ViewTile& tile : tiles) cams.push_back(pass_cameras(tile.camera, bounds, passes, ps, grid > 0));
+  // Pipeline item k renders passes[k]; a view's first pass stands for it in
+  // the records, images and report.
+  std::vector<ViewPass> passes;
+  std::map<std::string, size_t> chosen;  // with samples auto: views per setting
+  for (size_t i = 0; i < tiles.size(); ++i) {
+    const ViewSampling vs = sampling_of(job, tiles[i].camera, bounds, nt, ps);
+    if (automatic) ++chosen[sampling_name(vs)];
+    add_view_passes(i, tiles[i].camera, bounds, vs, ps, passes);
+  }
+  if (automatic) res.report["sampling_chosen"] = chosen;
   {
     ViewPipeline pipeline(
         job.overlap,
         [&](size_t k, ViewOutcome& o) {  // rendered and perceived: record it, queue its images
-          if (k % P) return;
-          const ViewTile& tile = tiles[k / P];
+          const ViewPass& vp = passes[k];
+          if (vp.pass) return;
+          const ViewTile& tile = tiles[vp.tile];
           res.views.push_back(
-              view_record(tile.name, kept_picture_camera(cams[k / P][0], grid), o.image.rgb, o.background, "labelling"));
+              view_record(tile.name, kept_picture_camera(vp.camera, vp.grid), o.image.rgb, o.background, "labelling"));
           if (!write_files) return;
           auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
           const int w = o.image.width, h = o.image.height;
@@ -593,25 +657,28 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
           }
         },
         [&](size_t k, ViewOutcome& o) {  // traced and counted
-          const ViewTile& tile = tiles[k / P];
-          if (k % P == 0) {
+          const ViewPass& vp = passes[k];
+          const ViewTile& tile = tiles[vp.tile];
+          if (vp.pass == 0) {
             if (write_files && job.write_view_images)
               res.id_buffers.push_back(
-                  IdBuffer{tile.name, kept_picture_camera(cams[k / P][0], grid), std::move(o.packed_ids)});
+                  IdBuffer{tile.name, kept_picture_camera(vp.camera, vp.grid), std::move(o.packed_ids)});
             res.report["views"].push_back(o.report);
+            if (automatic) res.report["views"].back()["sampling"] = sampling_name(vp.sampling);
           } else {
-            add_pass_report(res.report["views"].back(), o.report, P);
+            add_pass_report(res.report["views"].back(), o.report, vp.passes);
           }
-          if (progress && k % P == P - 1) progress(progress_line(tile.name, job.distance, res.report["views"].back()));
+          if (progress && vp.pass + 1 == vp.passes)
+            progress(progress_line(tile.name, job.distance, res.report["views"].back()));
         });
-    for (size_t i = 0; i < tiles.size(); ++i)
-      for (size_t p = 0; p < P; ++p)
-        pipeline.add([&, cam = cams[i][p]](ViewOutcome& o) { see_view(renderer, ps, cam, depth, o, grid); },
-                     [&, p, cam = cams[i][p], name = tiles[i].name](ViewOutcome& o) {
-                       count_view(scene, tracer, reference, job, name, cam, nullptr, 0, res, acc, o);
-                       if (p == 0 && write_files && job.write_view_images)  // packed here, on the worker
-                         o.packed_ids = pack_bytes(o.image.ids.data(), o.image.ids.size() * sizeof(uint32_t));
-                     });
+    for (const ViewPass& vp : passes)
+      pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, vp.camera, depth, o, vp.grid); },
+                   [&](ViewOutcome& o) {
+                     count_view(scene, tracer, reference, job, vp.sampling, tiles[vp.tile].name, vp.camera, nullptr,
+                                0, res, acc, o);
+                     if (vp.pass == 0 && write_files && job.write_view_images)  // packed here, on the worker
+                       o.packed_ids = pack_bytes(o.image.ids.data(), o.image.ids.size() * sizeof(uint32_t));
+                   });
     pipeline.drain();
   }
 
@@ -653,9 +720,12 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
     nlohmann::json per = nlohmann::json::array();
     size_t views = 0;  // of the building being labelled
     double seconds = 0;
+    size_t first = 0;  // the pipeline's item number of the building's first pass
+    std::vector<ViewPass> own_passes;  // of the building being labelled
+    std::vector<std::string> own_names;
     ViewPipeline pipeline(job.overlap, [](size_t, ViewOutcome&) {},
                           [&](size_t k, ViewOutcome& o) {
-                            views += k % P == 0;
+                            views += own_passes[k - first].pass == 0;
                             for (const auto& [key, v] : o.report["seconds"].items()) seconds += v.get<double>();
                           });
     for (uint32_t b = 0; b < buildings.names.size(); ++b) {
@@ -663,21 +733,30 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       views = 0;
       seconds = 0;
       size_t eyes_inside = 0;
+      own_passes.clear();
+      own_names.clear();
+      std::map<std::string, size_t> own_chosen;
       for (const auto& view : job.views)
         for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display)) {
           eyes_inside += eye_inside_other(tile.camera, b);
-          const std::vector<Camera> pc = pass_cameras(tile.camera, box[b], passes, ps, grid > 0);
-          for (size_t p = 0; p < P; ++p)
-            pipeline.add([&, camera = pc[p]](ViewOutcome& o) { see_view(renderer, ps, camera, depth, o, grid); },
-                         [&, name = tile.name, camera = pc[p]](ViewOutcome& o) {
-                           count_view(scene, tracer, nullptr, job, name, camera, &owner, b, res, acc, o);
-                         });
+          const ViewSampling vs = sampling_of(job, tile.camera, box[b], nt, ps);
+          if (automatic) ++own_chosen[sampling_name(vs)];
+          add_view_passes(own_names.size(), tile.camera, box[b], vs, ps, own_passes);
+          own_names.push_back(tile.name);
         }
+      for (const ViewPass& vp : own_passes)
+        pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, vp.camera, depth, o, vp.grid); },
+                     [&](ViewOutcome& o) {
+                       count_view(scene, tracer, nullptr, job, vp.sampling, own_names[vp.tile], vp.camera, &owner, b,
+                                  res, acc, o);
+                     });
       pipeline.drain();
+      first += own_passes.size();
       per.push_back({{"building", buildings.names[b]},
                      {"views", views},
                      {"eyes_inside_other_buildings", eyes_inside},
                      {"seconds", seconds}});
+      if (automatic) per.back()["sampling_chosen"] = own_chosen;
       if (progress) {
         std::ostringstream ss;
         ss.precision(3);
@@ -709,7 +788,8 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
 void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job) {
   LabelFile lf{result.labels, result.totals.traced, result.totals.imperceptible, {}};
   for (const auto& v : result.views) lf.views.emplace_back(v.view, job.distance);
-  lf.samples = job.samples;
+  const int samples = effective_samples(job);
+  lf.samples = samples == kAutoSamples ? kAutoCountUnit : samples;  // what a pixel counts in the totals
   lf.has_model = true;
   lf.model_triangles = scene.triangle_count();
   lf.model_hash = model_fingerprint(scene);

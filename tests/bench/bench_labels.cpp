@@ -227,10 +227,10 @@ void stability(const Model& m, const Scene& scene, const std::vector<double>& di
     }
     const double pairs = g_perturb == "resolution" ? 1 : 2;  // labellings compared with the base
     auto pct = [](double a, double b) { return b > 0 ? 100 * a / b : 0.0; };
-    std::printf("%-6s %-10s %5.0f  %-28s spp %d  visible %7.0f  flips by count: P<->I %5.2f%% vis<->U %5.2f%% all %5.2f%%  "
+    std::printf("%-6s %-10s %5.0f  %-28s spp %s  visible %7.0f  flips by count: P<->I %5.2f%% vis<->U %5.2f%% all %5.2f%%  "
                 "by samples: P<->I %5.2f%% vis<->U %5.2f%% all %5.2f%%  by size <1/1-10/10-100/>=100 px: "
                 "%5.1f%% %5.1f%% %5.1f%% %5.1f%% (of %.0f/%.0f/%.0f/%.0f)\n",
-                m.key.c_str(), perturb_name().c_str(), d, views.c_str(), samples, f.visible / pairs,
+                m.key.c_str(), perturb_name().c_str(), d, views.c_str(), samples_name(samples).c_str(), f.visible / pairs,
                 pct(f.pi, f.visible), pct(f.vu, f.visible), pct(f.pi + f.vu, f.visible), pct(f.w_pi, f.w_visible),
                 pct(f.w_vu, f.w_visible), pct(f.w_pi + f.w_vu, f.w_visible), pct(f.cls_flip[0], f.cls_visible[0]),
                 pct(f.cls_flip[1], f.cls_visible[1]), pct(f.cls_flip[2], f.cls_visible[2]),
@@ -238,8 +238,8 @@ void stability(const Model& m, const Scene& scene, const std::vector<double>& di
                 f.cls_visible[2] / pairs, f.cls_visible[3] / pairs);
     std::fflush(stdout);
     if (g_csv) {
-      std::fprintf(g_csv, "%s,%s,%g,\"%s\",%d,%.0f,%.4f,%.4f,%.4f,%.4f", m.key.c_str(), perturb_name().c_str(), d,
-                   views.c_str(), samples, f.visible / pairs, pct(f.pi, f.visible), pct(f.vu, f.visible), pct(f.w_pi, f.w_visible),
+      std::fprintf(g_csv, "%s,%s,%g,\"%s\",%s,%.0f,%.4f,%.4f,%.4f,%.4f", m.key.c_str(), perturb_name().c_str(), d,
+                   views.c_str(), samples_name(samples).c_str(), f.visible / pairs, pct(f.pi, f.visible), pct(f.vu, f.visible), pct(f.w_pi, f.w_visible),
                    pct(f.w_vu, f.w_visible));
       for (int c = 0; c < 4; ++c)
         std::fprintf(g_csv, ",%.0f,%.4f", f.cls_visible[c] / pairs, pct(f.cls_flip[c], f.cls_visible[c]));
@@ -263,8 +263,9 @@ void cost(const std::string& key, const Scene& scene, UpAxis up, double d, int r
     int samples;
     bool mask_per_sample;
   } setups[] = {{"paper: facades, 1 spp", "facades", 1, false},
-                {"facades, default spp", "facades", kDefaultSamples, false},
-                {"default views and spp", kDefaultViews, kDefaultSamples, false},
+                {"facades, 4 spp", "facades", 4, false},
+                {"default views, 4 spp", kDefaultViews, 4, false},
+                {"default: views, auto spp", kDefaultViews, kAutoSamples, false},
                 {"default views, 4 spp, mps", kDefaultViews, 4, true},
                 {"default views, 8 spp, mps", kDefaultViews, 8, true},
                 {"default views, 9 spp grid", kDefaultViews, 9, false},
@@ -360,7 +361,7 @@ int main(int argc, char** argv) {
       for (auto& s : split(next(), ',')) distances.push_back(std::stod(s));
     } else if (a == "--samples") {
       samples.clear();
-      for (auto& s : split(next(), ',')) samples.push_back(std::stoi(s));
+      for (auto& s : split(next(), ',')) samples.push_back(parse_samples(s));
     } else {
       std::fprintf(stderr, "usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]\n"
                            "  [--distances 56,132,427] [--samples 1,4] [--views \"facades;facades,ring8el30\"]\n"

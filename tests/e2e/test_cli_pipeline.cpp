@@ -118,6 +118,18 @@ TEST(CliPipeline, LabelTakesViewSetsSamplesAndTilesCloseViews) {
       run_cli("label " + kBuilding + " --up z -d 427 --views top --samples 16 --keep-unsampled-surface -o " + mps.string());
   EXPECT_NE(grid_keep.exit_code, 0);
   EXPECT_NE(grid_keep.err.find("keep_unsampled_surface"), std::string::npos) << grid_keep.err;
+  // --samples auto (the default): each view's choice in the report; a
+  // count that is no pattern is refused before any work.
+  auto a = run_cli("label " + kBuilding + " --up z -d 427 --views top,-y --samples auto --json -o " + mps.string());
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  auto aj = nlohmann::json::parse(a.out);
+  EXPECT_EQ(aj["samples_per_pixel"], "auto");
+  EXPECT_EQ(aj["sampling_chosen"]["16 (grid)"], 2);
+  EXPECT_EQ(aj["views"][1]["sampling"], "16 (grid)");
+  EXPECT_EQ(perclod::read_labels(aj["labels_file"].get<std::string>()).samples, 16);  // counts in 1/16 px
+  auto three = run_cli("label " + kBuilding + " --up z -d 427 --samples 3 -o " + mps.string());
+  EXPECT_NE(three.exit_code, 0);
+  EXPECT_NE(three.err.find("--samples"), std::string::npos) << three.err;
   fs::remove_all(out);
   fs::remove_all(near);
   fs::remove_all(mps);

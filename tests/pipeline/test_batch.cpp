@@ -178,6 +178,29 @@ TEST(BatchConfig, GridSamplesReachTheLabellingJob) {
   EXPECT_NE(err.find("'keep_unsampled_surface'"), std::string::npos) << err;
 }
 
+// samples: auto (the default) reaches the labelling job as kAutoSamples and
+// joins the settings hash by name; a count that is no pattern, or a list, is
+// an error naming the file and the key.
+TEST(BatchConfig, AutoSamplesAreTheDefaultAndParse) {
+  BatchFolder b;
+  ConfigFile f = load_config_file(b.dir.file(
+      "auto.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, samples: auto}\n"
+                   "  - {model: city/a/house.obj, samples: 4}\n"));
+  ASSERT_EQ(f.models.size(), 3u);
+  EXPECT_EQ(lod_job(f.models[0].config).label.samples, kAutoSamples);
+  EXPECT_EQ(lod_job(f.models[1].config).label.samples, kAutoSamples);
+  EXPECT_EQ(lod_job(f.models[2].config).label.samples, 4);
+  EXPECT_EQ(settings_json(f.models[0].config)["samples"], "auto");
+  EXPECT_NE(hash_text(settings_json(f.models[0].config).dump()), hash_text(settings_json(f.models[2].config).dump()));
+  for (const char* bad : {"samples: 3\n", "samples: [4]\n", "samples: often\n"}) {
+    const std::string err = error_of([&] {
+      load_config_file(b.dir.file("bad.yaml", std::string("distances: [56]\nmodel: city/a/house.obj\n") + bad));
+    });
+    EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;
+    EXPECT_NE(err.find("'samples'"), std::string::npos) << err;
+  }
+}
+
 TEST(BatchShards, ShardsPartitionTheListExactly) {
   for (size_t count : {0u, 1u, 5u, 17u})
     for (int n : {1, 2, 3, 8}) {

@@ -472,5 +472,75 @@ TEST(ViewSets, UnsampledTrianglesOfADrawnSurfaceAreKeptOnRequest) {
   EXPECT_EQ(one.labels, label(s, job).labels);
 }
 
+// samples: auto picks per view, from the window's share of the frame and
+// the scene's triangles (choose_sampling): a view far away takes the
+// 16-sample grid, one whose window is up to half the frame 4 samples with a
+// mask per sample, a larger one (or any view of a scene with more triangles
+// than frame pixels / 16) one render with 4 samples.
+TEST(ViewSets, AutoSamplesRuleWeighsWindowFrameAndTriangles) {
+  const size_t frame = 1280 * 1024;
+  EXPECT_EQ(choose_sampling(frame / 16, frame, 1000), (ViewSampling{16, true}));
+  EXPECT_EQ(choose_sampling(frame / 16 + 1, frame, 1000), (ViewSampling{4, true}));
+  EXPECT_EQ(choose_sampling(frame / 2, frame, 1000), (ViewSampling{4, true}));
+  EXPECT_EQ(choose_sampling(frame / 2 + 1, frame, 1000), (ViewSampling{4, false}));
+  EXPECT_EQ(choose_sampling(frame, frame, 1000), (ViewSampling{4, false}));
+  EXPECT_EQ(choose_sampling(frame / 16, frame, frame / 16), (ViewSampling{16, true}));
+  EXPECT_EQ(choose_sampling(100, frame, frame / 16 + 1), (ViewSampling{4, false}));  // triangle-bound
+  EXPECT_EQ(parse_samples("auto"), kAutoSamples);
+  EXPECT_EQ(parse_samples("16"), 16);
+  for (const char* bad : {"3", "", "4x", "sixteen", "-4"}) EXPECT_THROW(parse_samples(bad), std::invalid_argument) << bad;
+}
+
+// Each view labelled with samples auto is labelled exactly as its chosen
+// setting labels it, and the totals count sixteenths of a pixel: far away
+// every view takes the grid (the totals of samples 16 bit for bit), a
+// broad side at 100 m a mask per sample (4 x the totals of 4 samples so
+// made), and a scene of more triangles than frame pixels / 16 one render
+// (4 x the totals of 4 samples).
+TEST(ViewSets, AutoSamplesLabelEachViewAsItsChoice) {
+  auto full_frame = [](LabelJob job) {
+    job.display = DisplayProfile{};
+    job.perception = perception_settings_for(job.display);
+    return job;
+  };
+  auto same_as = [](const LabelResult& a, const LabelResult& b, uint32_t weight, const char* what) {
+    ASSERT_EQ(a.labels.size(), b.labels.size());
+    EXPECT_EQ(a.labels, b.labels) << what;
+    size_t traced = 0;
+    for (size_t t = 0; t < a.labels.size(); ++t) {
+      ASSERT_EQ(a.totals.traced[t], weight * b.totals.traced[t]) << what << " triangle " << t;
+      ASSERT_EQ(a.totals.imperceptible[t], weight * b.totals.imperceptible[t]) << what << " triangle " << t;
+      traced += b.totals.traced[t] > 0;
+    }
+    EXPECT_GT(traced, a.labels.size() / 4) << what;
+  };
+  const Scene s = wall(30, 12);
+  {
+    const LabelResult autos = label(s, full_frame(job_for("facades,az30el30,top", 200, kAutoSamples)));
+    EXPECT_EQ(autos.report["samples_per_pixel"], "auto");
+    EXPECT_EQ(autos.report["sampling_chosen"], (nlohmann::json{{"16 (grid)", 6}}));
+    for (const auto& v : autos.report["views"]) EXPECT_EQ(v["sampling"], "16 (grid)");
+    same_as(autos, label(s, full_frame(job_for("facades,az30el30,top", 200, 16))), 1, "grid at 200 m");
+  }
+  {
+    const LabelResult autos = label(s, full_frame(job_for("-y,+y", 100, kAutoSamples)));
+    EXPECT_EQ(autos.report["sampling_chosen"], (nlohmann::json{{"4 (mask per sample)", 2}}));
+    LabelJob mps = full_frame(job_for("-y,+y", 100, 4));
+    mps.mask_per_sample = true;
+    same_as(autos, label(s, mps), 4, "mask per sample at 100 m");
+  }
+  {
+    const Scene fine = wall(80, 40);  // 6,412 triangles > 320 x 256 / 16
+    const LabelResult autos = label(fine, job_for("facades,top", 400, kAutoSamples));
+    EXPECT_EQ(autos.report["sampling_chosen"], (nlohmann::json{{"4", autos.report["views"].size()}}));  // tiles too
+    same_as(autos, label(fine, job_for("facades,top", 400, 4)), 4, "one render, triangle-bound");
+  }
+  // With mask_per_sample or keep_unsampled_surface, auto means 4 samples.
+  LabelJob keep = job_for("-y", 100, kAutoSamples);
+  keep.keep_unsampled_surface = true;
+  EXPECT_EQ(effective_samples(keep), 4);
+  EXPECT_EQ(label(s, keep).report["samples_per_pixel"], 4);
+}
+
 }  // namespace
 }  // namespace perclod

@@ -25,7 +25,7 @@ struct BatchConfig {
   std::string display;               // profile path ("" = default)
   std::vector<double> distances;     // metres
   std::vector<std::string> views = {kDefaultViews};  // view set items (perclod/views.h); "facades:" is the old key
-  int samples = kDefaultSamples;     // samples per pixel: 1, 2, 4, 8
+  int samples = kDefaultSamples;     // samples per pixel: kAutoSamples ("auto"), 1, 2, 4, 8, 9, 16
   int spins = 1;                     // perception cycle spinning: 1 (the paper), 2, 4
   bool keep_unsampled_surface = false;  // label rule: sub-pixel triangles between the samples of a drawn surface are seen (LabelJob)
   bool mask_per_sample = false;      // one render and perception mask per sample offset (LabelJob)

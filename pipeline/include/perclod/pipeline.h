@@ -90,9 +90,44 @@ struct Buildings {
 };
 Buildings find_buildings(const Scene& scene);
 
+// LabelJob::samples for "auto": each view picks how it is sampled
+// (choose_sampling).
+constexpr int kAutoSamples = 0;
 // Samples per pixel `perclod run` and `label` take unless told otherwise
-// (README, "Stable labels", says how it was chosen).
-constexpr int kDefaultSamples = 4;
+// (README, "Stable labels", says how it was chosen): auto.
+constexpr int kDefaultSamples = kAutoSamples;
+// "auto" -> kAutoSamples, or one of 1, 2, 4, 8, 9, 16; throws
+// std::invalid_argument naming the text otherwise.
+int parse_samples(const std::string& s);
+std::string samples_name(int samples);  // "auto" or the number
+// The samples a job labels with: its own, but 4 for auto with
+// mask_per_sample or keep_unsampled_surface (each fixes how a view is
+// sampled, as they did with 4 samples before auto).
+struct LabelJob;
+int effective_samples(const LabelJob& job);
+
+// How one view is sampled: `samples` per pixel, with a render and mask of
+// its own per sample (mask_per_sample, or a grid: samples 9 and 16) or one
+// render that every sample reads.
+struct ViewSampling {
+  int samples = 1;
+  bool mask_per_sample = false;
+  bool operator==(const ViewSampling& o) const { return samples == o.samples && mask_per_sample == o.mask_per_sample; }
+};
+// What samples: auto gives a view, from what labelling it would cost, with
+// no clock involved (the same model, views and display always give the same
+// labels): `window_pixels` is the size of the view's window on the model
+// (perception_window), `frame_pixels` the whole frame's, `triangles` the
+// scene's. The steadiest setting whose estimated work stays within that of
+// one render of the frame (README, "Choosing the samples per view"):
+//  * triangles > frame / 16: the renders and the traced samples cost in
+//    proportion to the triangles, and one render with 4 samples is taken;
+//  * else 16 x window <= frame: the 16-sample grid (one render at 4x of the
+//    window, no more pixels than the frame);
+//  * else 4 x window <= 2 x frame: 4 samples with a mask per sample (four
+//    renders of the window);
+//  * else one render of the frame with 4 samples.
+ViewSampling choose_sampling(size_t window_pixels, size_t frame_pixels, size_t triangles);
 // How `perclod run` and `label` combine views unless told otherwise
 // (README, "Combining views", says how it was chosen): "pooled".
 constexpr const char* kDefaultCombineViews = "pooled";
@@ -102,7 +137,8 @@ struct LabelJob {
   DisplayProfile display;
   PerceptionSettings perception;      // ppd is taken from `display`
   std::vector<std::string> views;     // view names, e.g. parse_views("facades", up)
-  // Samples per pixel (1, 2, 4, 8; see sample_offsets). 9 and 16 are the
+  // Samples per pixel (1, 2, 4, 8; see sample_offsets), or kAutoSamples:
+  // per view, choose_sampling (mask_per_sample is then the choice's). 9 and 16 are the
   // ordered 3 x 3 and 4 x 4 grids, a mask per sample from one render: the
   // view's window (perception_window) drawn at 3 or 4 times its resolution
   // per axis, whose fine pixels are the samples, split into one picture per
