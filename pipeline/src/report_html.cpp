@@ -71,6 +71,23 @@ std::string percent(double fraction, int decimals = 2) {
   return std::isfinite(fraction) ? fixed(100 * fraction, decimals) + "&nbsp;%" : "&ndash;";
 }
 
+// The labelling's samples per pixel: the number, or "auto" with what the
+// views took, e.g. "auto (16 (grid): 21 views)".
+std::string samples_text(const json& lod) {
+  const json* v = member(lod, "samples_per_pixel");
+  if (!v) return "&ndash;";
+  if (v->is_number()) return count(v->get<double>());
+  std::string text = html_escape(str(lod, "samples_per_pixel"));
+  const json* chosen = member(lod, "sampling_chosen");
+  if (chosen && chosen->is_object() && !chosen->empty()) {
+    std::string parts;
+    for (const auto& [name, n] : chosen->items())
+      parts += (parts.empty() ? "" : ", ") + html_escape(name) + ": " + (n.is_number() ? count(n.get<double>()) : "?") + " views";
+    text += " (" + parts + ")";
+  }
+  return text;
+}
+
 // Shortest form, as in file names: 56, 12.5.
 std::string short_number(double v) {
   std::ostringstream ss;
@@ -620,7 +637,7 @@ std::string model_report_html(const json& report, const OutputNames& names) {
       s << "<p class=\"warn\">This LOD is empty: no triangle of the model is displayable at " << tag << " m.</p>\n";
     std::vector<std::pair<std::string, std::string>> facts = {
         {"pixel footprint", fixed(num(l, "pixel_footprint"), 4) + "&nbsp;m"},
-        {"samples per pixel", count(num(l, "samples_per_pixel"))},
+        {"samples per pixel", samples_text(l)},
         {"views combined", str(l, "combine_views").empty() ? "any" : html_escape(str(l, "combine_views"))},
         {"vertices", count(num(simp, "vertices_before")) + " &rarr; " + count(num(simp, "vertices_after"))}};
     if (!str(simp, "stop_reason").empty()) facts.push_back({"stop reason", html_escape(str(simp, "stop_reason"))});

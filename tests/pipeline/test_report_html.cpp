@@ -163,6 +163,20 @@ TEST(ReportHtml, ShowsEveryDistanceTriangleCountAndView) {
   EXPECT_FALSE(has(html, "https://"));
 }
 
+// samples: auto shows as "auto" with what the views took; a number as the
+// number.
+TEST(ReportHtml, ShowsTheSamplesPerPixelAndWhatAutoChose) {
+  const OutputNames n{"out", "bldg"};
+  nlohmann::json r = small_report(n);
+  r["lods"][1]["samples_per_pixel"] = "auto";
+  r["lods"][1]["sampling_chosen"] = {{"16 (grid)", 17}, {"4 (mask per sample)", 4}};
+  const std::string html = model_report_html(r, n);
+  EXPECT_TRUE(has(html, "auto (16 (grid): 17 views, 4 (mask per sample): 4 views)")) << html;
+  EXPECT_EQ(occurrences(html, "samples per pixel"), 2u);
+  r["lods"][1]["samples_per_pixel"] = "<auto>";
+  EXPECT_TRUE(has(model_report_html(r, n), "&lt;auto&gt;"));
+}
+
 TEST(ReportHtml, ImagesAreRelativeNamesOfFilesThePipelineWrites) {
   const OutputNames n{"out/sub", "bldg"};
   const std::string html = model_report_html(small_report(n), n);

@@ -226,7 +226,7 @@ struct IdBuffer {
 struct LabelResult {
   std::vector<Label> labels;               // combined over views
   std::vector<IdBuffer> id_buffers;        // per labelling view and tile, when view images are written
-  TriangleCounts totals;                   // summed over views, in samples
+  TriangleCounts totals;                   // summed over views, in samples (samples auto: in 1/16 px)
   std::vector<ViewRecord> views;           // whole-model views (and tiles), in job.views order
   size_t outside_views = 0;                // triangles in no view's frustum (labelled imperceptible)
   nlohmann::json report;                   // per view: pixels, fractions, agreement, timings
@@ -242,9 +242,10 @@ Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionS
 // Labels every triangle of `scene` from the job's views at one distance
 // (docs/method.md section 4):
 //  * each view is framed (frame_view: tiled when the model overfills it),
-//    rendered, perceived and traced at job.samples samples per pixel; a
+//    rendered, perceived and traced at job.samples samples per pixel (auto:
+//    as choose_sampling picks for that view); a
 //    sample counts for the triangle it hits, and is imperceptible when its
-//    pixel is in the perception mask (with job.mask_per_sample each sample
+//    pixel is in the perception mask (with a mask per sample each sample
 //    offset is a render, mask and trace of its own, cropped to the model);
 //  * traced == 0 over every view -> undisplayable; else job.combine decides:
 //    pooled (the default) sums every view's samples and calls a triangle
