@@ -391,7 +391,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   counts.imperceptible.assign(nt, 0);
   t0 = Clock::now();
   // Every sample of the view in one call: the octree walks its structure
-  // once for all of them. With a mask per sample this render is one sample
+  // once for every eight of them. With a mask per sample this render is one sample
   // pass, its camera shifted by the pass's offset: one ray per pixel centre.
   const int grid = sample_grid(vs.samples);
   const int samples = grid ? grid * grid : vs.mask_per_sample ? 1 : vs.samples;
@@ -415,11 +415,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   // or a mask-per-sample pass's own camera (shifted, one offset of zero).
   Camera base = cam;
   if (!vs.mask_per_sample && !grid) base.shift_x = base.shift_y = 0;
-  for (size_t k0 = 0; k0 < offsets.size(); k0 += OctreeTracer::kMaxSamples) {  // at most kMaxSamples a walk
-    const size_t k1 = std::min(offsets.size(), k0 + OctreeTracer::kMaxSamples);
-    tracer.trace_samples(base, std::vector<std::array<double, 2>>(offsets.begin() + k0, offsets.begin() + k1),
-                         buffers.data() + k0);
-  }
+  tracer.trace_samples(base, offsets, buffers.data());
   auto mask_of = [&](size_t k) -> const uint8_t* {
     return grid && k ? out.more_masks[k - 1].data() : out.perception.mask.data();
   };

@@ -1084,12 +1084,12 @@ void OctreeTracer::trace(const Camera& camera, uint32_t* tri_plus_one, float* t)
 void OctreeTracer::trace_samples(const Camera& camera, const std::vector<std::array<double, 2>>& offsets,
                                  uint32_t* const* out) const {
   detail::check_camera(camera);
-  if (offsets.empty() || offsets.size() > size_t(kMaxSamples))
-    throw std::invalid_argument("octree trace: 1 to " + std::to_string(kMaxSamples) + " samples per pixel, not " +
-                                std::to_string(offsets.size()));
+  if (offsets.empty()) throw std::invalid_argument("octree trace: no sample offsets");
   for (size_t k = 0; k < offsets.size(); ++k)
     if (!out[k]) throw std::invalid_argument("octree trace: output buffer is null");
-  impl_->trace(camera, offsets.data(), int(offsets.size()), out, nullptr);
+  for (size_t k0 = 0; k0 < offsets.size(); k0 += kMaxSamples)  // a walk holds at most kMaxSamples
+    impl_->trace(camera, offsets.data() + k0, int(std::min(offsets.size() - k0, size_t(kMaxSamples))), out + k0,
+                 nullptr);
 }
 
 size_t OctreeTracer::memory_bytes() const {

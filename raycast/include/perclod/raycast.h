@@ -97,9 +97,10 @@ class OctreeTracer final : public Tracer {
   explicit OctreeTracer(const Scene& scene, const OctreeOptions& options = {});
   ~OctreeTracer() override;
   void trace(const Camera& camera, uint32_t* tri_plus_one, float* t = nullptr) const override;
-  // One walk per tile for every sample (up to kMaxSamples): the same
-  // buffers as tracing each shifted camera, bit for bit, for the cost of
-  // one traversal and one projection of each triangle reached.
+  // One walk per tile for every kMaxSamples samples (16 samples: two
+  // walks): the same buffers as tracing each shifted camera, bit for bit,
+  // for the cost of one traversal and one projection of each triangle
+  // reached per walk.
   static constexpr int kMaxSamples = 8;
   void trace_samples(const Camera& camera, const std::vector<std::array<double, 2>>& offsets,
                      uint32_t* const* out) const override;
