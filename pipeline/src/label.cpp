@@ -93,8 +93,9 @@ int parse_samples(const std::string& s) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != s.size() || s.empty()) throw std::invalid_argument("samples must be auto, 1, 2, 4, 8, 9 or 16, not '" + s + "'");
-  sample_offsets(n);  // checks the count
+  const bool pattern = sample_grid(n) != 0 || n == 1 || n == 2 || n == 4 || n == 8;
+  if (used != s.size() || s.empty() || !pattern)
+    throw std::invalid_argument("samples must be auto, 1, 2, 4, 8, 9 or 16, not '" + s + "'");
   return n;
 }
 
