@@ -560,6 +560,7 @@ std::string progress_line(const std::string& name, double d, const nlohmann::jso
   ss << " render " << 1e3 * s["render"].get<double>()
      << " ms, perceive " << 1e3 * s["perceive"].get<double>() << " ms, trace " << 1e3 * s["trace"].get<double>()
      << " ms";
+  if (report.contains("sampling")) ss << " (samples " << report["sampling"].get<std::string>() << ")";  // auto's choice
   return ss.str();
 }
 
