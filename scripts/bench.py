@@ -206,7 +206,7 @@ def run_stability(a, out):
         common = ["--distances", "427", "--samples", "1", "--views", "facades"]
         runs = [("shift", ["--models", "demo"]), ("resolution", ["--models", "demo", "--perturb", "resolution"])]
     else:
-        common = ["--distances", "56,132,427", "--samples", "4", "--views", DEFAULT_VIEWS]
+        common = ["--distances", "56,132,427", "--samples", "auto", "--views", DEFAULT_VIEWS]  # the defaults
         runs = [("shift", ["--models", "demo,han,block"]),
                 ("shift_any", ["--models", "demo,han", "--rule", "any"]),  # the paper's rule, beside it
                 ("shift1px", ["--models", "demo,han", "--shift-scale", "4"]),
@@ -242,7 +242,7 @@ def timed_run(a, work, model, views, distances, name):
     cfg = os.path.join(work, name + ".yaml")
     with open(cfg, "w") as f:
         f.write(f"model: {model}\nup: z\ndistances: [{', '.join(str(d) for d in distances)}]\n"
-                f"views: {views}\nsamples: 4\ndebug_images: false\nout: {os.path.join(work, 'out-' + name)}\n")
+                f"views: {views}\nsamples: auto\ndebug_images: false\nout: {os.path.join(work, 'out-' + name)}\n")
     timing = os.path.join(work, "time.txt")
     cmd = ["/usr/bin/time", "-f", "%e %P %M", "-o", timing, a.bin("perclod"), "run", cfg]
     log(" ".join(cmd[5:]))
@@ -361,7 +361,7 @@ def run_case(a, work, name, stem, model, distances, views=DEFAULT_VIEWS, extra="
     cfg = os.path.join(work, stem + ".yaml")
     with open(cfg, "w") as f:
         f.write(f"model: {model}\nup: z\ndistances: [{', '.join(str(d) for d in distances)}]\nviews: {views}\n"
-                f"samples: 4\ndebug_images: false\nout: {out_dir}\n{extra}")
+                f"samples: auto\ndebug_images: false\nout: {out_dir}\n{extra}")
     timing = os.path.join(work, "time.txt")
     t0 = time.time()
     r = subprocess.run(["/usr/bin/time", "-f", "%M", "-o", timing, a.bin("perclod"), "run", cfg], capture_output=True,
@@ -822,7 +822,7 @@ def summarize(out, charts, exponents):
                 "outside_views", "labelling_views", "min_covered_px", "lod_triangles", "worst_changed", "worst_ssim",
                 "worst_silhouette", "real_disagreements", "warnings", "seconds", "peak_mib", "error"]
         cols = [c for c in cols if c in fc[0]]
-        parts.append("## Failure cases (perclod run, 4 samples; worst held-out view)\n\n" + md_table(
+        parts.append("## Failure cases (perclod run, samples auto; worst held-out view)\n\n" + md_table(
             cols, [[r.get(c, "") for c in cols] for r in fc]))
     parts.append("## Charts\n\n" + "\n".join(f"- `{os.path.basename(c)}`" for c in charts if c))
     with open(out("summary.md"), "w") as f:
