@@ -191,6 +191,7 @@ TEST(BatchConfig, AutoSamplesAreTheDefaultAndParse) {
   EXPECT_EQ(lod_job(f.models[1].config).label.samples, kAutoSamples);
   EXPECT_EQ(lod_job(f.models[2].config).label.samples, 4);
   EXPECT_EQ(settings_json(f.models[0].config)["samples"], "auto");
+  EXPECT_EQ(settings_json(f.models[2].config)["samples"], 4);  // a number stays one: older batches keep their hashes
   EXPECT_NE(hash_text(settings_json(f.models[0].config).dump()), hash_text(settings_json(f.models[2].config).dump()));
   for (const char* bad : {"samples: 3\n", "samples: [4]\n", "samples: often\n"}) {
     const std::string err = error_of([&] {
