@@ -179,8 +179,9 @@ TEST(BatchConfig, GridSamplesReachTheLabellingJob) {
 }
 
 // samples: auto (the default) reaches the labelling job as kAutoSamples and
-// joins the settings hash by name; a count that is no pattern, or a list, is
-// an error naming the file and the key.
+// joins the settings hash as "auto" (a count as the number it always was);
+// a count that is no pattern, or a list, is an error naming the file and
+// the key.
 TEST(BatchConfig, AutoSamplesAreTheDefaultAndParse) {
   BatchFolder b;
   ConfigFile f = load_config_file(b.dir.file(
