@@ -595,10 +595,11 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   const bool automatic = job.samples == kAutoSamples;
   if (!automatic) sample_offsets(job.samples);  // checks the count
   const int grid = sample_grid(job.samples);  // 0 unless an ordered grid of samples
-  if ((job.mask_per_sample || grid || automatic) && job.keep_unsampled_surface && job.samples != 1)
+  // (auto with keep_unsampled_surface is 4 samples by now: effective_samples.)
+  if ((job.mask_per_sample || grid) && job.keep_unsampled_surface && job.samples > 1)
     throw std::invalid_argument(
-        "keep_unsampled_surface cannot be combined with mask_per_sample, a grid of samples (9, 16) or samples auto: "
-        "the unsampled-surface rule needs every sample of a pixel in one picture");
+        "keep_unsampled_surface cannot be combined with mask_per_sample or a grid of samples (9, 16): the "
+        "unsampled-surface rule needs every sample of a pixel in one picture");
   const size_t nt = scene.triangle_count();
   Bounds bounds = scene_bounds(scene);
   const PerceptionSettings ps = perception_for(job);
