@@ -458,7 +458,7 @@ nlohmann::json settings_json(const BatchConfig& c) {
   nlohmann::json s = {{"up", c.up == UpAxis::Z ? "z" : "y"}, {"scale", c.scale},
           {"display", {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"dpi", d.dpi},
                        {"viewer_distance_m", d.viewer_distance}, {"fov_y_deg", d.fov_y_override_deg}}},
-          {"distances", c.distances}, {"views", c.views}, {"samples", c.samples == kAutoSamples ? nlohmann::json("auto") : nlohmann::json(c.samples)}, {"spins", c.spins},
+          {"distances", c.distances}, {"views", c.views}, {"samples", samples_json(c.samples)}, {"spins", c.spins},
           {"keep_unsampled_surface", c.keep_unsampled_surface},
           {"per_building", c.per_building}, {"tracer", c.tracer}, {"verify", c.verify}, {"ratio", c.ratio},
           {"simplify", c.simplify}, {"e_perceptible", c.e_perceptible}, {"e_imperceptible", c.e_imperceptible},

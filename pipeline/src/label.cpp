@@ -86,17 +86,16 @@ PerBuilding parse_per_building(const std::string& s) {
 
 int parse_samples(const std::string& s) {
   if (s == "auto") return kAutoSamples;
-  int n = 0;
-  size_t used = 0;
   try {
-    n = std::stoi(s, &used);
+    size_t used = 0;
+    const int n = std::stoi(s, &used);
+    if (used == s.size()) {
+      sample_offsets(n);  // the patterns there are: throws for any other count
+      return n;
+    }
   } catch (const std::exception&) {
-    used = 0;
   }
-  const bool pattern = sample_grid(n) != 0 || n == 1 || n == 2 || n == 4 || n == 8;
-  if (used != s.size() || s.empty() || !pattern)
-    throw std::invalid_argument("samples must be auto, 1, 2, 4, 8, 9 or 16, not '" + s + "'");
-  return n;
+  throw std::invalid_argument("samples must be auto, 1, 2, 4, 8, 9 or 16, not '" + s + "'");
 }
 
 int effective_samples(const LabelJob& job) {
@@ -105,6 +104,10 @@ int effective_samples(const LabelJob& job) {
 }
 
 std::string samples_name(int samples) { return samples == kAutoSamples ? "auto" : std::to_string(samples); }
+
+nlohmann::json samples_json(int samples) {
+  return samples == kAutoSamples ? nlohmann::json("auto") : nlohmann::json(samples);
+}
 
 ViewSampling choose_sampling(size_t window_pixels, size_t frame_pixels, size_t triangles) {
   if (16 * triangles > frame_pixels) return {4, false};
@@ -504,36 +507,35 @@ struct ViewPass {
   size_t pass = 0, passes = 1;
   Camera camera;     // what see_view renders (a grid's: before refining)
   ViewSampling sampling;
-  int grid = 0;      // sample_grid(sampling.samples)
+  int grid() const { return sample_grid(sampling.samples); }
 };
 
-// How the view of camera `cam` on `box` is sampled: the job's samples, or
-// with kAutoSamples the choice for its window.
-ViewSampling sampling_of(const LabelJob& job, const Camera& cam, const Bounds& box, size_t triangles,
-                         const PerceptionSettings& ps) {
+// How a view of camera `cam` is sampled: the job's samples, or with
+// kAutoSamples the choice for its window on the model (`window`,
+// perception_window).
+ViewSampling sampling_of(const LabelJob& job, const Camera& cam, const Camera& window, size_t triangles) {
   if (job.samples != kAutoSamples) return {job.samples, job.mask_per_sample};
-  const Camera w = perception_window(cam, box, ps);
-  return choose_sampling(size_t(w.width) * w.height, size_t(cam.width) * cam.height, triangles);
+  return choose_sampling(size_t(window.width) * window.height, size_t(cam.width) * cam.height, triangles);
 }
 
-// The renders of one view: one that every sample reads (the whole frame; a
-// grid's is the window at grid times the resolution), or with a mask per
-// sample one render of the window (perception_window) per sample offset,
-// its camera shifted by it. Appended to `out`.
-void add_view_passes(size_t tile, const Camera& cam, const Bounds& box, const ViewSampling& vs,
-                     const PerceptionSettings& ps, std::vector<ViewPass>& out) {
+// The renders of one view of camera `cam`, whose window on the model is
+// `window`: one that every sample reads (the whole frame; a grid's is the
+// window at grid times the resolution), or with a mask per sample one
+// render of the window per sample offset, its camera shifted by it.
+// Appended to `out`.
+void add_view_passes(size_t tile, const Camera& cam, const Camera& window, const ViewSampling& vs,
+                     std::vector<ViewPass>& out) {
   const int grid = sample_grid(vs.samples);
   if (grid || !vs.mask_per_sample || vs.samples == 1) {
-    out.push_back({tile, 0, 1, grid ? perception_window(cam, box, ps) : cam, vs, grid});
+    out.push_back({tile, 0, 1, grid ? window : cam, vs});
     return;
   }
-  const Camera window = perception_window(cam, box, ps);
   const auto offsets = sample_offsets(vs.samples);
   for (size_t p = 0; p < offsets.size(); ++p) {
     Camera c = window;
     c.shift_x += offsets[p][0];
     c.shift_y += offsets[p][1];
-    out.push_back({tile, p, offsets.size(), c, vs, 0});
+    out.push_back({tile, p, offsets.size(), c, vs});
   }
 }
 
@@ -616,7 +618,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   res.totals.imperceptible.assign(nt, 0);
   res.report = {{"distance", job.distance},
                 {"tracer", tracer.name()},
-                {"samples_per_pixel", automatic ? nlohmann::json("auto") : nlohmann::json(job.samples)},
+                {"samples_per_pixel", samples_json(job.samples)},
                 {"combine_views", job.combine == CombineViews::Pooled ? "pooled" : "any"},
                 {"keep_unsampled_surface", depth},
                 {"views", nlohmann::json::array()}};
@@ -631,9 +633,10 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
   std::vector<ViewPass> passes;
   std::map<std::string, size_t> chosen;  // with samples auto: views per setting
   for (size_t i = 0; i < tiles.size(); ++i) {
-    const ViewSampling vs = sampling_of(job, tiles[i].camera, bounds, nt, ps);
+    const Camera window = perception_window(tiles[i].camera, bounds, ps);
+    const ViewSampling vs = sampling_of(job, tiles[i].camera, window, nt);
     if (automatic) ++chosen[sampling_name(vs)];
-    add_view_passes(i, tiles[i].camera, bounds, vs, ps, passes);
+    add_view_passes(i, tiles[i].camera, window, vs, passes);
   }
   if (automatic) res.report["sampling_chosen"] = chosen;
   {
@@ -644,7 +647,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
           if (vp.pass) return;
           const ViewTile& tile = tiles[vp.tile];
           res.views.push_back(
-              view_record(tile.name, kept_picture_camera(vp.camera, vp.grid), o.image.rgb, o.background, "labelling"));
+              view_record(tile.name, kept_picture_camera(vp.camera, vp.grid()), o.image.rgb, o.background, "labelling"));
           if (!write_files) return;
           auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
           const int w = o.image.width, h = o.image.height;
@@ -661,7 +664,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
           if (vp.pass == 0) {
             if (write_files && job.write_view_images)
               res.id_buffers.push_back(
-                  IdBuffer{tile.name, kept_picture_camera(vp.camera, vp.grid), std::move(o.packed_ids)});
+                  IdBuffer{tile.name, kept_picture_camera(vp.camera, vp.grid()), std::move(o.packed_ids)});
             res.report["views"].push_back(o.report);
             if (automatic) res.report["views"].back()["sampling"] = sampling_name(vp.sampling);
           } else {
@@ -671,7 +674,7 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
             progress(progress_line(tile.name, job.distance, res.report["views"].back()));
         });
     for (const ViewPass& vp : passes)
-      pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, vp.camera, depth, o, vp.grid); },
+      pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, vp.camera, depth, o, vp.grid()); },
                    [&](ViewOutcome& o) {
                      count_view(scene, tracer, reference, job, vp.sampling, tiles[vp.tile].name, vp.camera, nullptr,
                                 0, res, acc, o);
@@ -738,13 +741,14 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
       for (const auto& view : job.views)
         for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display)) {
           eyes_inside += eye_inside_other(tile.camera, b);
-          const ViewSampling vs = sampling_of(job, tile.camera, box[b], nt, ps);
+          const Camera window = perception_window(tile.camera, box[b], ps);
+          const ViewSampling vs = sampling_of(job, tile.camera, window, nt);
           if (automatic) ++own_chosen[sampling_name(vs)];
-          add_view_passes(own_names.size(), tile.camera, box[b], vs, ps, own_passes);
+          add_view_passes(own_names.size(), tile.camera, window, vs, own_passes);
           own_names.push_back(tile.name);
         }
       for (const ViewPass& vp : own_passes)
-        pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, vp.camera, depth, o, vp.grid); },
+        pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, vp.camera, depth, o, vp.grid()); },
                      [&](ViewOutcome& o) {
                        count_view(scene, tracer, nullptr, job, vp.sampling, own_names[vp.tile], vp.camera, &owner, b,
                                   res, acc, o);

@@ -100,6 +100,8 @@ constexpr int kDefaultSamples = kAutoSamples;
 // std::invalid_argument naming the text otherwise.
 int parse_samples(const std::string& s);
 std::string samples_name(int samples);  // "auto" or the number
+// In reports and settings: "auto", or the number (as it always was).
+nlohmann::json samples_json(int samples);
 // The samples a job labels with: its own, but 4 for auto with
 // mask_per_sample or keep_unsampled_surface (each fixes how a view is
 // sampled, as they did with 4 samples before auto).
