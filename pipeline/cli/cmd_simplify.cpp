@@ -1,6 +1,9 @@
 // perclod simplify: one LOD of a model from its per-triangle labels.
+#include <cmath>
 #include <cstdio>
 #include <memory>
+#include <sstream>
+#include <string>
 
 #include "commands.h"
 #include "common.h"
@@ -16,7 +19,7 @@ struct SimplifyArgs {
   std::string mode = "fidelity", out = "out";
   size_t target = 0;
   bool json = false;
-  bool keep_undisplayable = false;
+  bool keep_undisplayable = false, delete_undisplayable = false;  // neither: auto
   double e_undisplayable = -1;  // fidelity: bound of kept undisplayable triangles; < 0 = not given
   SimplifyJob job;
 };
@@ -35,6 +38,10 @@ void print_table(const SimplifyArgs& a, const SimplifyRun& r) {
               st.triangles_before[2], st.total_before());
   std::printf("after        %12zu %12zu %12zu %12zu\n", st.triangles_after[0], st.triangles_after[1],
               st.triangles_after[2], st.total_after());
+  if (r.undisplayable_exposure >= 0)
+    std::printf("undisplay.   %.3f%% of the pixels between the labelling views (auto keeps them above %.1f%%): %s\n",
+                100 * r.undisplayable_exposure, 100 * kKeepUndisplayableExposure,
+                r.options.delete_undisplayable ? "deleted" : "kept, collapsed within the bound");
   std::printf("removed      %zu components, %zu undisplayable triangles, %zu leftover pieces (%zu triangles), "
               "%zu collapses\n",
               st.components_removed, st.undisplayable_faces_deleted, st.pieces_removed, st.pieces_triangles_removed,
@@ -51,7 +58,10 @@ void run_simplify(SimplifyArgs a) {
   set_error_files({a.model.path});
   a.job.options.mode = parse_simplify_mode(a.mode.c_str());
   a.job.options.target_triangles = a.target;
+  if (a.delete_undisplayable && (a.keep_undisplayable || a.e_undisplayable >= 0))
+    throw OptionError("--delete-undisplayable deletes what --keep-undisplayable and --e-undisplayable keep: give one");
   a.job.options.delete_undisplayable = !a.keep_undisplayable && a.e_undisplayable < 0;
+  a.job.undisplayable_auto = !a.delete_undisplayable;
   if (a.e_undisplayable >= 0) {
     if (a.job.options.mode != SimplifyMode::Fidelity)
       throw OptionError("--e-undisplayable applies only to --mode fidelity");
@@ -94,9 +104,22 @@ void run_simplify(SimplifyArgs a) {
                       {"target_triangles", a.target},
                       {"seconds_write", r.write_seconds}};
   if (empty) j["empty"] = true;
+  if (r.options.mode == SimplifyMode::Fidelity || r.options.mode == SimplifyMode::Paper) {
+    j["undisplayable"] = r.options.delete_undisplayable ? "deleted" : "collapsed";
+    if (!r.options.delete_undisplayable && std::isfinite(r.options.bound_undisplayable_px))
+      j["e_undisplayable"] = r.options.bound_undisplayable_px;
+  }
+  if (r.undisplayable_exposure >= 0) j["undisplayable_exposure"] = r.undisplayable_exposure;
   j.update(simplify_stats_json(r.stats));
   print_json(j);
 }
+
+std::string number(double v) {
+  std::ostringstream ss;
+  ss << v;
+  return ss.str();
+}
+std::string percent(double fraction) { return number(100 * fraction) + "%"; }
 
 }  // namespace
 
@@ -106,8 +129,11 @@ void register_simplify(CLI::App& app) {
       "Simplify a model for one viewing distance. fidelity (default): quadric half-edge collapses\n"
       "of any triangle, each vertex bounded by its faces' labels: no surface moves more than\n"
       "--e-perceptible (perceptible) or --e-imperceptible (imperceptible) pixels at the distance,\n"
-      "nor changes more than a square pixel of area; undisplayable triangles are deleted (or kept and\n"
-      "collapsed within --e-undisplayable pixels).\n"
+      "nor changes more than a square pixel of area; undisplayable triangles are deleted, unless\n"
+      "deleting them would open more than " + percent(kKeepUndisplayableExposure) +
+      " of what views between the labelling ones see: then\n"
+      "they are kept and collapsed within " + number(kAutoUndisplayableBoundPx) +
+      " pixels (--e-undisplayable: always kept, within that many).\n"
       "paper: undisplayable triangles are deleted,\n"
       "then quadric half-edge collapses remove imperceptible triangles until none can go;\n"
       "perceptible triangles stay bit-identical. bounded: collapses of imperceptible and\n"
@@ -139,7 +165,7 @@ void register_simplify(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--e-undisplayable", a->e_undisplayable,
                   "fidelity: keep undisplayable triangles and collapse them within this many pixels\n"
-                  "(default: delete them before collapsing)")
+                  "(default: auto, see above)")
       ->check(kNonNegative);
   cmd->add_option("-k,--k", a->job.options.k, "bounded: tolerance, cluster: cell size, in pixels at the distance")
       ->check(kPositive)
@@ -151,8 +177,10 @@ void register_simplify(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--keep-undisplayable", a->keep_undisplayable,
                 "paper, fidelity: collapse undisplayable triangles (as the paper does) and keep those collapses\n"
-                "cannot reach, so closed surfaces stay closed (default: delete them; no pixel of any\n"
-                "labelling view reaches them)");
+                "cannot reach, so closed surfaces stay closed (default: auto; paper: delete them, no pixel\n"
+                "of any labelling view reaches them)");
+  cmd->add_flag("--delete-undisplayable", a->delete_undisplayable,
+                "fidelity: always delete undisplayable triangles (the rule before auto)");
   cmd->add_flag("--preserve-bbox", a->job.options.preserve_bbox,
                 "cluster: cluster each component alone and keep its bounding box (Belblidia)");
   cmd->add_option("--out,-o", a->out, "Output directory (created); the LOD is OUT/<model>_lod_<D>m.<format>")

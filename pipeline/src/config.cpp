@@ -260,14 +260,19 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   }
   if (c.simplify == "qem" && c.target == 0)
     throw config_error(path, "'simplify: qem' needs 'target' (the number of triangles to keep)");
-  c.keep_undisplayable = get<bool>(n, path, "keep_undisplayable", c.keep_undisplayable);
+  if (const YAML::Node kn = n["keep_undisplayable"]) {
+    bool keep = false;
+    if (kn.IsScalar() && kn.Scalar() == "auto") c.keep_undisplayable = "auto";
+    else if (YAML::convert<bool>::decode(kn, keep)) c.keep_undisplayable = keep ? "true" : "false";
+    else throw config_error(path, "'keep_undisplayable' must be true, false or auto");
+  }
   if (n["e_undisplayable"]) {
     c.e_undisplayable = get<double>(n, path, "e_undisplayable", c.e_undisplayable);
     check_bound("e_undisplayable", c.e_undisplayable);
-    if (n["keep_undisplayable"] && !c.keep_undisplayable)
+    if (c.keep_undisplayable == "false")
       throw config_error(path, "'e_undisplayable' bounds the collapses of kept undisplayable triangles; "
                                "'keep_undisplayable: false' deletes them");
-    c.keep_undisplayable = true;
+    c.keep_undisplayable = "true";
   }
   c.format = get<std::string>(n, path, "format", c.format);
   if (c.format != "obj" && c.format != "glb") throw config_error(path, "'format' must be obj or glb");
@@ -462,7 +467,7 @@ nlohmann::json settings_json(const BatchConfig& c) {
           {"keep_unsampled_surface", c.keep_unsampled_surface},
           {"per_building", c.per_building}, {"tracer", c.tracer}, {"verify", c.verify}, {"ratio", c.ratio},
           {"simplify", c.simplify}, {"e_perceptible", c.e_perceptible}, {"e_imperceptible", c.e_imperceptible},
-          {"k", c.k}, {"target", c.target}, {"keep_undisplayable", c.keep_undisplayable}, {"format", c.format},
+          {"k", c.k}, {"target", c.target}, {"format", c.format},
           {"judge_views", c.judge_views}, {"max_changed", c.max_changed}, {"max_silhouette", c.max_silhouette},
           {"fidelity_target", target},
           {"cityjson_lod", c.cityjson_lod}, {"tileset", c.tileset}, {"debug_images", c.debug_images},
@@ -476,6 +481,10 @@ nlohmann::json settings_json(const BatchConfig& c) {
   if (c.combine_views != "any") s["combine_views"] = c.combine_views;
   if (c.mask_per_sample) s["mask_per_sample"] = true;  // off: the hashes of older configs stay
   if (std::isfinite(c.e_undisplayable)) s["e_undisplayable"] = c.e_undisplayable;
+  // true and false stay booleans, so the hashes of configs that named one
+  // stay what they were before auto.
+  s["keep_undisplayable"] = c.keep_undisplayable == "auto" ? nlohmann::json("auto")
+                                                           : nlohmann::json(c.keep_undisplayable == "true");
   return s;
 }
 
@@ -502,7 +511,8 @@ LodJob lod_job(const BatchConfig& c) {
   job.simplify.mode = parse_simplify_mode(c.simplify.c_str());
   job.simplify.k = c.k;
   job.simplify.target_triangles = c.target;
-  job.simplify.delete_undisplayable = !c.keep_undisplayable;
+  job.simplify.delete_undisplayable = c.keep_undisplayable != "true";
+  job.undisplayable_auto = c.keep_undisplayable == "auto";
   job.simplify.bound_perceptible_px = c.e_perceptible;
   job.simplify.bound_imperceptible_px = c.e_imperceptible;
   job.simplify.bound_undisplayable_px = c.e_undisplayable;

@@ -80,6 +80,15 @@ SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
   SimplifyRun run;
   SimplifyOptions so = job.options;
   so.pixel_footprint = run.pixel_footprint = display_pixel_footprint(job.display, job.distance);
+  if (job.undisplayable_auto && undisplayable_auto_applies(so)) {
+    LabelJob framing;
+    framing.up = job.up;
+    framing.display = job.display;
+    framing.distance = job.distance;
+    run.undisplayable_exposure = undisplayable_exposure(scene, OctreeTracer(scene), labels, framing);
+    so = choose_undisplayable(so, run.undisplayable_exposure);
+  }
+  run.options = so;
   Scene lod = simplify(scene, labels, so, &run.stats);
   run.lod_file = job.out.lod(job.distance, job.format);
   auto t0 = Clock::now();
@@ -315,13 +324,52 @@ SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& st
   return so;
 }
 
+std::vector<std::string> exposure_views() {
+  std::vector<std::string> v;
+  for (int i = 0; i < 8; ++i) {
+    std::ostringstream ss;
+    ss << "az" << 22.5 + 45.0 * i << "el30";
+    v.push_back(ss.str());
+  }
+  return v;
+}
+
+double undisplayable_exposure(const Scene& scene, const Tracer& tracer, const std::vector<Label>& labels,
+                              const LabelJob& job) {
+  if (labels.size() != scene.triangle_count())
+    throw std::invalid_argument("undisplayable_exposure: labels and scene differ in size");
+  const Bounds b = scene_bounds(scene);
+  size_t hits = 0, undisplayable = 0;
+  std::vector<uint32_t> ids;
+  for (const std::string& v : exposure_views())
+    for (const ViewTile& t : frame_view(b, job.up, v, job.distance, job.display)) {
+      ids.resize(size_t(t.camera.width) * size_t(t.camera.height));
+      tracer.trace(t.camera, ids.data());
+      for (uint32_t id : ids)
+        if (id) {
+          ++hits;
+          undisplayable += labels[id - 1] == Label::Undisplayable;
+        }
+    }
+  return hits ? double(undisplayable) / double(hits) : 0.0;
+}
+
+SimplifyOptions choose_undisplayable(SimplifyOptions so, double exposure) {
+  if (undisplayable_auto_applies(so) && exposure > kKeepUndisplayableExposure) {
+    so.delete_undisplayable = false;
+    so.bound_undisplayable_px = kAutoUndisplayableBoundPx;
+  }
+  return so;
+}
+
 namespace {
 
 // How a LOD treated undisplayable triangles, for the report.
-void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so) {
+void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so, double exposure = -1) {
   j["undisplayable"] = so.delete_undisplayable ? "deleted" : "collapsed";
   if (!so.delete_undisplayable && std::isfinite(so.bound_undisplayable_px))
     j["e_undisplayable"] = so.bound_undisplayable_px;
+  if (exposure >= 0) j["undisplayable_exposure"] = exposure;  // keep_undisplayable: auto decided
 }
 
 // The same in words, for progress lines and warnings.
@@ -394,6 +442,17 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
 
     SimplifyOptions so = job.simplify;
     so.pixel_footprint = display_pixel_footprint(lj.display, d);
+    double exposure = -1;
+    if (job.undisplayable_auto && undisplayable_auto_applies(so)) {
+      exposure = undisplayable_exposure(scene, *tracer, lr.labels, lj);
+      so = choose_undisplayable(so, exposure);
+      if (progress) {
+        std::ostringstream ss;
+        ss << "  undisplayable triangles: " << 100 * exposure << "% of the pixels between the labelling views -> "
+           << undisplayable_rule_text(so);
+        progress(ss.str());
+      }
+    }
     SimplifyStats st;
     Scene lod;
     nlohmann::json views, search = nlohmann::json::array();
@@ -447,7 +506,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     entry["simplify"] = simplify_stats_json(st);
     if (so.mode == SimplifyMode::Fidelity) {
       entry["bounds_px"] = {{"perceptible", so.bound_perceptible_px}, {"imperceptible", so.bound_imperceptible_px}};
-      add_undisplayable_rule(entry["bounds_px"], so);
+      add_undisplayable_rule(entry["bounds_px"], so, exposure);
     }
     if (searching) {
       entry["fidelity_search"] = search;

@@ -467,10 +467,14 @@ std::string images_section(const json& lod, double d, const OutputNames& names) 
   return s.str();
 }
 
-// "deleted", "collapsed" or "collapsed within E px" (a LOD's bounds_px or a search try).
+// "deleted", "collapsed" or "collapsed within E px" (a LOD's bounds_px or a
+// search try), and what keep_undisplayable: auto decided from, when it did.
 std::string undisplayable_rule(const json& j) {
   std::string rule = html_escape(str(j, "undisplayable"));
   if (member(j, "e_undisplayable")) rule += " within " + fixed(num(j, "e_undisplayable"), 3) + "&nbsp;px";
+  if (member(j, "undisplayable_exposure"))
+    rule += " (auto: they are " + fixed(100 * num(j, "undisplayable_exposure"), 3) +
+            "% of what the views between the labelling ones see)";
   return rule;
 }
 

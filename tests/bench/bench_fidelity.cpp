@@ -32,7 +32,7 @@
 //
 // Usage: bench_fidelity [--models demo,han,sibenik,sponza,block,facade] [--distances 56,132,427]
 //                       [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]
-//                       [--no-meshopt] [--keep-undisplayable [--e-undisplayable E]] [--dump DIR]
+//                       [--no-meshopt] [--keep-undisplayable [--e-undisplayable E] | --delete-undisplayable] [--dump DIR]
 //                       [--facade-triangles N] [--e-area A] [--max-normal-change DEG]
 //                       [--dump-view NAME] [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]
 //                       [--label-shift]
@@ -357,6 +357,8 @@ struct Model {
 FILE* g_csv = nullptr;
 bool g_meshopt = true;        // --no-meshopt: perclod rows only
 bool g_keep_undisplayable = false;
+bool g_delete_undisplayable = false;  // --delete-undisplayable: always, not keep_undisplayable: auto
+double g_exposure = 0;                // undisplayable_exposure of the distance's labels
 double g_area = kDefaultBoundAreaPx2;  // --e-area: fidelity's area budget, px^2 (inf = none)
   // --keep-undisplayable: fidelity collapses them instead
 double g_e_u = INFINITY;  // --e-undisplayable: with --keep-undisplayable, the bound of their collapses, px
@@ -387,7 +389,8 @@ SimplifyOptions fidelity_options(double e_p, double e_i) {
   so.bound_area_px2 = g_area;
   so.max_normal_change_deg = g_max_normal;
   so.bound_undisplayable_px = g_e_u;
-  return so;
+  // keep_undisplayable: auto, as `perclod run` does, unless told otherwise.
+  return g_delete_undisplayable ? so : choose_undisplayable(so, g_exposure);
 }
 
 void run_model(const Model& m, const std::vector<double>& distances, const std::vector<double>& e_i, double e_p) {
@@ -427,10 +430,12 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
           write_cropped(original, g_pair.crop, tag + "_original");
         }
     LabelCounts lc = count_labels(lr.labels);
+    g_exposure = undisplayable_exposure(scene, tracer, lr.labels, job);
     std::printf("\n%s at %.0f m: %zu triangles (P %zu, I %zu, U %zu), p(d) = %.4f m, %zu labelling + %zu held-out "
-                "views\n",
+                "views; undisplayable exposure %.3f%%: fidelity %s them\n",
                 m.key.c_str(), d, scene.triangle_count(), lc.perceptible, lc.imperceptible, lc.undisplayable, p,
-                records.size() - held_out_views().size(), held_out_views().size());
+                records.size() - held_out_views().size(), held_out_views().size(), 100 * g_exposure,
+                fidelity_options(0.5, 0.5).delete_undisplayable ? "deletes" : "keeps");
     std::printf("%-6s %4s  %-26s %8s  %7s  | %-23s | %-23s | %s\n", "model", "d", "method", "tris", "simp s",
                 "labelling: chg  SSIM  sil", "held-out: chg  SSIM  sil", "Hausdorff/diag");
 
@@ -638,10 +643,11 @@ int main(int argc, char** argv) {
       g_settings.push_back({kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1)});
     }
     else if (a == "--keep-undisplayable") g_keep_undisplayable = true;
+    else if (a == "--delete-undisplayable") g_delete_undisplayable = true;
     else {
       std::fprintf(stderr, "usage: bench_fidelity [--models demo,han,sibenik,sponza,block,facade] [--distances 56,132,427]\n"
                            "                      [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]\n"
-                           "                      [--no-meshopt] [--keep-undisplayable [--e-undisplayable E]] [--dump DIR]\n"
+                           "                      [--no-meshopt] [--keep-undisplayable [--e-undisplayable E] | --delete-undisplayable] [--dump DIR]\n"
                            "                      [--facade-triangles N] [--e-area A] [--max-normal-change DEG]\n"
                            "                      [--dump-view NAME]\n"
                            "                      [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]\n"

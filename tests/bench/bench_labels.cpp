@@ -6,7 +6,9 @@
 //             labelling azimuth, at 15 and 45 degrees of elevation, and
 //             az0el75) and report the fraction of drawn pixels that show a
 //             triangle labelled undisplayable: what a LOD that deletes
-//             undisplayable triangles loses from those views.
+//             undisplayable triangles loses from those views; before it,
+//             the undisplayable_exposure keep_undisplayable: auto decides
+//             from (its own eight views between the labelling ones).
 //  stability  Move the geometry by +0.25 px and by -0.25 px (of p(d)) along
 //             all three axes, so along both screen axes of every horizontal
 //             view, keeping the bounding box and so every camera fixed: two
@@ -147,6 +149,10 @@ void coverage(const Model& m, const Scene& scene, const std::vector<double>& dis
           ++n;
           if (f >= worst) worst = f, worst_view = t.name;
         }
+      const auto t_exp = std::chrono::steady_clock::now();
+      const double exposure = undisplayable_exposure(scene, tracer, r.labels, job);
+      std::printf("%-6s %5.0f  undisplayable exposure %.3f%% (%.2f s; labelling %.1f s)\n", m.key.c_str(), d,
+                  100 * exposure, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_exp).count(), sec);
       LabelCounts c = count_labels(r.labels);
       std::printf("%-6s %5.0f  %-34s %4zu views %6.1f s  P %6zu I %6zu U %6zu out %5zu  held-out U px: mean %6.2f%% worst %6.2f%% (%s)\n",
                   m.key.c_str(), d, set.c_str(), r.report["views"].size(), sec, c.perceptible, c.imperceptible,

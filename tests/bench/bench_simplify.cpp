@@ -13,7 +13,8 @@
 // Rows:
 //   perclod paper       label-constrained collapses until nothing is removable (the count N)
 //   perclod bounded     same, error bounded by 1 x p(d)
-//   perclod fidelity    the default mode: each label bounds its collapses (0.5 / 0.5 px)
+//   perclod fidelity    the default mode: each label bounds its collapses (0.5 / 0.5 px;
+//                       undisplayable triangles deleted or kept as keep_undisplayable: auto decides)
 //   fidelity 1 thread   the same on one thread (chunks of pieces run on every core otherwise)
 //   decimater+locks     the alternative design: OpenMesh Decimater with perceptible
 //                       vertices locked, ModQuadric + ModAspectRatio + ModNormalFlipping
@@ -30,6 +31,9 @@
 // Decimater (ModQuadric + ModAspectRatio) at bounded's count.
 //
 // Usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater] [--no-city] [--csv FILE]
+//                       [--labels default] [--distance D]
+//   --labels default: labels from the default views and samples (kDefaultViews, samples: auto)
+//   at D metres (default 56) instead of the four facades with one sample.
 //   --csv FILE: one row per model and method (median seconds, triangles, peak MB).
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
@@ -155,18 +159,31 @@ Row measure(const std::string& name, int runs, const std::function<size_t()>& wo
 
 double pixel_footprint(double distance) { return display_pixel_footprint(DisplayProfile{}, distance); }
 
-// The pipeline's labels of `scene`: four facades at `distance`, Z up.
-std::vector<Label> pipeline_labels(const Scene& scene, double distance) {
+// --labels default: the default views and samples at --distance instead of
+// the four facades with one sample at 56 m.
+bool g_default_labels = false;
+double g_distance = 56.0;
+
+// The pipeline's labels of `scene` (four facades, one sample, or the
+// defaults) at `distance`, Z up; and their undisplayable_exposure (what
+// keep_undisplayable: auto decides from).
+std::vector<Label> pipeline_labels(const Scene& scene, double distance, double& exposure) {
   auto t0 = std::chrono::steady_clock::now();
   Renderer renderer;
   OctreeTracer tracer(scene);
   LabelJob job;
   job.up = UpAxis::Z;
-  job.views = parse_views("facades", UpAxis::Z);
+  job.views = parse_views(g_default_labels ? kDefaultViews : "facades", UpAxis::Z);
+  if (g_default_labels) {
+    job.samples = kDefaultSamples;
+    job.combine = parse_combine_views(kDefaultCombineViews);
+    job.perception = perception_settings_for(job.display);
+  }
   job.distance = distance;
   std::vector<Label> labels = label_scene(renderer, scene, tracer, job).labels;
-  std::fprintf(stderr, "  labelled in %.2f s (render, perceive, trace four views)\n",
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  std::fprintf(stderr, "  labelled in %.2f s (render, perceive, trace %zu views)\n",
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), job.views.size());
+  exposure = undisplayable_exposure(scene, tracer, labels, job);
   return labels;
 }
 
@@ -276,12 +293,13 @@ void csv_rows(const std::string& model, size_t input, const std::vector<Row>& ro
 }
 
 void bench_model(const std::string& title, const Scene& scene, int runs, bool with_decimater) {
-  const double p = pixel_footprint(56.0);
-  std::vector<Label> labels = pipeline_labels(scene, 56.0);
+  const double p = pixel_footprint(g_distance);
+  double exposure = 0;
+  std::vector<Label> labels = pipeline_labels(scene, g_distance, exposure);
   size_t count[3] = {0, 0, 0};
   for (Label l : labels) count[size_t(l)]++;
-  std::printf("\n== %s: %zu triangles (perceptible %zu, imperceptible %zu, undisplayable %zu), p(56 m) = %.4f m, %d runs\n",
-              title.c_str(), scene.triangle_count(), count[0], count[1], count[2], p, runs);
+  std::printf("\n== %s: %zu triangles (perceptible %zu, imperceptible %zu, undisplayable %zu), p(%g m) = %.4f m, %d runs\n",
+              title.c_str(), scene.triangle_count(), count[0], count[1], count[2], g_distance, p, runs);
 
   SimplifyOptions paper;
   Row ours = measure("perclod paper", runs, [&] { return simplify(scene, labels, paper).triangle_count(); });
@@ -289,9 +307,12 @@ void bench_model(const std::string& title, const Scene& scene, int runs, bool wi
   bounded.mode = SimplifyMode::Bounded;
   bounded.pixel_footprint = p;
   Row ours_b = measure("perclod bounded", runs, [&] { return simplify(scene, labels, bounded).triangle_count(); });
-  SimplifyOptions fidelity;  // the defaults: e_P = e_I = 0.5 px
+  SimplifyOptions fidelity;  // the defaults: e_P = e_I = 0.5 px, keep_undisplayable: auto
   fidelity.mode = SimplifyMode::Fidelity;
   fidelity.pixel_footprint = p;
+  fidelity = choose_undisplayable(fidelity, exposure);
+  std::printf("undisplayable exposure %.3f%%: fidelity %s\n", 100 * exposure,
+              fidelity.delete_undisplayable ? "deletes them" : "keeps them (collapsed within 4 px)");
   Row ours_f = measure("perclod fidelity", runs, [&] { return simplify(scene, labels, fidelity).triangle_count(); });
   // meshoptimizer runs on one thread; perclod simplifies chunks of pieces
   // on every core (two here). The same on one thread, for a like-for-like figure.
@@ -384,9 +405,11 @@ int main(int argc, char** argv) {
     }
     else if (a == "--facade-triangles" && i + 1 < argc) facade_triangles = std::strtoull(argv[++i], nullptr, 10);
     else if (a == "--skip-decimater") with_decimater = false;
+    else if (a == "--labels" && i + 1 < argc && std::string(argv[i + 1]) == "default") g_default_labels = true, ++i;
+    else if (a == "--distance" && i + 1 < argc) g_distance = std::atof(argv[++i]);
     else {
       std::fprintf(stderr, "usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater] [--no-city] "
-                           "[--csv FILE]\n");
+                           "[--csv FILE] [--labels default] [--distance D]\n");
       return 2;
     }
   }

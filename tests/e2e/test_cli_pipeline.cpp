@@ -238,15 +238,22 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
     EXPECT_EQ(t["e_perceptible"].get<double>(), std::min(0.5, t["e_imperceptible"].get<double>())) << t;
   EXPECT_EQ(lod["bounds_px"]["perceptible"], search.back()["e_perceptible"]);
   EXPECT_EQ(lod["bounds_px"]["undisplayable"], search.back()["undisplayable"]);
+  // keep_undisplayable: auto (the default) measured what deleting would open
+  // and chose by it: the default views leave the demo under the limit.
+  ASSERT_TRUE(lod["bounds_px"].contains("undisplayable_exposure")) << lod["bounds_px"];
+  EXPECT_LE(lod["bounds_px"]["undisplayable_exposure"].get<double>(), perclod::kKeepUndisplayableExposure);
+  EXPECT_EQ(search.front()["undisplayable"], "deleted");
 
   // A target only an unchanged picture meets: every step is tried, both
   // bounds tighten to 0 px, the last steps keep undisplayable triangles
   // (collapsed within the step's bound) instead of deleting them, and the
-  // last, which moves and deletes nothing, changes no pixel.
+  // last, which moves and deletes nothing, changes no pixel. (Undisplayable
+  // triangles deleted as asked: the four facades alone leave so much unseen
+  // that keep_undisplayable: auto would keep them from the first step.)
   auto none = run_cli("run " +
                       job_file("none.yaml",
                                "distances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
-                               "fidelity_target: {max_changed: 0}\n",
+                               "keep_undisplayable: false\nfidelity_target: {max_changed: 0}\n",
                                "none") +
                       " --json");
   ASSERT_EQ(none.exit_code, 0) << none.err;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cli_util.h"
+#include "perclod/pipeline.h"
 
 namespace {
 
@@ -53,15 +54,16 @@ TEST(SimplifyCli, PaperKeepsEveryPerceptibleTriangleOfARealBuilding) {
   fs::remove_all(dir);
 }
 
-// Fidelity deletes undisplayable triangles unless --e-undisplayable keeps
-// them; then none is deleted and only collapses within the bound remove any.
+// Fidelity with --delete-undisplayable deletes undisplayable triangles;
+// --e-undisplayable keeps them, and then none is deleted and only collapses
+// within the bound remove any.
 TEST(SimplifyCli, EUndisplayableKeepsUndisplayableTriangles) {
   fs::path dir = fs::temp_directory_path() / "perclod_simplify_eu";
   fs::create_directories(dir);
   write_labels(dir / "labels.txt", 12456);
   const std::string base = "simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
                            (dir / "labels.txt").string() + " --json --out ";
-  auto del = run_cli(base + (dir / "del").string());
+  auto del = run_cli(base + (dir / "del").string() + " --delete-undisplayable");
   ASSERT_EQ(del.exit_code, 0) << del.err;
   auto kept = run_cli(base + (dir / "kept").string() + " --e-undisplayable 0");
   ASSERT_EQ(kept.exit_code, 0) << kept.err;
@@ -81,6 +83,35 @@ TEST(SimplifyCli, EUndisplayableKeepsUndisplayableTriangles) {
   auto paper = run_cli(base + (dir / "paper").string() + " --mode paper --e-undisplayable 2");
   EXPECT_EQ(paper.exit_code, 1) << paper.err;
   EXPECT_NE(paper.err.find("--e-undisplayable applies only to --mode fidelity"), std::string::npos) << paper.err;
+  auto both = run_cli(base + (dir / "both").string() + " --delete-undisplayable --e-undisplayable 2");
+  EXPECT_EQ(both.exit_code, 1) << both.err;
+  EXPECT_NE(both.err.find("--delete-undisplayable"), std::string::npos) << both.err;
+
+  // The default (auto): two in five triangles labelled undisplayable are
+  // about two in five of the pixels the views between the labelling ones
+  // see, far over the limit, so they are kept within 4 px: the LOD of
+  // --e-undisplayable 4, triangle for triangle.
+  auto automatic = run_cli(base + (dir / "auto").string());
+  ASSERT_EQ(automatic.exit_code, 0) << automatic.err;
+  const auto a = nlohmann::json::parse(automatic.out), l = nlohmann::json::parse(loose.out);
+  EXPECT_GT(a["undisplayable_exposure"].get<double>(), 0.2) << a;
+  EXPECT_EQ(a["undisplayable"], "collapsed");
+  EXPECT_EQ(a["e_undisplayable"], 4);
+  EXPECT_EQ(a["triangles_after"], l["triangles_after"]);
+  EXPECT_FALSE(nlohmann::json::parse(del.out).contains("undisplayable_exposure"));  // not asked: not measured
+  // One triangle in a thousand undisplayable: far under the limit, deleted.
+  {
+    std::ofstream f(dir / "rare.txt");
+    f << "perclod-labels 1\ntriangles 12456\nviews 0\n";
+    for (size_t t = 0; t < 12456; ++t) f << (t % 1000 == 3 ? "U" : t % 5 == 0 ? "P" : "I") << " 0 0\n";
+  }
+  auto rare = run_cli("simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
+                      (dir / "rare.txt").string() + " --json --out " + (dir / "rare").string());
+  ASSERT_EQ(rare.exit_code, 0) << rare.err;
+  const auto r = nlohmann::json::parse(rare.out);
+  EXPECT_LE(r["undisplayable_exposure"].get<double>(), perclod::kKeepUndisplayableExposure) << r;
+  EXPECT_EQ(r["undisplayable"], "deleted");
+  EXPECT_EQ(r["undisplayable_faces_deleted"], 13);
   fs::remove_all(dir);
 }
 

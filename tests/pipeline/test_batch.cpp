@@ -203,6 +203,35 @@ TEST(BatchConfig, AutoSamplesAreTheDefaultAndParse) {
   }
 }
 
+TEST(BatchConfig, KeepUndisplayableIsAutoByDefaultAndParses) {
+  BatchFolder b;
+  ConfigFile f = load_config_file(b.dir.file(
+      "keep.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, keep_undisplayable: false}\n"
+                   "  - {model: city/a/house.obj, keep_undisplayable: true}\n"
+                   "  - {model: city/b/tower.obj, e_undisplayable: 2}\n"));
+  ASSERT_EQ(f.models.size(), 4u);
+  const LodJob automatic = lod_job(f.models[0].config), deleting = lod_job(f.models[1].config),
+               keeping = lod_job(f.models[2].config), bounded = lod_job(f.models[3].config);
+  EXPECT_TRUE(automatic.undisplayable_auto);
+  EXPECT_TRUE(automatic.simplify.delete_undisplayable);  // until the exposure says otherwise
+  EXPECT_FALSE(deleting.undisplayable_auto);
+  EXPECT_TRUE(deleting.simplify.delete_undisplayable);
+  EXPECT_FALSE(keeping.simplify.delete_undisplayable);
+  EXPECT_FALSE(bounded.simplify.delete_undisplayable);
+  EXPECT_EQ(bounded.simplify.bound_undisplayable_px, 2);
+  EXPECT_EQ(settings_json(f.models[0].config)["keep_undisplayable"], "auto");
+  // true and false stay booleans: batches that named one keep their hashes.
+  EXPECT_EQ(settings_json(f.models[1].config)["keep_undisplayable"], false);
+  EXPECT_EQ(settings_json(f.models[2].config)["keep_undisplayable"], true);
+  for (const char* bad : {"keep_undisplayable: sometimes\n", "keep_undisplayable: [true]\n"}) {
+    const std::string err = error_of([&] {
+      load_config_file(b.dir.file("bad.yaml", std::string("distances: [56]\nmodel: city/a/house.obj\n") + bad));
+    });
+    EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;
+    EXPECT_NE(err.find("'keep_undisplayable' must be true, false or auto"), std::string::npos) << err;
+  }
+}
+
 TEST(BatchShards, ShardsPartitionTheListExactly) {
   for (size_t count : {0u, 1u, 5u, 17u})
     for (int n : {1, 2, 3, 8}) {

@@ -307,6 +307,19 @@ TEST(ReportHtml, ShowsEachFidelitySearchTryWithItsBounds) {
   EXPECT_TRUE(has(html, "<tr><td>0.250</td><td>0.250</td><td class=\"l\">deleted</td><td>900</td>")) << html;
 }
 
+// keep_undisplayable: auto: the LOD's facts say what it did with
+// undisplayable triangles and the exposure it decided from.
+TEST(ReportHtml, ShowsWhatAutoDidWithUndisplayableTriangles) {
+  const OutputNames n{"out", "bldg"};
+  nlohmann::json r = small_report(n);
+  r["lods"][0]["bounds_px"] = {{"perceptible", 0.5}, {"imperceptible", 0.5}, {"undisplayable", "collapsed"},
+                               {"e_undisplayable", 4}, {"undisplayable_exposure", 0.00855}};
+  const std::string html = model_report_html(r, n);
+  EXPECT_TRUE(has(html, "undisplayable collapsed within 4.000&nbsp;px (auto: they are 0.855% of what the views "
+                        "between the labelling ones see)"))
+      << html;
+}
+
 TEST(ReportHtml, EscapesEveryText) {
   const OutputNames n{"out", "<a&b>"};
   json report = small_report(n);

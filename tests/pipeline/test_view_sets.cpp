@@ -549,5 +549,65 @@ TEST(ViewSets, AutoSamplesLabelEachViewAsItsChoice) {
   EXPECT_EQ(label(s, keep).report["samples_per_pixel"], 4);
 }
 
+// keep_undisplayable: auto keeps undisplayable triangles only when the
+// exposure views see more than kKeepUndisplayableExposure of their pixels on
+// them, and then within kAutoUndisplayableBoundPx; anything but the fidelity
+// mode deleting them is left as asked.
+TEST(UndisplayableAuto, KeepsOnlyWhatTheViewsBetweenWouldSeeOpen) {
+  SimplifyOptions so;
+  so.mode = SimplifyMode::Fidelity;
+  ASSERT_TRUE(so.delete_undisplayable);
+  EXPECT_TRUE(choose_undisplayable(so, 0).delete_undisplayable);
+  EXPECT_TRUE(choose_undisplayable(so, kKeepUndisplayableExposure).delete_undisplayable);
+  const SimplifyOptions kept = choose_undisplayable(so, 2 * kKeepUndisplayableExposure);
+  EXPECT_FALSE(kept.delete_undisplayable);
+  EXPECT_EQ(kept.bound_undisplayable_px, kAutoUndisplayableBoundPx);
+  SimplifyOptions paper = so;
+  paper.mode = SimplifyMode::Paper;  // the paper's rule stays exact
+  EXPECT_TRUE(choose_undisplayable(paper, 1).delete_undisplayable);
+  SimplifyOptions asked = so;
+  asked.delete_undisplayable = false;
+  asked.bound_undisplayable_px = 1;  // an asked bound is not loosened
+  EXPECT_EQ(choose_undisplayable(asked, 1).bound_undisplayable_px, 1);
+  for (const std::string& v : exposure_views())  // none is a labelling or held-out view of the defaults
+    for (const char* preset : {kDefaultViews, "held_out"}) {
+      const std::vector<std::string> set = parse_views(preset, UpAxis::Z);
+      EXPECT_EQ(std::find(set.begin(), set.end(), v), set.end()) << v << " in " << preset;
+    }
+}
+
+// The exposure is the share of the exposure views' hits on undisplayable
+// triangles: none of them 0, all of them 1, and a ground whose half x < 4 is
+// undisplayable one half (the views stand symmetric about x = 4), a
+// quarter of it (x < 2) less than a half and more than nothing.
+TEST(UndisplayableAuto, ExposureIsTheShareOfHitsOnUndisplayableTriangles) {
+  Scene s;  // 8 x 8 m of ground at z = 0, 1 m squares facing up
+  s.component_names = {"ground"};
+  for (int i = 0; i <= 8; ++i)
+    for (int k = 0; k <= 8; ++k) s.positions.insert(s.positions.end(), {float(i), float(k), 0.0f});
+  for (uint32_t i = 0; i < 8; ++i)
+    for (uint32_t k = 0; k < 8; ++k) {
+      const uint32_t v = i * 9 + k;
+      s.indices.insert(s.indices.end(), {v, v + 9, v + 10, v, v + 10, v + 1});
+      s.component.insert(s.component.end(), {0, 0});
+    }
+  OctreeTracer tracer(s);
+  LabelJob job = job_for("top", 20);
+  std::vector<Label> labels(s.triangle_count(), Label::Perceptible);
+  EXPECT_EQ(undisplayable_exposure(s, tracer, labels, job), 0);
+  std::fill(labels.begin(), labels.end(), Label::Undisplayable);
+  EXPECT_EQ(undisplayable_exposure(s, tracer, labels, job), 1);
+  auto left_of = [&](int x) {
+    std::fill(labels.begin(), labels.end(), Label::Perceptible);
+    for (size_t t = 0; t < size_t(2 * 8 * x); ++t) labels[t] = Label::Undisplayable;  // squares i < x
+    return undisplayable_exposure(s, tracer, labels, job);
+  };
+  EXPECT_NEAR(left_of(4), 0.5, 0.02);
+  const double quarter = left_of(2);
+  EXPECT_GT(quarter, 0.1);
+  EXPECT_LT(quarter, 0.4);
+  EXPECT_THROW(undisplayable_exposure(s, tracer, std::vector<Label>(3), job), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace perclod

@@ -41,7 +41,11 @@ struct BatchConfig {
   double e_undisplayable = INFINITY;  // fidelity: bound of kept undisplayable triangles, pixels (sets keep_undisplayable)
   double k = 1.0;                    // bounded tolerance / cluster cell in pixels
   size_t target = 0;                 // qem: triangles to keep (required by qem, refused otherwise)
-  bool keep_undisplayable = false;   // paper, fidelity: collapse undisplayable triangles instead of deleting them
+  // paper, fidelity: "true" collapses undisplayable triangles instead of
+  // deleting them, "false" deletes them, "auto" (fidelity: keeps them when
+  // deleting would open what views between the labelling ones see,
+  // choose_undisplayable; paper: deletes them).
+  std::string keep_undisplayable = "auto";
   std::string format = "obj";        // LOD file format: obj | glb
   std::vector<std::string> judge_views = {kDefaultJudgeViews};  // held-out views; empty = none ('none' in the file)
   double max_changed = 0.02;         // limits every judged view is held to

@@ -291,6 +291,9 @@ struct SimplifyJob {
   OutputNames out;               // the LOD goes to out.lod(distance, format)
   std::string format = "obj";    // "obj" or "glb"
   UpAxis up = UpAxis::Y;         // a Z-up model's GLB is turned to glTF's +Y up
+  // keep_undisplayable: auto (fidelity mode, when options.delete_undisplayable):
+  // choose_undisplayable decides from the labels' exposure.
+  bool undisplayable_auto = true;
 };
 
 struct SimplifyRun {
@@ -298,6 +301,8 @@ struct SimplifyRun {
   std::string lod_file;
   double pixel_footprint = 0;
   double write_seconds = 0;
+  double undisplayable_exposure = -1;  // measured for keep_undisplayable: auto; -1 = not measured
+  SimplifyOptions options;             // what simplified: the job's, with auto resolved
 };
 
 // Reads and checks the labels against `scene`, simplifies, exports.
@@ -366,6 +371,8 @@ struct LodJob {
   // is kept when none does (and warned about).
   bool fidelity_target = false;
   FidelityLimits target;
+  // keep_undisplayable: auto (choose_undisplayable, per distance).
+  bool undisplayable_auto = true;
 };
 
 // One try of a fidelity_target search: e_imperceptible = e pixels, the
@@ -389,6 +396,41 @@ constexpr FidelitySearchStep kFidelitySearch[] = {
     {0.25, false}, {0.25, true}, {0.125, true}, {0, true}};                     // then kept
 
 SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& step);
+
+// ---- undisplayable triangles: deleted or kept (`keep_undisplayable: auto`) --
+
+// The views undisplayable_exposure looks from: az22.5el30, az67.5el30, ...,
+// az337.5el30, between the default labelling azimuths at the labelling
+// ring's elevation. None is a view of the default labelling set, of the
+// `held_out` preset or of the benchmarks' 17 held-out views.
+std::vector<std::string> exposure_views();
+
+// How much of what a viewer sees from between the labelling views the
+// triangles labelled undisplayable are: over exposure_views() framed at
+// job.distance (tiles included), the nearest hits on undisplayable triangles
+// over all hits, each pixel traced once at its centre. What deleting them
+// would open from those views.
+double undisplayable_exposure(const Scene& scene, const Tracer& tracer, const std::vector<Label>& labels,
+                              const LabelJob& job);
+
+// keep_undisplayable: auto (fidelity mode) deletes undisplayable triangles
+// when their exposure is at most kKeepUndisplayableExposure, and otherwise
+// keeps them, collapsed within kAutoUndisplayableBoundPx (an asked
+// e_undisplayable keeps them anyway: auto has nothing to decide). README,
+// "Keeping undisplayable triangles", has the measurements that chose both.
+constexpr double kKeepUndisplayableExposure = 0.004;
+constexpr double kAutoUndisplayableBoundPx = 4;
+
+// Whether keep_undisplayable: auto has anything to decide for `so`: the
+// fidelity mode, undisplayable triangles not already kept.
+inline bool undisplayable_auto_applies(const SimplifyOptions& so) {
+  return so.mode == SimplifyMode::Fidelity && so.delete_undisplayable;
+}
+// What keep_undisplayable: auto makes of `so` for an exposure (above): `so`
+// unchanged unless the rule applies and the exposure is over
+// kKeepUndisplayableExposure; then undisplayable triangles are kept and
+// collapsed within kAutoUndisplayableBoundPx.
+SimplifyOptions choose_undisplayable(SimplifyOptions so, double exposure);
 
 // One LOD per distance: out.lod(d), out.labels(d), renders and marking
 // renders, and out.report() (returned too) with its HTML page out.report_html()
