@@ -448,7 +448,8 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       so = choose_undisplayable(so, exposure);
       if (progress) {
         std::ostringstream ss;
-        ss << "  undisplayable triangles: " << 100 * exposure << "% of the pixels between the labelling views -> "
+        ss << std::setprecision(3) << "  undisplayable triangles: " << 100 * exposure
+           << "% of the pixels between the labelling views -> "
            << undisplayable_rule_text(so);
         progress(ss.str());
       }
