@@ -1,5 +1,4 @@
 // perclod simplify: one LOD of a model from its per-triangle labels.
-#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <sstream>
@@ -104,12 +103,8 @@ void run_simplify(SimplifyArgs a) {
                       {"target_triangles", a.target},
                       {"seconds_write", r.write_seconds}};
   if (empty) j["empty"] = true;
-  if (r.options.mode == SimplifyMode::Fidelity || r.options.mode == SimplifyMode::Paper) {
-    j["undisplayable"] = r.options.delete_undisplayable ? "deleted" : "collapsed";
-    if (!r.options.delete_undisplayable && std::isfinite(r.options.bound_undisplayable_px))
-      j["e_undisplayable"] = r.options.bound_undisplayable_px;
-  }
-  if (r.undisplayable_exposure >= 0) j["undisplayable_exposure"] = r.undisplayable_exposure;
+  if (r.options.mode == SimplifyMode::Fidelity || r.options.mode == SimplifyMode::Paper)
+    add_undisplayable_rule(j, r.options, r.undisplayable_exposure);
   j.update(simplify_stats_json(r.stats));
   print_json(j);
 }

@@ -85,8 +85,7 @@ SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
     framing.up = job.up;
     framing.display = job.display;
     framing.distance = job.distance;
-    run.undisplayable_exposure = undisplayable_exposure(scene, OctreeTracer(scene), labels, framing);
-    so = choose_undisplayable(so, run.undisplayable_exposure);
+    run.undisplayable_exposure = choose_undisplayable(so, scene, OctreeTracer(scene), labels, framing);
   }
   run.options = so;
   Scene lod = simplify(scene, labels, so, &run.stats);
@@ -362,15 +361,21 @@ SimplifyOptions choose_undisplayable(SimplifyOptions so, double exposure) {
   return so;
 }
 
-namespace {
+double choose_undisplayable(SimplifyOptions& so, const Scene& scene, const Tracer& tracer,
+                            const std::vector<Label>& labels, const LabelJob& framing) {
+  const double exposure = undisplayable_exposure(scene, tracer, labels, framing);
+  so = choose_undisplayable(so, exposure);
+  return exposure;
+}
 
-// How a LOD treated undisplayable triangles, for the report.
-void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so, double exposure = -1) {
+void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so, double exposure) {
   j["undisplayable"] = so.delete_undisplayable ? "deleted" : "collapsed";
   if (!so.delete_undisplayable && std::isfinite(so.bound_undisplayable_px))
     j["e_undisplayable"] = so.bound_undisplayable_px;
   if (exposure >= 0) j["undisplayable_exposure"] = exposure;  // keep_undisplayable: auto decided
 }
+
+namespace {
 
 // The same in words, for progress lines and warnings.
 std::string undisplayable_rule_text(const SimplifyOptions& so) {
@@ -444,8 +449,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     so.pixel_footprint = display_pixel_footprint(lj.display, d);
     double exposure = -1;
     if (job.undisplayable_auto && undisplayable_auto_applies(so)) {
-      exposure = undisplayable_exposure(scene, *tracer, lr.labels, lj);
-      so = choose_undisplayable(so, exposure);
+      exposure = choose_undisplayable(so, scene, *tracer, lr.labels, lj);
       if (progress) {
         std::ostringstream ss;
         ss << std::setprecision(3) << "  undisplayable triangles: " << 100 * exposure

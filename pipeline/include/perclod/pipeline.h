@@ -431,6 +431,16 @@ inline bool undisplayable_auto_applies(const SimplifyOptions& so) {
 // kKeepUndisplayableExposure; then undisplayable triangles are kept and
 // collapsed within kAutoUndisplayableBoundPx.
 SimplifyOptions choose_undisplayable(SimplifyOptions so, double exposure);
+// The same from the labels: measures undisplayable_exposure (framed by
+// `framing`'s up, display and distance), applies it to `so`, returns it.
+double choose_undisplayable(SimplifyOptions& so, const Scene& scene, const Tracer& tracer,
+                            const std::vector<Label>& labels, const LabelJob& framing);
+
+// How `so` treats undisplayable triangles, as reports give it:
+// "undisplayable": "deleted" | "collapsed", "e_undisplayable" (a finite
+// bound of kept ones) and, when auto measured it (exposure >= 0),
+// "undisplayable_exposure".
+void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so, double exposure = -1);
 
 // One LOD per distance: out.lod(d), out.labels(d), renders and marking
 // renders, and out.report() (returned too) with its HTML page out.report_html()
