@@ -36,6 +36,15 @@ struct BatchFolder {
                           "city/a/house_report.json"})
       std::ofstream(dir.path / f) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   }
+  // Loading a one-model config with `settings` fails with an error naming
+  // the file and holding `says`.
+  void expect_refused(const std::string& settings, const std::string& says) {
+    const std::string err = error_of([&] {
+      load_config_file(dir.file("bad.yaml", "distances: [56]\nmodel: city/a/house.obj\n" + settings));
+    });
+    EXPECT_NE(err.find("bad.yaml"), std::string::npos) << settings << ": " << err;
+    EXPECT_NE(err.find(says), std::string::npos) << settings << ": " << err;
+  }
 };
 
 }  // namespace
@@ -131,11 +140,7 @@ TEST(BatchConfig, KeepUnsampledSurfaceReachesTheLabellingJob) {
   BatchConfig on = f.models[0].config;
   on.keep_unsampled_surface = true;
   EXPECT_NE(hash_text(settings_json(on).dump()), hash_text(settings_json(f.models[0].config).dump()));
-  const std::string err = error_of([&] {
-    load_config_file(b.dir.file("bad.yaml", "distances: [56]\nmodel: city/a/house.obj\nkeep_unsampled_surface: often\n"));
-  });
-  EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;
-  EXPECT_NE(err.find("'keep_unsampled_surface'"), std::string::npos) << err;
+  b.expect_refused("keep_unsampled_surface: often\n", "'keep_unsampled_surface'");
 }
 
 // mask_per_sample reaches the labelling job and joins the settings hash only
@@ -150,13 +155,8 @@ TEST(BatchConfig, MaskPerSampleReachesTheLabellingJob) {
   EXPECT_TRUE(lod_job(f.models[1].config).label.mask_per_sample);
   EXPECT_FALSE(settings_json(f.models[0].config).contains("mask_per_sample"));
   EXPECT_EQ(settings_json(f.models[1].config)["mask_per_sample"], true);
-  for (const char* bad : {"mask_per_sample: sometimes\n", "mask_per_sample: true\nkeep_unsampled_surface: true\n"}) {
-    const std::string err = error_of([&] {
-      load_config_file(b.dir.file("bad.yaml", std::string("distances: [56]\nmodel: city/a/house.obj\n") + bad));
-    });
-    EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;
-    EXPECT_NE(err.find("'mask_per_sample'"), std::string::npos) << err;
-  }
+  for (const char* bad : {"mask_per_sample: sometimes\n", "mask_per_sample: true\nkeep_unsampled_surface: true\n"})
+    b.expect_refused(bad, "'mask_per_sample'");
 }
 
 // samples: 9 and 16 are the ordered grids read from one refined render;
@@ -170,12 +170,7 @@ TEST(BatchConfig, GridSamplesReachTheLabellingJob) {
   EXPECT_EQ(sample_grid(16), 4);
   EXPECT_EQ(sample_grid(9), 3);
   EXPECT_EQ(sample_grid(8), 0);
-  const std::string err = error_of([&] {
-    load_config_file(b.dir.file("bad.yaml", "distances: [56]\nmodel: city/a/house.obj\nsamples: 9\n"
-                                            "keep_unsampled_surface: true\n"));
-  });
-  EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;
-  EXPECT_NE(err.find("'keep_unsampled_surface'"), std::string::npos) << err;
+  b.expect_refused("samples: 9\nkeep_unsampled_surface: true\n", "'keep_unsampled_surface'");
 }
 
 // samples: auto (the default) reaches the labelling job as kAutoSamples and
@@ -194,13 +189,7 @@ TEST(BatchConfig, AutoSamplesAreTheDefaultAndParse) {
   EXPECT_EQ(settings_json(f.models[0].config)["samples"], "auto");
   EXPECT_EQ(settings_json(f.models[2].config)["samples"], 4);  // a number stays one: older batches keep their hashes
   EXPECT_NE(hash_text(settings_json(f.models[0].config).dump()), hash_text(settings_json(f.models[2].config).dump()));
-  for (const char* bad : {"samples: 3\n", "samples: [4]\n", "samples: often\n"}) {
-    const std::string err = error_of([&] {
-      load_config_file(b.dir.file("bad.yaml", std::string("distances: [56]\nmodel: city/a/house.obj\n") + bad));
-    });
-    EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;
-    EXPECT_NE(err.find("'samples'"), std::string::npos) << err;
-  }
+  for (const char* bad : {"samples: 3\n", "samples: [4]\n", "samples: often\n"}) b.expect_refused(bad, "'samples'");
 }
 
 TEST(BatchConfig, KeepUndisplayableIsAutoByDefaultAndParses) {
@@ -223,13 +212,8 @@ TEST(BatchConfig, KeepUndisplayableIsAutoByDefaultAndParses) {
   // true and false stay booleans: batches that named one keep their hashes.
   EXPECT_EQ(settings_json(f.models[1].config)["keep_undisplayable"], false);
   EXPECT_EQ(settings_json(f.models[2].config)["keep_undisplayable"], true);
-  for (const char* bad : {"keep_undisplayable: sometimes\n", "keep_undisplayable: [true]\n"}) {
-    const std::string err = error_of([&] {
-      load_config_file(b.dir.file("bad.yaml", std::string("distances: [56]\nmodel: city/a/house.obj\n") + bad));
-    });
-    EXPECT_NE(err.find("bad.yaml"), std::string::npos) << err;
-    EXPECT_NE(err.find("'keep_undisplayable' must be true, false or auto"), std::string::npos) << err;
-  }
+  for (const char* bad : {"keep_undisplayable: sometimes\n", "keep_undisplayable: [true]\n"})
+    b.expect_refused(bad, "'keep_undisplayable' must be true, false or auto");
 }
 
 TEST(BatchShards, ShardsPartitionTheListExactly) {
