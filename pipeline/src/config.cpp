@@ -122,7 +122,7 @@ const std::set<std::string> kModelKeys = {
     "keep_unsampled_surface", "mask_per_sample", "per_building", "combine_views", "tracer", "verify", "ratio", "simplify", "k", "target",
     "keep_undisplayable", "format",
     "e_perceptible", "e_imperceptible", "e_undisplayable", "judge_views", "max_changed", "max_silhouette",
-    "min_ssim", "strict",
+    "min_ssim", "strict", "tighten_to_limits",
     "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb", "debug_images", "marking_near"};
 // Keys of the batch itself (top level only).
 const std::set<std::string> kBatchKeys = {"models", "out", "jobs", "memory_budget_mb"};
@@ -236,6 +236,9 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   c.min_ssim = get<double>(n, path, "min_ssim", c.min_ssim);
   if (!(c.min_ssim >= 0 && c.min_ssim <= 1)) throw config_error(path, "'min_ssim' must be within [0, 1]");
   c.strict = get<bool>(n, path, "strict", c.strict);
+  c.tighten_to_limits = get<bool>(n, path, "tighten_to_limits", c.tighten_to_limits);
+  if (n["tighten_to_limits"] && c.simplify != "fidelity")
+    throw config_error(path, "'tighten_to_limits' applies only to 'simplify: fidelity'");
   if (const YAML::Node t = n["fidelity_target"]) {
     if (!t.IsMap()) throw config_error(path, "'fidelity_target' must be a mapping such as {max_changed: 0.02}");
     if (c.simplify != "fidelity") throw config_error(path, "'fidelity_target' applies only to 'simplify: fidelity'");
@@ -485,6 +488,9 @@ nlohmann::json settings_json(const BatchConfig& c) {
   // stay what they were before auto.
   s["keep_undisplayable"] = c.keep_undisplayable == "auto" ? nlohmann::json("auto")
                                                            : nlohmann::json(c.keep_undisplayable == "true");
+  // Joins in fidelity mode, where it decides: a manifest redoes fidelity
+  // LODs made before tightening existed (some of them would now be tighter).
+  if (c.simplify == "fidelity") s["tighten_to_limits"] = c.tighten_to_limits;
   return s;
 }
 
@@ -521,6 +527,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.limits.max_silhouette = c.max_silhouette;
   job.limits.min_ssim = c.min_ssim;
   job.fidelity_target = c.fidelity_target;
+  job.tighten_to_limits = c.tighten_to_limits;
   job.target.max_changed = c.target_max_changed;
   job.target.max_silhouette = c.target_max_silhouette;
   job.target.min_ssim = c.target_min_ssim;

@@ -317,10 +317,39 @@ SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& st
   so.bound_imperceptible_px = step.e;
   so.bound_perceptible_px = std::min(so.bound_perceptible_px, step.e);
   if (step.keep_undisplayable) {
-    so.bound_undisplayable_px = so.delete_undisplayable ? step.e : std::min(so.bound_undisplayable_px, step.e);
+    const double e_u = step.e_undisplayable >= 0 ? step.e_undisplayable : step.e;
+    so.bound_undisplayable_px = so.delete_undisplayable ? e_u : std::min(so.bound_undisplayable_px, e_u);
     so.delete_undisplayable = false;
   }
   return so;
+}
+
+std::vector<FidelitySearchStep> tighten_steps(const SimplifyOptions& so) {
+  std::vector<FidelitySearchStep> steps;
+  if (so.mode != SimplifyMode::Fidelity) return steps;
+  auto same = [](const SimplifyOptions& a, const SimplifyOptions& b) {
+    return a.bound_imperceptible_px == b.bound_imperceptible_px && a.bound_perceptible_px == b.bound_perceptible_px &&
+           a.delete_undisplayable == b.delete_undisplayable &&
+           (a.delete_undisplayable || a.bound_undisplayable_px == b.bound_undisplayable_px);
+  };
+  SimplifyOptions last = so;
+  for (const FidelitySearchStep& step : kTightenSteps) {
+    if (step.e > so.bound_imperceptible_px) continue;
+    const SimplifyOptions t = fidelity_bounds(so, step);
+    if (same(t, last)) continue;
+    steps.push_back(step);
+    last = t;
+  }
+  return steps;
+}
+
+bool worth_tightening(const nlohmann::json& judged, const FidelityLimits& limits) {
+  if (judged.at("over_limits").empty()) return false;
+  const nlohmann::json& w = judged.at("worst");
+  const bool ssim_within =
+      limits.min_ssim <= 0 || 1 - w.at("ssim_covered").get<double>() <= kTightenReach * (1 - limits.min_ssim);
+  return w.at("changed_fraction").get<double>() <= kTightenReach * limits.max_changed &&
+         w.at("silhouette_mismatch").get<double>() <= kTightenReach * limits.max_silhouette && ssim_within;
 }
 
 std::vector<std::string> exposure_views() {
@@ -460,15 +489,15 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     }
     SimplifyStats st;
     Scene lod;
-    nlohmann::json views, search = nlohmann::json::array();
+    nlohmann::json views, tries = nlohmann::json::array();  // a search's or tightening's tries
     std::vector<Rgb8Image> pictures;  // per judged view: original | LOD | changes
     double seconds_compare = 0;
     const bool searching = job.fidelity_target && so.mode == SimplifyMode::Fidelity;
-    std::vector<FidelitySearchStep> steps = {{so.bound_imperceptible_px, false}};
-    if (searching) steps.assign(std::begin(kFidelitySearch), std::end(kFidelitySearch));
+    const FidelityLimits& goal = searching ? job.target : job.limits;
     const SimplifyOptions asked = so;
-    for (const FidelitySearchStep& step : steps) {
-      if (searching) so = fidelity_bounds(asked, step);
+    // One LOD at the bounds `o`, judged from every judged view against `goal`.
+    auto attempt = [&](const SimplifyOptions& o) {
+      so = o;
       lod = simplify(scene, lr.labels, so, &st);
       release_free_memory();  // the simplifier's mesh
       if (!held_out_recorded) {
@@ -481,8 +510,11 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       views = compare_lod_views(renderer, lod, judged, lj,
                                 out.dir.empty() || !lj.write_view_images ? nullptr : &pictures);
       seconds_compare += since(t_cmp);
-      if (!searching) break;
-      const nlohmann::json f = judge_views(views, job.target);
+      return judge_views(views, goal);
+    };
+    // Lists the try just judged (`f`) in `tries` and on the progress line;
+    // returns whether it met `goal`.
+    auto log_try = [&](const nlohmann::json& f, const char* what) {
       const bool met = f["over_limits"].empty();
       nlohmann::json t = {{"e_imperceptible", so.bound_imperceptible_px},
                           {"e_perceptible", so.bound_perceptible_px},
@@ -490,10 +522,10 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
                           {"worst", f["worst"]},
                           {"met", met}};
       add_undisplayable_rule(t, so);
-      search.push_back(std::move(t));
+      tries.push_back(std::move(t));
       if (progress) {
         std::ostringstream ss;
-        ss << "  fidelity target at " << d << " m: e_imperceptible " << so.bound_imperceptible_px
+        ss << "  " << what << " at " << d << " m: e_imperceptible " << so.bound_imperceptible_px
            << " px, e_perceptible " << so.bound_perceptible_px << " px, undisplayable "
            << undisplayable_rule_text(so) << " -> " << st.total_after()
            << " triangles, worst " << 100 * f["worst"]["changed_fraction"].get<double>() << "% changed, SSIM "
@@ -501,7 +533,33 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
            << 100 * f["worst"]["silhouette_mismatch"].get<double>() << "%" << (met ? " (met)" : "");
         progress(ss.str());
       }
-      if (met) break;
+      return met;
+    };
+    bool tightened = false;  // tighten_to_limits tried tighter bounds
+    if (searching) {
+      for (const FidelitySearchStep& step : kFidelitySearch)
+        if (log_try(attempt(fidelity_bounds(asked, step)), "fidelity target")) break;
+    } else {
+      const nlohmann::json f = attempt(asked);
+      const std::vector<FidelitySearchStep> steps = tighten_steps(asked);
+      if (job.tighten_to_limits && !steps.empty() && worth_tightening(f, job.limits)) {
+        tightened = true;
+        log_try(f, "tighten to limits");
+        // The LOD at the asked bounds, kept if no tighter one is within.
+        const SimplifyOptions first_so = so;
+        const SimplifyStats first_st = st;
+        Scene first_lod = std::move(lod);
+        nlohmann::json first_views = std::move(views);
+        std::vector<Rgb8Image> first_pictures = std::move(pictures);
+        bool met = false;
+        for (const FidelitySearchStep& step : steps)
+          if ((met = log_try(attempt(fidelity_bounds(asked, step)), "tighten to limits"))) break;
+        if (!met) {
+          so = first_so, st = first_st, lod = std::move(first_lod);
+          views = std::move(first_views), pictures = std::move(first_pictures);
+          if (progress) progress("  tighten to limits: none within; kept the asked bounds");
+        }
+      }
     }
     std::string lod_path = out.lod(d, job.lod_format);
     export_scene(lod, lod_path, ExportOptions{job.label.up == UpAxis::Z});
@@ -513,9 +571,10 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       entry["bounds_px"] = {{"perceptible", so.bound_perceptible_px}, {"imperceptible", so.bound_imperceptible_px}};
       add_undisplayable_rule(entry["bounds_px"], so, exposure);
     }
+    if (tightened) entry["tighten_to_limits"] = tries;
     if (searching) {
-      entry["fidelity_search"] = search;
-      if (!search.back()["met"].get<bool>()) {
+      entry["fidelity_search"] = tries;
+      if (!tries.back()["met"].get<bool>()) {
         std::ostringstream ss;
         ss << lod_path << ": no bound meets the fidelity target at " << d << " m; kept the tightest (e_imperceptible "
            << so.bound_imperceptible_px << " px, undisplayable " << undisplayable_rule_text(so) << ")";

@@ -478,11 +478,13 @@ std::string undisplayable_rule(const json& j) {
   return rule;
 }
 
-std::string search_table(const json& lod) {
-  const json& search = list(lod, "fidelity_search");
+// The tries of a fidelity_target search ("fidelity_search") or of
+// tighten_to_limits ("tighten_to_limits": the asked bounds first), one row each.
+std::string tries_table(const json& lod, const char* key, const char* title) {
+  const json& search = list(lod, key);
   if (search.empty()) return "";
   std::ostringstream s;
-  s << "<h3>Fidelity target search</h3>\n<table class=\"search\"><tr><th>e_imperceptible (px)</th>"
+  s << "<h3>" << title << "</h3>\n<table class=\"search\"><tr><th>e_imperceptible (px)</th>"
        "<th>e_perceptible (px)</th><th class=\"l\">undisplayable</th><th>triangles</th>"
        "<th>worst changed</th><th>lowest SSIM</th><th>worst silhouette</th><th class=\"l\">met</th></tr>\n";
   for (const auto& t : search) {
@@ -661,7 +663,8 @@ std::string model_report_html(const json& report, const OutputNames& names) {
     }
     s << "<h3>Triangles</h3>\n" << triangles_table(simp) << facts_table(facts);
     s << "<h3>Fidelity: the LOD against the original, per judged view</h3>\n" << fidelity_table(l);
-    s << search_table(l);
+    s << tries_table(l, "fidelity_search", "Fidelity target search");
+    s << tries_table(l, "tighten_to_limits", "Tightened to the limits (the asked bounds first)");
     s << "<h3>Labelling</h3>\n" << label_views_table(l);
     s << images_section(l, d, names);
     s << "</section>\n";

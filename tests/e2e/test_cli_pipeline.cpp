@@ -313,6 +313,85 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
   fs::remove_all(out);
 }
 
+// tighten_to_limits (the default in fidelity mode): a LOD over its limits,
+// but within kTightenReach of them, is made again at the tighter steps until
+// one is within; out of reach, or turned off, the LOD stays at the asked
+// bounds and is flagged. Figures of the demo at 132 m, one sample, judged
+// also from az22.5el15: 0.82% changed at 0.5 px, 0.43% at 0.25 px.
+TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
+  fs::path out = fresh_dir("run-tighten");
+  fs::create_directories(out);
+  auto run = [&](const char* name, const std::string& settings) {
+    std::ofstream(out / name) << "model: " << kBuilding << "\nup: z\nsamples: 1\n"
+                              << "judge_views: az22.5el15\ndebug_images: false\ntileset: false\n"
+                              << (settings.find("distances") == std::string::npos ? "distances: [132]\n" : "")
+                              << settings << "out: " << (out / name).string() << ".out\n";
+    auto r = run_cli("run " + (out / name).string() + " --json");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out);
+    j["stderr"] = r.err;
+    return j;
+  };
+  const auto asked = run("off.yaml", "max_changed: 0.005\ntighten_to_limits: false\n");
+  const auto& a = asked["lods"][0];
+  const double at_asked = a["fidelity"]["worst"]["changed_fraction"].get<double>();
+  ASSERT_GT(at_asked, 0.005) << "the asked bounds must miss this limit for the test to mean anything";
+  ASSERT_LE(at_asked, perclod::kTightenReach * 0.005);
+  EXPECT_FALSE(a.contains("tighten_to_limits"));
+  EXPECT_EQ(a["bounds_px"]["imperceptible"].get<double>(), 0.5);
+
+  const auto tightened = run("on.yaml", "max_changed: 0.005\n");
+  const auto& t = tightened["lods"][0];
+  ASSERT_TRUE(t.contains("tighten_to_limits")) << t;
+  const auto& tries = t["tighten_to_limits"];
+  ASSERT_GE(tries.size(), 2u);
+  EXPECT_EQ(tries[0]["triangles"], a["simplify"]["total_after"]);  // the asked bounds first
+  EXPECT_FALSE(tries[0]["met"].get<bool>());
+  EXPECT_TRUE(tries.back()["met"].get<bool>());
+  for (size_t i = 1; i + 1 < tries.size(); ++i) EXPECT_FALSE(tries[i]["met"].get<bool>());
+  EXPECT_EQ(t["bounds_px"]["imperceptible"], tries.back()["e_imperceptible"]);
+  EXPECT_LT(t["bounds_px"]["imperceptible"].get<double>(), 0.5);
+  EXPECT_EQ(t["simplify"]["total_after"], tries.back()["triangles"]);
+  EXPECT_GE(t["simplify"]["total_after"].get<double>(), a["simplify"]["total_after"].get<double>());
+  for (const auto& v : t["lod_vs_original"]) EXPECT_LE(v["changed_fraction"].get<double>(), 0.005) << v["view"];
+  EXPECT_EQ(t["fidelity"]["over_limits"].size(), 0u);
+  EXPECT_EQ(tightened["over_limits"], 0);
+  EXPECT_NE(tightened["stderr"].get<std::string>().find("tighten to limits at 132 m"), std::string::npos);
+  EXPECT_EQ(tightened["stderr"].get<std::string>().find("warning:"), std::string::npos) << tightened["stderr"];
+
+  // Out of reach (the asked LOD is more than kTightenReach x over): nothing
+  // is tried, the LOD is the asked one, flagged.
+  const auto far = run("far.yaml", "max_changed: " + std::to_string(at_asked / (perclod::kTightenReach + 1)) + "\n");
+  EXPECT_FALSE(far["lods"][0].contains("tighten_to_limits"));
+  EXPECT_EQ(far["lods"][0]["simplify"]["total_after"], a["simplify"]["total_after"]);
+  EXPECT_GT(far["over_limits"].get<int>(), 0);
+
+  // Within reach but no tighter step is within: at 56 m the asked bounds
+  // change 0.155% and the steps of the search 0.155% and 0.138% (0.25 px,
+  // undisplayable triangles deleted or kept), all over 0.13%.
+  // Every step is tried and the asked LOD stays, flagged.
+  const auto none = run("none.yaml", "distances: [56]\nmax_changed: 0.0013\n");
+  const auto& n = none["lods"][0];
+  ASSERT_TRUE(n.contains("tighten_to_limits")) << n;
+  const auto& first = n["tighten_to_limits"][0];
+  ASSERT_GT(first["worst"]["changed_fraction"].get<double>(), 0.0013);
+  ASSERT_LE(first["worst"]["changed_fraction"].get<double>(), perclod::kTightenReach * 0.0013);
+  EXPECT_EQ(n["tighten_to_limits"].size(), 1 + std::size(perclod::kTightenSteps));  // the asked bounds first
+  for (const auto& x : n["tighten_to_limits"]) EXPECT_FALSE(x["met"].get<bool>()) << x;
+  EXPECT_EQ(n["simplify"]["total_after"], first["triangles"]);
+  EXPECT_EQ(n["bounds_px"]["imperceptible"].get<double>(), 0.5);
+  EXPECT_EQ(n["bounds_px"]["undisplayable"], "deleted");
+  EXPECT_NE(none["stderr"].get<std::string>().find("none within; kept the asked bounds"), std::string::npos);
+  EXPECT_GT(none["over_limits"].get<int>(), 0);
+
+  // Only fidelity mode tightens.
+  std::ofstream(out / "bad.yaml") << "model: " << kBuilding << "\ndistances: [56]\nsimplify: paper\ntighten_to_limits: true\n";
+  auto b = run_cli("run " + (out / "bad.yaml").string());
+  EXPECT_EQ(b.exit_code, 1);
+  EXPECT_NE(b.err.find("'tighten_to_limits' applies only to 'simplify: fidelity'"), std::string::npos) << b.err;
+  fs::remove_all(out);
+}
+
 // debug_images: false writes no image at all, and changes nothing else: the
 // labels, the LODs and every figure of the report are those of a run with
 // them (which encodes its images on a second thread). With them, every

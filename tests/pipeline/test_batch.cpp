@@ -216,6 +216,23 @@ TEST(BatchConfig, KeepUndisplayableIsAutoByDefaultAndParses) {
     b.expect_refused(bad, "'keep_undisplayable' must be true, false or auto");
 }
 
+// tighten_to_limits: on by default in fidelity mode, off when asked, part of
+// a fidelity model's settings hash only, and refused outside fidelity mode.
+TEST(BatchConfig, TightenToLimitsIsOnByDefaultInFidelityMode) {
+  BatchFolder b;
+  ConfigFile f = load_config_file(b.dir.file(
+      "tighten.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, tighten_to_limits: false}\n"
+                      "  - {model: city/a/house.obj, simplify: paper}\n"));
+  ASSERT_EQ(f.models.size(), 3u);
+  EXPECT_TRUE(lod_job(f.models[0].config).tighten_to_limits);
+  EXPECT_FALSE(lod_job(f.models[1].config).tighten_to_limits);
+  EXPECT_EQ(settings_json(f.models[0].config)["tighten_to_limits"], true);
+  EXPECT_EQ(settings_json(f.models[1].config)["tighten_to_limits"], false);
+  EXPECT_FALSE(settings_json(f.models[2].config).contains("tighten_to_limits"));  // paper's hashes stay
+  b.expect_refused("simplify: paper\ntighten_to_limits: true\n", "'tighten_to_limits' applies only to 'simplify: fidelity'");
+  b.expect_refused("tighten_to_limits: maybe\n", "'tighten_to_limits'");
+}
+
 TEST(BatchShards, ShardsPartitionTheListExactly) {
   for (size_t count : {0u, 1u, 5u, 17u})
     for (int n : {1, 2, 3, 8}) {

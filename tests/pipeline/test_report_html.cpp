@@ -305,6 +305,14 @@ TEST(ReportHtml, ShowsEachFidelitySearchTryWithItsBounds) {
   EXPECT_TRUE(has(html, "<tr><td>0.125</td><td>0.125</td><td class=\"l\">collapsed within 0.125&nbsp;px</td><td>1200</td>"))
       << html;
   EXPECT_TRUE(has(html, "<tr><td>0.250</td><td>0.250</td><td class=\"l\">deleted</td><td>900</td>")) << html;
+  EXPECT_FALSE(has(html, "Tightened to the limits"));
+  // tighten_to_limits' tries get the same table under their own title.
+  r["lods"][0]["tighten_to_limits"] = r["lods"][0]["fidelity_search"];
+  r["lods"][0].erase("fidelity_search");
+  const std::string tightened = model_report_html(r, n);
+  EXPECT_FALSE(has(tightened, "Fidelity target search"));
+  EXPECT_TRUE(has(tightened, "Tightened to the limits (the asked bounds first)"));
+  EXPECT_TRUE(has(tightened, "<tr><td>0.250</td><td>0.250</td><td class=\"l\">deleted</td><td>900</td>")) << tightened;
 }
 
 // keep_undisplayable: auto: the LOD's facts say what it did with

@@ -576,6 +576,73 @@ TEST(UndisplayableAuto, KeepsOnlyWhatTheViewsBetweenWouldSeeOpen) {
     }
 }
 
+// tighten_to_limits tries the steps of kTightenSteps that tighten the asked
+// bounds (none that would change nothing), and only for a LOD over a limit
+// by no more than kTightenReach times it.
+TEST(TightenToLimits, StepsAreTheTighterOnesAndReachIsBounded) {
+  SimplifyOptions so;
+  so.mode = SimplifyMode::Fidelity;  // the defaults: 0.5 px, undisplayable deleted
+  const std::vector<FidelitySearchStep> steps = tighten_steps(so);
+  ASSERT_EQ(steps.size(), std::size(kTightenSteps));
+  const SimplifyOptions first = fidelity_bounds(so, steps[0]);
+  EXPECT_EQ(first.bound_imperceptible_px, 0.25);
+  EXPECT_EQ(first.bound_perceptible_px, 0.25);
+  EXPECT_TRUE(first.delete_undisplayable);
+  const SimplifyOptions second = fidelity_bounds(so, steps[1]);
+  EXPECT_FALSE(second.delete_undisplayable);
+  EXPECT_EQ(second.bound_undisplayable_px, kAutoUndisplayableBoundPx);
+  const SimplifyOptions last = fidelity_bounds(so, steps.back());
+  EXPECT_EQ(last.bound_imperceptible_px, 0.125);
+  EXPECT_EQ(last.bound_undisplayable_px, 0.125);
+  // Each step is at least as tight as the one before, and none is e = 0.
+  SimplifyOptions before = so;
+  for (const FidelitySearchStep& step : steps) {
+    const SimplifyOptions t = fidelity_bounds(so, step);
+    EXPECT_LE(t.bound_imperceptible_px, before.bound_imperceptible_px);
+    EXPECT_LE(t.bound_perceptible_px, before.bound_perceptible_px);
+    if (!before.delete_undisplayable) {
+      EXPECT_LE(t.bound_undisplayable_px, before.bound_undisplayable_px);
+    }
+    EXPECT_GT(t.bound_imperceptible_px, 0);
+    before = t;
+  }
+  // keep_undisplayable: auto kept them within 4 px: the 0.25 px step with
+  // them kept within 4 px would repeat the first, and is left out.
+  const SimplifyOptions kept = choose_undisplayable(so, 1.0);
+  const std::vector<FidelitySearchStep> kept_steps = tighten_steps(kept);
+  ASSERT_EQ(kept_steps.size(), 3u);
+  EXPECT_EQ(fidelity_bounds(kept, kept_steps[0]).bound_undisplayable_px, kAutoUndisplayableBoundPx);
+  EXPECT_EQ(fidelity_bounds(kept, kept_steps[1]).bound_imperceptible_px, 0.125);
+  EXPECT_EQ(fidelity_bounds(kept, kept_steps[2]).bound_undisplayable_px, 0.125);
+  SimplifyOptions tight = so;  // asked at 0.125 px: only keeping what was deleted remains
+  tight.bound_imperceptible_px = 0.125;
+  ASSERT_EQ(tighten_steps(tight).size(), 2u);
+  for (const FidelitySearchStep& step : tighten_steps(tight)) EXPECT_TRUE(step.keep_undisplayable);
+  tight.delete_undisplayable = false;
+  tight.bound_undisplayable_px = 0.1;
+  tight.bound_perceptible_px = 0.125;
+  EXPECT_TRUE(tighten_steps(tight).empty());  // nothing tighter to try
+  SimplifyOptions paper = so;
+  paper.mode = SimplifyMode::Paper;
+  EXPECT_TRUE(tighten_steps(paper).empty());
+
+  const FidelityLimits limits;  // 2% changed, 1% silhouette, no SSIM limit
+  auto judged = [](double changed, double silhouette, double ssim, const FidelityLimits& against = {}) {
+    nlohmann::json v = {{"view", "v"}, {"set", "held_out"}, {"changed_fraction", changed},
+                        {"silhouette_mismatch", silhouette}, {"ssim_covered", ssim}};
+    return judge_views(nlohmann::json::array({v}), against);
+  };
+  EXPECT_FALSE(worth_tightening(judged(0.02, 0.01, 0.9), limits));  // within: nothing to do
+  EXPECT_TRUE(worth_tightening(judged(0.0329, 0.0001, 0.99), limits));
+  EXPECT_TRUE(worth_tightening(judged(kTightenReach * 0.02, 0, 0.99), limits));
+  EXPECT_FALSE(worth_tightening(judged(0.12, 0.001, 0.91), limits));  // the demo at 427 m: out of reach
+  EXPECT_FALSE(worth_tightening(judged(0.03, 0.04, 0.99), limits));   // silhouette out of reach
+  FidelityLimits ssim = limits;
+  ssim.min_ssim = 0.97;
+  EXPECT_TRUE(worth_tightening(judged(0.01, 0, 0.95, ssim), ssim));   // 0.05 short of 1 <= 3 x 0.03
+  EXPECT_FALSE(worth_tightening(judged(0.01, 0, 0.90, ssim), ssim));  // 0.10 > 0.09
+}
+
 // The exposure is the share of the exposure views' hits on undisplayable
 // triangles: none of them 0, all of them 1, and a ground whose half x < 4 is
 // undisplayable one half (the views stand symmetric about x = 4), a

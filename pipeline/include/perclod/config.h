@@ -56,6 +56,9 @@ struct BatchConfig {
   // e_imperceptible per distance for the fewest triangles within these
   // (LodJob::fidelity_target).
   bool fidelity_target = false;
+  // fidelity, no fidelity_target: a LOD over the limits (within
+  // kTightenReach) is tried again at tighter bounds (LodJob::tighten_to_limits).
+  bool tighten_to_limits = true;
   double target_max_changed = 0.02, target_max_silhouette = 0.01, target_min_ssim = 0;
   std::string cityjson_lod;          // CityJSON input: the LOD geometry to read ("" = each object's highest)
   double memory_mb = 0;              // batch: this model's peak memory for memory_budget_mb (0 = estimate_memory_mb)
