@@ -35,7 +35,11 @@
 //                       [--no-meshopt] [--keep-undisplayable [--e-undisplayable E] | --delete-undisplayable] [--dump DIR]
 //                       [--facade-triangles N] [--e-area A] [--max-normal-change DEG]
 //                       [--dump-view NAME] [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]
-//                       [--label-shift]
+//                       [--label-shift] [--no-tighten]
+//   --no-tighten: fidelity rows at the asked bounds only. By default a
+//     fidelity LOD over the run's limits is tightened as `perclod run` does
+//     (tighten_to_limits), judged from what the run judges: the labelling
+//     views and the `held_out` preset, 9 of the 17 held-out views here.
 //   --set: a labelling setting for the sweeps of scripts/bench.py: levels (DWT),
 //   csf_k, csf (fir|weights|kakadu), threshold (grey levels), ratio (label),
 //   samples, keep_unsampled_surface (0|1), mask_per_sample (0|1), views, spins, resolution (a
@@ -90,11 +94,13 @@ using bench::held_out_views;
 
 std::string g_dump;   // --dump DIR: original | LOD | difference of each LOD's worst held-out view
 std::string g_dump_view;  // --dump-view NAME: dump this judged view instead of the worst held-out one
+const std::vector<Label>* g_dump_labels = nullptr;  // the labels of the distance being judged, for --dump
 std::string g_pairs;  // --pairs DIR: original and LOD from kPairView, for butteraugli
 const bench::HausdorffReference* g_hausdorff = nullptr;  // from the model being judged, in run_model
 std::vector<std::pair<std::string, std::string>> g_settings;  // --set KEY=VALUE, in order
 bool g_only_fidelity = false;
 bool g_label_shift = false;  // --label-shift: LODs from labels of the model moved by +-1/4 px
+bool g_tighten = true;       // --no-tighten: no tighten_to_limits
 double g_label_seconds = 0;  // labelling time of the current model and distance
 
 // Applies --set KEY=VALUE to a labelling job; throws on an unknown key.
@@ -168,6 +174,34 @@ void dump(Renderer& renderer, const Scene& original, const Scene& lod, const Cam
         row[3 * (2 * cw + x) + c] = uint8_t(diff);
       }
   write_png(g_dump + "/" + name + ".png", 3 * cw, ch, 3, out.data());
+  if (!g_dump_labels) return;
+  // Which label the original's triangle carries where a pixel changed by
+  // more than 32 grey levels (summed over RGB).
+  size_t by_label[4] = {0, 0, 0, 0};  // P, I, U, background in the original
+  size_t changed = 0;
+  // <name>_labels.png: the original in grey, each such pixel in the marking
+  // colour of the original's label there (green P, red I, blue U; white
+  // where the original shows background).
+  std::vector<uint8_t> marked(size_t(3) * cw * ch);
+  for (int y = 0; y < ch; ++y)
+    for (int x = 0; x < cw; ++x) {
+      const size_t i = size_t(y + y0) * w + (x + x0);
+      uint8_t* m = &marked[(size_t(y) * cw + x) * 3];
+      int sum = 0;
+      for (int c = 0; c < 3; ++c) sum += std::abs(int(a.rgb[3 * i + c]) - int(b.rgb[3 * i + c]));
+      const uint8_t grey = uint8_t((a.rgb[3 * i] + a.rgb[3 * i + 1] + a.rgb[3 * i + 2]) / 6);
+      m[0] = m[1] = m[2] = grey;
+      if (sum <= 32) continue;
+      ++changed;
+      const int l = a.ids[i] ? int((*g_dump_labels)[a.ids[i] - 1]) : 3;
+      by_label[l] += 1;
+      static const uint8_t colour[4][3] = {{0, 255, 0}, {255, 0, 0}, {0, 96, 255}, {255, 255, 255}};
+      std::memcpy(m, colour[l], 3);
+    }
+  write_png(g_dump + "/" + name + "_labels.png", cw, ch, 3, marked.data());
+  std::printf("  dump %s: %zu pixels changed by > 32 levels; the original shows there P %zu, I %zu, U %zu, "
+              "background %zu\n",
+              name.c_str(), changed, by_label[0], by_label[1], by_label[2], by_label[3]);
 }
 
 // Crop rectangle of the original's render from kPairView (what it draws,
@@ -211,12 +245,14 @@ Crop pair_crop(const RenderOutput& r) {
   return Crop{x0, y0, x1 - x0 + 1, y1 - y0 + 1};
 }
 
+// `views_out` (may be null) receives compare_lod_views' figures per view.
 Judged judge(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& records, const LabelJob& job,
-             const Scene* original = nullptr, const std::string& dump_name = "") {
+             const Scene* original = nullptr, const std::string& dump_name = "", nlohmann::json* views_out = nullptr) {
   Judged j;
   j.triangles = lod.triangle_count();
   if (g_hausdorff) j.hausdorff = g_hausdorff->relative(lod);
   const nlohmann::json views = compare_lod_views(renderer, lod, records, job);
+  if (views_out) *views_out = views;
   if (g_pair.camera && !dump_name.empty()) write_pair(renderer, lod, *g_pair.camera, g_pair.crop, dump_name);
   if (!g_dump.empty() && original) {
     size_t worst = 0;
@@ -347,6 +383,21 @@ Scene decimater_lod(const Scene& s, const MeshoptInput& in, size_t target, doubl
 }
 #endif
 
+// judge_views over what `perclod run` judges a LOD from by default: the
+// labelling views and the `held_out` preset (tiles named <view>_t<i>), the
+// run's default limits. What tighten_to_limits decides from.
+nlohmann::json run_judged(const nlohmann::json& views) {
+  const std::vector<std::string> preset = parse_views(kDefaultJudgeViews, UpAxis::Z);  // names only
+  nlohmann::json judged = nlohmann::json::array();
+  for (const auto& v : views) {
+    std::string name = v["view"].get<std::string>();
+    const size_t tile = name.rfind("_t");
+    if (tile != std::string::npos) name.resize(tile);
+    if (v["set"] == "labelling" || std::find(preset.begin(), preset.end(), name) != preset.end()) judged.push_back(v);
+  }
+  return judge_views(judged, FidelityLimits{});
+}
+
 struct Model {
   std::string key;
   Scene scene;
@@ -430,6 +481,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
           write_cropped(original, g_pair.crop, tag + "_original");
         }
     LabelCounts lc = count_labels(lr.labels);
+    g_dump_labels = &lr.labels;
     g_exposure = undisplayable_exposure(scene, tracer, lr.labels, job);
     std::printf("\n%s at %.0f m: %zu triangles (P %zu, I %zu, U %zu), p(d) = %.4f m, %zu labelling + %zu held-out "
                 "views; undisplayable exposure %.3f%%: fidelity %s them\n",
@@ -439,24 +491,51 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     std::printf("%-6s %4s  %-26s %8s  %7s  | %-23s | %-23s | %s\n", "model", "d", "method", "tris", "simp s",
                 "labelling: chg  SSIM  sil", "held-out: chg  SSIM  sil", "Hausdorff/diag");
 
-    auto simplified = [&](SimplifyOptions so, const std::string& suffix = "") {
+    auto simplified = [&](SimplifyOptions so, const std::string& suffix = "", nlohmann::json* views = nullptr) {
       so.pixel_footprint = p;
       SimplifyStats st;
       Scene lod = simplify(scene, lr.labels, so, &st);
       std::ostringstream name;
       name << tag << "_" << simplify_mode_name(so.mode);
       if (so.mode == SimplifyMode::Fidelity) name << "_eI" << so.bound_imperceptible_px;
+      if (so.mode == SimplifyMode::Fidelity && !so.delete_undisplayable) name << "_kept";
       name << suffix;
-      Judged j = judge(renderer, lod, records, job, &scene, name.str());
+      Judged j = judge(renderer, lod, records, job, &scene, name.str(), views);
       j.seconds = st.seconds;
       return j;
     };
     std::vector<Judged> fidelity;
     for (double ei : e_i) {
-      fidelity.push_back(simplified(fidelity_options(e_p, ei)));
+      // As `perclod run` makes it: the asked bounds, then tighten_to_limits.
+      const SimplifyOptions asked = fidelity_options(e_p, ei);
+      nlohmann::json views;
+      Judged j = simplified(asked, "", &views);
+      std::string note;
+      const std::vector<FidelitySearchStep> steps = tighten_steps(asked);
+      if (g_tighten && !steps.empty() && worth_tightening(run_judged(views), FidelityLimits{})) {
+        note = "over the limits; no tighter bound within";
+        for (const FidelitySearchStep& step : steps) {
+          const SimplifyOptions tighter = fidelity_bounds(asked, step);
+          std::ostringstream suffix;  // --pairs and --dump files of each try, apart from the asked LOD's
+          suffix << "_tightened_from" << ei;
+          Judged t = simplified(tighter, suffix.str(), &views);
+          if (run_judged(views)["over_limits"].empty()) {
+            std::ostringstream ss;  // no comma: the CSV does not quote
+            ss << "tightened to e=" << step.e << " px; undisplayable ";
+            if (tighter.delete_undisplayable) ss << "deleted";
+            else ss << "kept within " << tighter.bound_undisplayable_px << " px";
+            ss << "; asked: " << j.triangles << " tris "
+               << 100 * j.held_out.changed << "% " << j.held_out.ssim;
+            note = ss.str();
+            j = t;
+            break;
+          }
+        }
+      }
+      fidelity.push_back(j);
       std::ostringstream name;
       name << "fidelity e_I=" << ei;
-      row(m, d, name.str(), fidelity.back());
+      row(m, d, name.str(), fidelity.back(), note);
     }
     if (g_label_shift) {
       // What label flips do to the LOD: the labelling of bench_labels'
@@ -638,6 +717,7 @@ int main(int argc, char** argv) {
     else if (a == "--pairs" && i + 1 < argc) g_pairs = argv[++i];
     else if (a == "--only-fidelity") g_only_fidelity = true;
     else if (a == "--label-shift") g_label_shift = true;
+    else if (a == "--no-tighten") g_tighten = false;
     else if (a == "--set" && i + 1 < argc && std::strchr(argv[i + 1], '=')) {
       const std::string kv = argv[++i];
       g_settings.push_back({kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1)});
@@ -651,7 +731,7 @@ int main(int argc, char** argv) {
                            "                      [--facade-triangles N] [--e-area A] [--max-normal-change DEG]\n"
                            "                      [--dump-view NAME]\n"
                            "                      [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]\n"
-                           "                      [--label-shift]\n");
+                           "                      [--label-shift] [--no-tighten]\n");
       return 2;
     }
   }

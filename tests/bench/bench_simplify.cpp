@@ -31,7 +31,12 @@
 // Decimater (ModQuadric + ModAspectRatio) at bounded's count.
 //
 // Usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater] [--no-city] [--csv FILE]
-//                       [--labels default] [--distance D]
+//                       [--labels default] [--distance D] [--step E[,U|,deleted]]
+//   --step: the fidelity rows at a step of tighten_to_limits instead of the
+//   asked bounds (fidelity_bounds: e_I = e_P = E px, undisplayable triangles
+//   kept within U px (default E), or as keep_undisplayable: auto decides):
+//   what `perclod run` writes where it ended at that step (the
+//   million-triangle facade at 56 m: 0.25,4).
 //   --labels default: labels from the default views and samples (kDefaultViews, samples: auto)
 //   at D metres (default 56) instead of the four facades with one sample.
 //   --csv FILE: one row per model and method (median seconds, triangles, peak MB).
@@ -163,6 +168,7 @@ double pixel_footprint(double distance) { return display_pixel_footprint(Display
 // the four facades with one sample at 56 m.
 bool g_default_labels = false;
 double g_distance = 56.0;
+FidelitySearchStep g_step{-1, true};  // --step: e < 0 = the asked bounds
 
 // The pipeline's labels of `scene` (four facades, one sample, or the
 // defaults) at `distance`, Z up; and their undisplayable_exposure (what
@@ -313,6 +319,14 @@ void bench_model(const std::string& title, const Scene& scene, int runs, bool wi
   fidelity = choose_undisplayable(fidelity, exposure);
   std::printf("undisplayable exposure %.3f%%: fidelity %s\n", 100 * exposure,
               fidelity.delete_undisplayable ? "deletes them" : "keeps them (collapsed within 4 px)");
+  if (g_step.e >= 0) {
+    fidelity = fidelity_bounds(fidelity, g_step);
+    if (fidelity.delete_undisplayable)
+      std::printf("fidelity at a tighter step: e_I = e_P = %g px, undisplayable deleted\n", g_step.e);
+    else
+      std::printf("fidelity at a tighter step: e_I = e_P = %g px, undisplayable kept within %g px\n", g_step.e,
+                  fidelity.bound_undisplayable_px);
+  }
   Row ours_f = measure("perclod fidelity", runs, [&] { return simplify(scene, labels, fidelity).triangle_count(); });
   // meshoptimizer runs on one thread; perclod simplifies chunks of pieces
   // on every core (two here). The same on one thread, for a like-for-like figure.
@@ -407,9 +421,16 @@ int main(int argc, char** argv) {
     else if (a == "--skip-decimater") with_decimater = false;
     else if (a == "--labels" && i + 1 < argc && std::string(argv[i + 1]) == "default") g_default_labels = true, ++i;
     else if (a == "--distance" && i + 1 < argc) g_distance = std::atof(argv[++i]);
-    else {
+    else if (a == "--step" && i + 1 < argc) {
+      const std::string v = argv[++i];
+      g_step.e = std::atof(v.c_str());
+      const size_t comma = v.find(',');
+      const std::string u = comma == std::string::npos ? "" : v.substr(comma + 1);
+      g_step.keep_undisplayable = u != "deleted";
+      if (!u.empty() && u != "deleted") g_step.e_undisplayable = std::atof(u.c_str());
+    } else {
       std::fprintf(stderr, "usage: bench_simplify [--runs R] [--facade-triangles N] [--skip-decimater] [--no-city] "
-                           "[--csv FILE] [--labels default] [--distance D]\n");
+                           "[--csv FILE] [--labels default] [--distance D] [--step E[,U|,deleted]]\n");
       return 2;
     }
   }
