@@ -457,8 +457,9 @@ void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so, double
 // to 0.125 px cut the changed pixels by about 3x where it was tried (the
 // million-triangle facade at 56 m: 2.97% -> 0.98%, perclod run 2026-12-03),
 // so a LOD further over than that is left alone rather than tried at every
-// step for nothing: the default LODs at 427 m are 3.8-19x over 2% (README,
-// Fidelity), where moving the original by a quarter pixel changes 20-65%.
+// step for nothing: the default LODs at 427 m are within the limits (the
+// block) or 3.8-19x over 2% (README, Fidelity), where moving the original
+// by a quarter pixel changes 19-65% of a view.
 constexpr double kTightenReach = 3;
 
 // The tries, in order: e_imperceptible 0.25 px (undisplayable triangles as
