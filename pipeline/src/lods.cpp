@@ -519,6 +519,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       nlohmann::json t = {{"e_imperceptible", so.bound_imperceptible_px},
                           {"e_perceptible", so.bound_perceptible_px},
                           {"triangles", st.total_after()},
+                          {"seconds_simplify", st.seconds},
                           {"worst", f["worst"]},
                           {"met", met}};
       add_undisplayable_rule(t, so);
