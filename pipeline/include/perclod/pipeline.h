@@ -468,7 +468,7 @@ constexpr double kTightenReach = 3;
 // cost far fewer triangles than within the step's own bound, for nearly the
 // same figures (bench_fidelity, 2026-12-04: Sponza at 132 m 21,810 triangles
 // and 2.02% of the worst held-out view changed, against 34,036 and 1.84%;
-// the million-triangle facade at 56 m 186,313 and 1.60% against 194,765
+// the million-triangle facade at 56 m 186,397 and 1.60% against 194,765
 // and 1.55%).
 constexpr FidelitySearchStep kTightenSteps[] = {{0.25, false},
                                                 {0.25, true, kAutoUndisplayableBoundPx},
