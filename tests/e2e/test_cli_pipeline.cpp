@@ -368,9 +368,9 @@ TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
   EXPECT_GT(far["over_limits"].get<int>(), 0);
 
   // Within reach but no tighter step is within: at 56 m the asked bounds
-  // change 0.155% and the steps of the search 0.155% and 0.138% (0.25 px,
-  // undisplayable triangles deleted or kept), all over 0.13%.
-  // Every step is tried and the asked LOD stays, flagged.
+  // change 0.155% and no step gets below 0.13% (0.25 px changes 0.155% too,
+  // 0.125 px with undisplayable triangles kept within it 0.138%). Every
+  // step is tried and the asked LOD stays, flagged.
   const auto none = run("none.yaml", "distances: [56]\nmax_changed: 0.0013\n");
   const auto& n = none["lods"][0];
   ASSERT_TRUE(n.contains("tighten_to_limits")) << n;
