@@ -382,7 +382,8 @@ TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
   EXPECT_EQ(n["simplify"]["total_after"], first["triangles"]);
   EXPECT_EQ(n["bounds_px"]["imperceptible"].get<double>(), 0.5);
   EXPECT_EQ(n["bounds_px"]["undisplayable"], "deleted");
-  EXPECT_NE(none["stderr"].get<std::string>().find("none within; kept the asked bounds"), std::string::npos);
+  EXPECT_NE(none["stderr"].get<std::string>().find("none within; the asked bounds again"), std::string::npos);
+  EXPECT_EQ(n["fidelity"]["worst"], first["worst"]);  // made again, the same LOD
   EXPECT_GT(none["over_limits"].get<int>(), 0);
 
   // Only fidelity mode tightens.
