@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <future>
 #include <iomanip>
 #include <iterator>
@@ -352,6 +353,15 @@ bool worth_tightening(const nlohmann::json& judged, const FidelityLimits& limits
          w.at("silhouette_mismatch").get<double>() <= kTightenReach * limits.max_silhouette && ssim_within;
 }
 
+Tightening tighten_to_limits(const SimplifyOptions& asked, const nlohmann::json& judged, const FidelityLimits& limits,
+                             const std::function<bool(const SimplifyOptions&)>& try_step) {
+  const std::vector<FidelitySearchStep> steps = tighten_steps(asked);
+  if (steps.empty() || !worth_tightening(judged, limits)) return Tightening::NotTried;
+  for (const FidelitySearchStep& step : steps)
+    if (try_step(fidelity_bounds(asked, step))) return Tightening::Met;
+  return Tightening::NoneWithin;
+}
+
 std::vector<std::string> exposure_views() {
   std::vector<std::string> v;
   for (int i = 0; i < 8; ++i) {
@@ -542,21 +552,20 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
         if (log_try(attempt(fidelity_bounds(asked, step)), "fidelity target")) break;
     } else {
       const nlohmann::json f = attempt(asked);
-      const std::vector<FidelitySearchStep> steps = tighten_steps(asked);
-      if (job.tighten_to_limits && !steps.empty() && worth_tightening(f, job.limits)) {
-        tightened = true;
-        log_try(f, "tighten to limits");
-        bool met = false;
-        for (const FidelitySearchStep& step : steps)
-          if ((met = log_try(attempt(fidelity_bounds(asked, step)), "tighten to limits"))) break;
-        if (!met) {
-          // The LOD at the asked bounds, made again rather than held through
-          // the tries (its comparison pictures take up to 1.4 MB per judged
-          // view, 88 views for the million-triangle facade at 56 m): the
-          // simplifier and the judge are deterministic, so it is the same.
-          if (progress) progress("  tighten to limits: none within; the asked bounds again");
-          attempt(asked);
-        }
+      Tightening t = Tightening::NotTried;
+      if (job.tighten_to_limits)
+        t = tighten_to_limits(asked, f, job.limits, [&](const SimplifyOptions& o) {
+          if (tries.empty()) log_try(f, "tighten to limits");  // the asked LOD first, while it is so and st
+          return log_try(attempt(o), "tighten to limits");
+        });
+      tightened = t != Tightening::NotTried;
+      if (t == Tightening::NoneWithin) {
+        // The LOD at the asked bounds, made again rather than held through
+        // the tries (its comparison pictures take up to 1.4 MB per judged
+        // view, 88 views for the million-triangle facade at 56 m): the
+        // simplifier and the judge are deterministic, so it is the same.
+        if (progress) progress("  tighten to limits: none within; the asked bounds again");
+        attempt(asked);
       }
     }
     std::string lod_path = out.lod(d, job.lod_format);

@@ -511,27 +511,23 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       nlohmann::json views;
       Judged j = simplified(asked, "", &views);
       std::string note;
-      const std::vector<FidelitySearchStep> steps = tighten_steps(asked);
-      if (g_tighten && !steps.empty() && worth_tightening(run_judged(views), FidelityLimits{})) {
-        note = "over the limits; no tighter bound within";
-        for (const FidelitySearchStep& step : steps) {
-          const SimplifyOptions tighter = fidelity_bounds(asked, step);
-          std::ostringstream suffix;  // --pairs and --dump files of each try, apart from the asked LOD's
-          suffix << "_tightened_from" << ei;
-          Judged t = simplified(tighter, suffix.str(), &views);
-          if (run_judged(views)["over_limits"].empty()) {
-            std::ostringstream ss;  // no comma: the CSV does not quote
-            ss << "tightened to e=" << step.e << " px; undisplayable ";
-            if (tighter.delete_undisplayable) ss << "deleted";
-            else ss << "kept within " << tighter.bound_undisplayable_px << " px";
-            ss << "; asked: " << j.triangles << " tris "
-               << 100 * j.held_out.changed << "% " << j.held_out.ssim;
-            note = ss.str();
-            j = t;
-            break;
-          }
-        }
-      }
+      const Judged at_asked = j;
+      std::ostringstream suffix;  // --pairs and --dump files of each try, apart from the asked LOD's
+      suffix << "_tightened_from" << ei;
+      auto try_step = [&](const SimplifyOptions& tighter) {
+        j = simplified(tighter, suffix.str(), &views);
+        std::ostringstream ss;  // no comma: the CSV does not quote
+        ss << "tightened to e=" << tighter.bound_imperceptible_px << " px; undisplayable ";
+        if (tighter.delete_undisplayable) ss << "deleted";
+        else ss << "kept within " << tighter.bound_undisplayable_px << " px";
+        ss << "; asked: " << at_asked.triangles << " tris " << 100 * at_asked.held_out.changed << "% "
+           << at_asked.held_out.ssim;
+        note = ss.str();
+        return run_judged(views)["over_limits"].empty();
+      };
+      Tightening t = Tightening::NotTried;
+      if (g_tighten) t = tighten_to_limits(asked, run_judged(views), FidelityLimits{}, try_step);
+      if (t == Tightening::NoneWithin) j = at_asked, note = "over the limits; no tighter bound within";
       fidelity.push_back(j);
       std::ostringstream name;
       name << "fidelity e_I=" << ei;

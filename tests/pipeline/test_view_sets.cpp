@@ -643,6 +643,37 @@ TEST(TightenToLimits, StepsAreTheTighterOnesAndReachIsBounded) {
   EXPECT_FALSE(worth_tightening(judged(0.01, 0, 0.90, ssim), ssim));  // 0.10 > 0.09
 }
 
+// The driver run and the benchmarks share: tries the steps in order, stops
+// at the first within the limits, and tries nothing when the asked LOD is
+// within them or out of reach.
+TEST(TightenToLimits, TriesTheStepsInOrderUntilOneIsWithin) {
+  SimplifyOptions so;
+  so.mode = SimplifyMode::Fidelity;
+  const FidelityLimits limits;
+  auto judged = [&](double changed) {
+    nlohmann::json v = {{"view", "v"}, {"set", "held_out"}, {"changed_fraction", changed},
+                        {"silhouette_mismatch", 0.0}, {"ssim_covered", 0.99}};
+    return judge_views(nlohmann::json::array({v}), limits);
+  };
+  std::vector<double> tried;  // e_imperceptible of each try
+  auto within_at = [&](size_t n) {  // the n-th try (from 1) is within; 0: none is
+    return [&tried, n](const SimplifyOptions& o) {
+      tried.push_back(o.bound_imperceptible_px);
+      return tried.size() == n;
+    };
+  };
+  EXPECT_EQ(tighten_to_limits(so, judged(0.01), limits, within_at(1)), Tightening::NotTried);
+  EXPECT_EQ(tighten_to_limits(so, judged(0.2), limits, within_at(1)), Tightening::NotTried);  // out of reach
+  EXPECT_TRUE(tried.empty());
+  EXPECT_EQ(tighten_to_limits(so, judged(0.03), limits, within_at(2)), Tightening::Met);
+  EXPECT_EQ(tried, (std::vector<double>{0.25, 0.25}));
+  tried.clear();
+  EXPECT_EQ(tighten_to_limits(so, judged(0.03), limits, within_at(0)), Tightening::NoneWithin);
+  ASSERT_EQ(tried.size(), tighten_steps(so).size());
+  for (size_t i = 0; i < tried.size(); ++i)
+    EXPECT_EQ(tried[i], fidelity_bounds(so, tighten_steps(so)[i]).bound_imperceptible_px);
+}
+
 // The exposure is the share of the exposure views' hits on undisplayable
 // triangles: none of them 0, all of them 1, and a ground whose half x < 4 is
 // undisplayable one half (the views stand symmetric about x = 4), a

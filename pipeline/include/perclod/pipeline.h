@@ -485,6 +485,15 @@ std::vector<FidelitySearchStep> tighten_steps(const SimplifyOptions& so);
 // against min_ssim's).
 bool worth_tightening(const nlohmann::json& judged, const FidelityLimits& limits);
 
+// tighten_to_limits itself, for `run` and for the benchmarks that must do as
+// it does. `judged` is judge_views' result (against `limits`) for the LOD
+// at `asked`. When worth_tightening says so and tighten_steps has steps,
+// `try_step(bounds)` makes and judges the LOD at each step's bounds in order
+// and returns whether it is within `limits`, until one is.
+enum class Tightening { NotTried, Met, NoneWithin };
+Tightening tighten_to_limits(const SimplifyOptions& asked, const nlohmann::json& judged, const FidelityLimits& limits,
+                             const std::function<bool(const SimplifyOptions&)>& try_step);
+
 // One LOD per distance: out.lod(d), out.labels(d), renders and marking
 // renders, and out.report() (returned too) with its HTML page out.report_html()
 // (perclod/report_html.h). Each LOD is judged from its
