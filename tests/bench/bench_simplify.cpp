@@ -317,8 +317,11 @@ void bench_model(const std::string& title, const Scene& scene, int runs, bool wi
   fidelity.mode = SimplifyMode::Fidelity;
   fidelity.pixel_footprint = p;
   fidelity = choose_undisplayable(fidelity, exposure);
-  std::printf("undisplayable exposure %.3f%%: fidelity %s\n", 100 * exposure,
-              fidelity.delete_undisplayable ? "deletes them" : "keeps them (collapsed within 4 px)");
+  if (fidelity.delete_undisplayable)
+    std::printf("undisplayable exposure %.3f%%: fidelity deletes them\n", 100 * exposure);
+  else
+    std::printf("undisplayable exposure %.3f%%: fidelity keeps them (collapsed within %g px)\n", 100 * exposure,
+                fidelity.bound_undisplayable_px);
   if (g_step.e >= 0) {
     fidelity = fidelity_bounds(fidelity, g_step);
     if (fidelity.delete_undisplayable)
