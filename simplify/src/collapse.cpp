@@ -96,8 +96,11 @@ struct QuietOpenMesh {
 };
 
 // OpenMesh's error stream is switched off by the caller (QuietOpenMesh).
-void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, SimplifyStats& stats) {
-  std::vector<int> vh_of(w.weld.positions.size() / 3, -1);
+// vh_of: the mesh vertex of each welded vertex, -1 until made; one table for
+// every chunk (chunks hold whole pieces, so no welded vertex is in two), which
+// spares each chunk clearing a table of every welded vertex.
+void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, std::vector<int>& vh_of,
+                SimplifyStats& stats) {
   m.mesh.reserve(faces.size(), 3 * faces.size() / 2, faces.size());
   m.vert_welded.reserve(faces.size());
   m.face_source.reserve(faces.size());
@@ -237,17 +240,28 @@ void lock_perceptible(Model& m, const Work& w) {
 
 // ---- candidates ------------------------------------------------------------
 
-// Distance bound of collapsing v0 into v1: sqrt of the unit-weight quadric
-// of both, evaluated at v1.
-double collapse_error(const Model& m, VH v0, VH v1) {
+// Square of the distance bound of collapsing v0 into v1: the unit-weight
+// quadric of both, evaluated at v1.
+double collapse_error2(const Model& m, VH v0, VH v1) {
   const auto& p = m.mesh.point(v1);
-  return std::sqrt((m.qd[v0.idx()] + m.qd[v1.idx()]).eval(p[0], p[1], p[2]));
+  return (m.qd[v0.idx()] + m.qd[v1.idx()]).eval(p[0], p[1], p[2]);
+}
+
+// sqrt(e2) <= t, taking the root only where the squares are too close to
+// tell (the answer is the same as comparing the root).
+bool root_within(double e2, double t) {
+  const double t2 = t * t;
+  if (t2 > 1e-300 && t2 < 1e300) {
+    if (e2 <= t2 * (1 - 1e-9)) return true;
+    if (e2 >= t2 * (1 + 1e-9)) return false;
+  }
+  return std::sqrt(e2) <= t;
 }
 
 struct Candidate {
   HH h;
   double cost = 0;
-  double error = 0;        // distance bound: sqrt of the unit-weight quadric at v1
+  double error2 = 0;       // square of the distance bound: the unit-weight quadric at v1
   double area_change = 0;  // surface area the collapse adds (or removes, < 0)
 };
 
@@ -340,14 +354,16 @@ bool evaluate(const Model& m, HH h, const Limits& lim, Candidate& c) {
   const Mesh& mesh = m.mesh;
   VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
   if (m.locked[v0.idx()] || m.feature_edge[mesh.edge_handle(h).idx()]) return false;
+  if (!m.tol.empty()) {  // the bound first: a refusal needs no cost
+    c.error2 = collapse_error2(m, v0, v1);
+    if (!root_within(c.error2, std::min(m.tol[v0.idx()], m.tol[v1.idx()]))) return false;
+  }
   const auto& q1 = mesh.point(v1);
   const double x = q1[0], y = q1[1], z = q1[2];
   double l2 = (to_d(q1) - to_d(mesh.point(v0))).sqrnorm();
   c.h = h;
   c.cost = (m.qa[v0.idx()] + m.qa[v1.idx()]).eval(x, y, z) + lim.tie * l2 * l2;
-  if (m.tol.empty()) return true;
-  c.error = collapse_error(m, v0, v1);
-  return c.error <= std::min(m.tol[v0.idx()], m.tol[v1.idx()]);
+  return true;
 }
 
 // Everything that depends on the neighbourhood: fan size, link condition,
@@ -386,7 +402,8 @@ class HalfedgeHeap {
       pos_[h] = int(heap_.size());
       heap_.push_back({cost, h});
     }
-    for (size_t i = heap_.size() / 2; i-- > 0;) down(i);
+    const size_t n = heap_.size();
+    for (size_t i = n > 1 ? (n - 2) / kArity + 1 : 0; i-- > 0;) down(i);  // every node with a child
   }
   uint32_t top() const { return heap_[0].h; }
   void set(uint32_t h, double cost) {
@@ -415,6 +432,9 @@ class HalfedgeHeap {
   }
 
  private:
+  // Four children per node: half the levels of a binary heap, and the four
+  // children share a cache line.
+  static constexpr size_t kArity = 4;
   struct Node {
     double cost;
     uint32_t h;
@@ -427,7 +447,7 @@ class HalfedgeHeap {
   void up(size_t i) {
     Node n = heap_[i];
     while (i > 0) {
-      size_t p = (i - 1) / 2;
+      size_t p = (i - 1) / kArity;
       if (!before(n, heap_[p])) break;
       place(i, heap_[p]);
       i = p;
@@ -438,9 +458,12 @@ class HalfedgeHeap {
     Node n = heap_[i];
     const size_t size = heap_.size();
     for (;;) {
-      size_t c = 2 * i + 1;
-      if (c >= size) break;
-      if (c + 1 < size && before(heap_[c + 1], heap_[c])) ++c;
+      const size_t first = kArity * i + 1;
+      if (first >= size) break;
+      size_t c = first;
+      const size_t last = std::min(first + kArity, size);
+      for (size_t k = first + 1; k < last; ++k)
+        if (before(heap_[k], heap_[c])) c = k;
       if (!before(heap_[c], n)) break;
       place(i, heap_[c]);
       i = c;
@@ -589,7 +612,7 @@ class Collapser {
     }
     m_.merged_into[v0.idx()] = uint32_t(v1.idx());
     stats.collapses++;
-    stats.max_error = std::max(stats.max_error, c.error);
+    stats.max_error = std::max(stats.max_error, std::sqrt(c.error2));
     ++clock_;
     changed_[v1.idx()] = clock_;
     for (HH h : mesh.voh_range(v1)) {
@@ -848,21 +871,24 @@ struct Chunk {
 };
 
 // Everything after welding, for one chunk of pieces (or the whole mesh).
-void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance, Chunk& c) {
+void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance, std::vector<int>& vh_of, Chunk& c) {
   const bool labelled = simplify_mode_uses_labels(opt.mode);
   const bool bounded = opt.mode == SimplifyMode::Bounded || opt.mode == SimplifyMode::Fidelity;
   const bool keep_perceptible = simplify_mode_keeps_perceptible(opt.mode);
   SimplifyStats& stats = c.stats;
   Model m;
-  build_mesh(m, w, c.faces, stats);
+  build_mesh(m, w, c.faces, vh_of, stats);
   std::vector<uint32_t>().swap(c.faces);
   stats.vertices_before = m.mesh.n_vertices();
   m.locked.assign(m.mesh.n_vertices(), 0);
   init_quadrics(m, opt, bounded);
   if (bounded) init_tolerances(m, w, opt);
   if (keep_perceptible) lock_perceptible(m, w);
-  // Non-manifold faces were added as pieces of their own: drop those too.
-  if (labelled) remove_pieces(m, w, opt.mode, tolerance, stats);
+  // Faces OpenMesh refused, and degenerate ones, were added as pieces of
+  // their own: drop those that are removable too. Otherwise the mesh's pieces
+  // are the welded ones drop_pieces_early already judged.
+  if (labelled && stats.nonmanifold_faces_duplicated + stats.degenerate_faces > 0)
+    remove_pieces(m, w, opt.mode, tolerance, stats);
   Limits lim;
   lim.cos_normal = std::cos(opt.max_normal_change_deg * M_PI / 180.0);
   lim.min_quality = opt.min_triangle_quality;
@@ -923,9 +949,10 @@ void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats&
   stats.chunks = parts.size();
   std::vector<Chunk> chunks(parts.size());
   for (size_t i = 0; i < parts.size(); ++i) chunks[i].faces = std::move(parts[i]);
+  std::vector<int> vh_of(w.weld.positions.size() / 3, -1);  // build_mesh's, shared by the chunks
   QuietOpenMesh quiet;  // once for every thread: the switch is global
   tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) simplify_chunk(w, opt, tolerance, chunks[i]);
+    for (size_t i = r.begin(); i != r.end(); ++i) simplify_chunk(w, opt, tolerance, vh_of, chunks[i]);
   });
   Displacement moved;
   for (Chunk& c : chunks) {
