@@ -64,8 +64,16 @@ struct Model {
   std::vector<uint32_t> vert_welded;   // welded vertex per mesh vertex
   std::vector<uint8_t> locked;         // vertex may not be v0
   std::vector<uint8_t> feature_edge;   // constraint line: never collapsed
-  std::vector<Quadric> qa;             // area-weighted: the priority
-  std::vector<Quadric> qd;             // unit-weight: the distance bound (Bounded, Fidelity)
+  // Per vertex, side by side (a candidate reads both of both ends): the
+  // area-weighted quadric (the priority), then with a distance bound
+  // (Bounded, Fidelity) the unit-weight one.
+  std::vector<Quadric> quadrics;
+  size_t quadric_stride = 1;  // 2 with the unit-weight quadrics
+  Quadric& qa(VH v) { return quadrics[quadric_stride * size_t(v.idx())]; }
+  const Quadric& qa(VH v) const { return quadrics[quadric_stride * size_t(v.idx())]; }
+  Quadric& qd(VH v) { return quadrics[quadric_stride * size_t(v.idx()) + 1]; }
+  const Quadric& qd(VH v) const { return quadrics[quadric_stride * size_t(v.idx()) + 1]; }
+  bool has_qd() const { return quadric_stride == 2; }
   std::vector<double> tol;             // per vertex: largest error allowed (empty: no bound)
   std::vector<double> area_budget;     // Fidelity, per vertex: surface area its collapses may change
   std::vector<double> area_used;       // Fidelity, per vertex: area changed by collapses merged into it
@@ -180,8 +188,8 @@ void add_edge_plane(Model& m, VH a, VH b, const Vec& n, double weight) {
   q /= len;
   double d = -(q | pa);
   for (VH v : {a, b}) {
-    m.qa[v.idx()].add_plane(q[0], q[1], q[2], d, weight * e.sqrnorm());
-    if (!m.qd.empty()) m.qd[v.idx()].add_plane(q[0], q[1], q[2], d, 1.0);
+    m.qa(v).add_plane(q[0], q[1], q[2], d, weight * e.sqrnorm());
+    if (m.has_qd()) m.qd(v).add_plane(q[0], q[1], q[2], d, 1.0);
   }
 }
 
@@ -189,8 +197,8 @@ void add_edge_plane(Model& m, VH a, VH b, const Vec& n, double weight) {
 // (memory is time here: they are only built when a tolerance needs them).
 void init_quadrics(Model& m, const SimplifyOptions& opt, bool with_distance) {
   Mesh& mesh = m.mesh;
-  m.qa.assign(mesh.n_vertices(), Quadric{});
-  if (with_distance) m.qd.assign(mesh.n_vertices(), Quadric{});
+  m.quadric_stride = with_distance ? 2 : 1;
+  m.quadrics.assign(m.quadric_stride * mesh.n_vertices(), Quadric{});
   std::vector<Vec> normal(mesh.n_faces(), Vec(0, 0, 0));
   for (FH f : mesh.faces()) {
     HH h = mesh.halfedge_handle(f);
@@ -204,8 +212,8 @@ void init_quadrics(Model& m, const SimplifyOptions& opt, bool with_distance) {
     normal[f.idx()] = n;
     double d = -(n | p0);
     for (VH x : v) {
-      m.qa[x.idx()].add_plane(n[0], n[1], n[2], d, 0.5 * len);
-      if (with_distance) m.qd[x.idx()].add_plane(n[0], n[1], n[2], d, 1.0);
+      m.qa(x).add_plane(n[0], n[1], n[2], d, 0.5 * len);
+      if (with_distance) m.qd(x).add_plane(n[0], n[1], n[2], d, 1.0);
     }
   }
   const double cos_feature = std::cos(opt.feature_angle_deg * M_PI / 180.0);
@@ -244,7 +252,7 @@ void lock_perceptible(Model& m, const Work& w) {
 // quadric of both, evaluated at v1.
 double collapse_error2(const Model& m, VH v0, VH v1) {
   const auto& p = m.mesh.point(v1);
-  return (m.qd[v0.idx()] + m.qd[v1.idx()]).eval(p[0], p[1], p[2]);
+  return (m.qd(v0) + m.qd(v1)).eval(p[0], p[1], p[2]);
 }
 
 // sqrt(e2) <= t, taking the root only where the squares are too close to
@@ -362,7 +370,7 @@ bool evaluate(const Model& m, HH h, const Limits& lim, Candidate& c) {
   const double x = q1[0], y = q1[1], z = q1[2];
   double l2 = (to_d(q1) - to_d(mesh.point(v0))).sqrnorm();
   c.h = h;
-  c.cost = (m.qa[v0.idx()] + m.qa[v1.idx()]).eval(x, y, z) + lim.tie * l2 * l2;
+  c.cost = (m.qa(v0) + m.qa(v1)).eval(x, y, z) + lim.tie * l2 * l2;
   return true;
 }
 
@@ -603,8 +611,8 @@ class Collapser {
     size_t removed = mesh.face_handle(c.h).is_valid() + mesh.face_handle(mesh.opposite_halfedge_handle(c.h)).is_valid();
     mesh.collapse(c.h);
     m_.faces_alive -= removed;
-    m_.qa[v1.idx()] += m_.qa[v0.idx()];
-    if (!m_.qd.empty()) m_.qd[v1.idx()] += m_.qd[v0.idx()];
+    m_.qa(v1) += m_.qa(v0);
+    if (m_.has_qd()) m_.qd(v1) += m_.qd(v0);
     if (!m_.tol.empty()) m_.tol[v1.idx()] = std::min(m_.tol[v1.idx()], m_.tol[v0.idx()]);
     if (!m_.area_budget.empty()) {
       m_.area_used[v1.idx()] += m_.area_used[v0.idx()] + std::fabs(c.area_change);
