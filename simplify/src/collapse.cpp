@@ -686,20 +686,28 @@ std::vector<uint32_t> pieces_of(const Work& w, const std::vector<uint32_t>& face
 // into building and collapsing them.
 void drop_pieces_early(const Work& w, std::vector<uint32_t>& faces, std::vector<uint32_t>& piece, SimplifyMode mode,
                        double tolerance, SimplifyStats& stats) {
-  const size_t nv = w.weld.positions.size() / 3;
-  std::vector<Piece> pieces(nv);
-  for (size_t i = 0; i < faces.size(); ++i)
+  // A Piece per piece, not per welded vertex: far fewer, and less memory
+  // for a fresh process to touch.
+  std::vector<uint32_t> dense(w.weld.positions.size() / 3, UINT32_MAX);
+  std::vector<Piece> pieces;
+  for (size_t i = 0; i < faces.size(); ++i) {
+    uint32_t& d = dense[piece[i]];
+    if (d == UINT32_MAX) {
+      d = uint32_t(pieces.size());
+      pieces.emplace_back();
+    }
     for (int k = 0; k < 3; ++k)
-      pieces[piece[i]].add((*w.labels)[faces[i]], &w.weld.positions[3 * size_t(w.weld.corner[3 * size_t(faces[i]) + k])]);
-  std::vector<uint8_t> drop(nv, 0);
-  for (size_t v = 0; v < nv; ++v)
-    if (pieces[v].removable(mode, tolerance)) {
-      drop[v] = 1;
+      pieces[d].add((*w.labels)[faces[i]], &w.weld.positions[3 * size_t(w.weld.corner[3 * size_t(faces[i]) + k])]);
+  }
+  std::vector<uint8_t> drop(pieces.size(), 0);
+  for (size_t d = 0; d < pieces.size(); ++d)
+    if (pieces[d].removable(mode, tolerance)) {
+      drop[d] = 1;
       stats.pieces_removed++;
     }
   size_t kept = 0;
   for (size_t i = 0; i < faces.size(); ++i)
-    if (!drop[piece[i]]) faces[kept] = faces[i], piece[kept] = piece[i], ++kept;
+    if (!drop[dense[piece[i]]]) faces[kept] = faces[i], piece[kept] = piece[i], ++kept;
   stats.pieces_triangles_removed += faces.size() - kept;
   faces.resize(kept);
   piece.resize(kept);

@@ -41,7 +41,9 @@ void weld_corners(Work& w, bool per_component, double tolerance) {
   std::vector<uint32_t> item_vertex, item_group;
   std::vector<uint32_t> primary(nv, UINT32_MAX);  // item of (v, first group seen)
   std::unordered_map<uint64_t, uint32_t> extra;   // items of (v, other groups)
-  std::vector<uint32_t> corner_item(3 * s.triangle_count(), UINT32_MAX);
+  // Corner -> item here; step 3 turns it into corner -> welded vertex in place.
+  std::vector<uint32_t>& corner_item = w.weld.corner;
+  corner_item.assign(3 * s.triangle_count(), UINT32_MAX);
   for (uint32_t t : w.faces) {
     uint32_t g = per_component ? s.component_of(t) : 0;
     for (int k = 0; k < 3; ++k) {
@@ -92,9 +94,9 @@ void weld_corners(Work& w, bool per_component, double tolerance) {
     }
     welded_of_item[i] = slot[at];
   }
-  w.weld.corner.assign(corner_item.size(), UINT32_MAX);
-  for (size_t c = 0; c < corner_item.size(); ++c)
-    if (corner_item[c] != UINT32_MAX) w.weld.corner[c] = welded_of_item[corner_item[c]];
+  // 3. Corners to welded vertices.
+  for (uint32_t& c : corner_item)
+    if (c != UINT32_MAX) c = welded_of_item[c];
 }
 
 }  // namespace perclod::detail
