@@ -255,17 +255,6 @@ double collapse_error2(const Model& m, VH v0, VH v1) {
   return (m.qd(v0) + m.qd(v1)).eval(p[0], p[1], p[2]);
 }
 
-// sqrt(e2) <= t, taking the root only where the squares are too close to
-// tell (the answer is the same as comparing the root).
-bool root_within(double e2, double t) {
-  const double t2 = t * t;
-  if (t2 > 1e-300 && t2 < 1e300) {
-    if (e2 <= t2 * (1 - 1e-9)) return true;
-    if (e2 >= t2 * (1 + 1e-9)) return false;
-  }
-  return std::sqrt(e2) <= t;
-}
-
 struct Candidate {
   HH h;
   double cost = 0;

@@ -31,4 +31,18 @@ struct Quadric {
 
 inline Quadric operator+(Quadric a, const Quadric& b) { return a += b; }
 
+// sqrt(e2) <= t for e2 >= 0, taking the root only where the squares are too
+// close to tell: t * t is within an ulp of t^2, so a margin of 1e-9 either
+// side decides exactly as the root would (e2 below it has a root below t;
+// above it, a root more than half an ulp above t). Outside the range where
+// t * t is a normal number, and inside the margin, the root is taken.
+inline bool root_within(double e2, double t) {
+  const double t2 = t * t;
+  if (t2 > 1e-300 && t2 < 1e300) {
+    if (e2 <= t2 * (1 - 1e-9)) return true;
+    if (e2 >= t2 * (1 + 1e-9)) return false;
+  }
+  return std::sqrt(e2) <= t;
+}
+
 }  // namespace perclod::detail

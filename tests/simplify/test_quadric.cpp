@@ -1,0 +1,65 @@
+// The quadric helpers the collapse simplifier decides with (simplify/src/quadric.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "quadric.h"
+
+namespace {
+
+using perclod::detail::Quadric;
+using perclod::detail::root_within;
+
+bool by_root(double e2, double t) { return std::sqrt(e2) <= t; }
+
+TEST(Quadric, EvalIsTheSumOfSquaredPlaneDistances) {
+  Quadric q;
+  q.add_plane(0, 0, 1, -2, 1.0);  // z = 2
+  q.add_plane(1, 0, 0, 0, 3.0);   // x = 0, weight 3
+  EXPECT_DOUBLE_EQ(q.eval(1, 5, 2), 3.0);
+  EXPECT_DOUBLE_EQ(q.eval(0, 0, 5), 9.0);
+  EXPECT_DOUBLE_EQ((q + q).eval(1, 5, 4), 2 * (4.0 + 3.0));
+}
+
+// The shortcut must decide exactly as comparing the root: the collapse
+// order, and so the output, depend on it.
+TEST(Quadric, RootWithinDecidesAsTheRootDoesAtTheEdges) {
+  const double inf = std::numeric_limits<double>::infinity();
+  for (double t : {0.0, 1e-200, 1e-160, 1e-150, 3e-8, 0.0330, 1.0, 7.25, 1e150, 1e160, inf}) {
+    const double t2 = t * t;
+    for (double e2 : {0.0, t2, std::nextafter(t2, 0.0), std::nextafter(t2, inf), t2 * (1 - 1e-9),
+                      t2 * (1 + 1e-9), t2 * (1 - 2e-9), t2 * (1 + 2e-9), t2 * 0.5, t2 * 2, inf}) {
+      EXPECT_EQ(root_within(e2, t), by_root(e2, t)) << "e2 " << e2 << " t " << t;
+    }
+    // The squares of t's neighbours, where rounding t * t matters most.
+    for (double u : {std::nextafter(t, 0.0), t, std::nextafter(t, inf)})
+      EXPECT_EQ(root_within(u * u, t), by_root(u * u, t)) << "u " << u << " t " << t;
+  }
+  EXPECT_FALSE(root_within(std::nan(""), 1.0));
+}
+
+TEST(Quadric, RootWithinDecidesAsTheRootDoesOnRandomValues) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> mantissa(1.0, 2.0);
+  std::uniform_int_distribution<int> exponent(-60, 60);
+  std::uniform_int_distribution<int> ulps(-4, 4);
+  size_t near = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const double t = std::ldexp(mantissa(rng), exponent(rng));
+    double e;  // a root near t, within a few ulps half the time
+    if (i % 2) {
+      e = t;
+      for (int k = ulps(rng); k != 0; k += k > 0 ? -1 : 1) e = std::nextafter(e, k > 0 ? 1e300 : 0.0);
+      ++near;
+    } else {
+      e = t * mantissa(rng) * (i % 4 == 0 ? 0.5 : 1.0);
+    }
+    const double e2 = e * e;
+    ASSERT_EQ(root_within(e2, t), by_root(e2, t)) << "e " << e << " t " << t;
+  }
+  EXPECT_EQ(near, 100000u);
+}
+
+}  // namespace
