@@ -24,6 +24,11 @@
 //   meshopt @fidelity   the same, to perclod fidelity's count
 //   decimater stock     ModQuadric + ModAspectRatio(10) to N faces
 //
+// Then fidelity (2 threads, 1 thread) and meshopt @fidelity again, one run
+// of each per round: their medians and the median of the per-round ratios,
+// the figure to quote (a VM whose speed drifts over minutes skews medians
+// of runs taken back to back).
+//
 // CPU s: user + system seconds of the median run's child, every thread.
 //
 // Also: a flat 80,000-triangle wall (the stock Decimater's zero-cost trap,
@@ -158,6 +163,59 @@ Row measure(const std::string& name, int runs, const std::function<size_t()>& wo
   std::fprintf(stderr, "  %-18s %9.3f s  %9zu tris  %7.0f MB\n", name.c_str(), r.seconds, r.triangles,
                r.peak_kb / 1024.0);
   return r;
+}
+
+// Methods run in turn, one run of each per round, so a slow spell of the
+// machine falls on all of them alike; the ratio of two methods is the
+// median of their per-round ratios. (measure() runs one method's runs back
+// to back: on a VM whose speed drifts by 2x over minutes its medians can
+// favour whichever method ran in the fast spell.)
+struct Interleaved {
+  std::vector<Row> rows;
+  std::vector<std::vector<double>> seconds;  // per method, per round
+  // Median over rounds of seconds[a] / seconds[b].
+  double ratio(size_t a, size_t b) const {
+    std::vector<double> r;
+    for (size_t i = 0; i < seconds[a].size() && i < seconds[b].size(); ++i)
+      if (seconds[b][i] > 0) r.push_back(seconds[a][i] / seconds[b][i]);
+    if (r.empty()) return 0;
+    std::sort(r.begin(), r.end());
+    return r.size() % 2 ? r[r.size() / 2] : 0.5 * (r[r.size() / 2 - 1] + r[r.size() / 2]);
+  }
+};
+
+Interleaved measure_interleaved(const std::vector<std::string>& names,
+                                const std::vector<std::function<size_t()>>& works, int runs) {
+  Interleaved out;
+  std::vector<std::vector<Sample>> samples(works.size());
+  out.seconds.assign(works.size(), {});
+  for (int round = 0; round < runs; ++round) {
+    std::vector<Sample> got(works.size());
+    bool ok = true;
+    for (size_t k = 0; k < works.size(); ++k) ok &= (got[k] = run_forked(works[k])).ok;
+    if (!ok) {  // a round counts only whole, so that its ratios pair up
+      std::fprintf(stderr, "  interleaved round %d: a run failed\n", round);
+      continue;
+    }
+    for (size_t k = 0; k < works.size(); ++k) {
+      samples[k].push_back(got[k]);
+      out.seconds[k].push_back(got[k].seconds);
+    }
+  }
+  for (size_t k = 0; k < works.size(); ++k) {
+    Row r{names[k]};
+    std::vector<Sample> s = samples[k];
+    if (!s.empty()) {
+      std::sort(s.begin(), s.end(), [](const Sample& a, const Sample& b) { return a.seconds < b.seconds; });
+      const Sample& m = s[s.size() / 2];
+      r.seconds = m.seconds;
+      r.cpu_seconds = m.cpu_seconds;
+      r.triangles = m.triangles;
+      for (const Sample& x : s) r.peak_kb = std::max(r.peak_kb, x.peak_kb);
+    }
+    out.rows.push_back(r);
+  }
+  return out;
 }
 
 // ---- labels --------------------------------------------------------------
@@ -349,6 +407,26 @@ void bench_model(const std::string& title, const Scene& scene, int runs, bool wi
   rows.push_back(measure("meshopt @bounded", runs, [&] { return meshopt_to(scene, target_b); }));
   const size_t target_f = ours_f.triangles;
   rows.push_back(measure("meshopt @fidelity", runs, [&] { return meshopt_to(scene, target_f); }));
+  // The comparison, fidelity against meshoptimizer at its count,
+  // again with the three in turn: the ratio to quote.
+  const size_t target_fi = ours_f.triangles;
+  Interleaved paired = measure_interleaved(
+      {"fidelity", "fidelity 1 thread", "meshopt @fidelity"},
+      {[&] { return simplify(scene, labels, fidelity).triangle_count(); },
+       [&] {
+         tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+         return simplify(scene, labels, fidelity).triangle_count();
+       },
+       [&] { return meshopt_to(scene, target_fi); }},
+      runs);
+  char paired_line[320];
+  std::snprintf(paired_line, sizeof paired_line,
+                "interleaved, one run of each per round, %zu rounds: fidelity %.3f s, 1 thread %.3f s, "
+                "meshopt @fidelity %.3f s -> %zu; median per-round ratio to meshopt %.2f, 1 thread %.2f\n",
+                paired.seconds[0].size(), paired.rows[0].seconds, paired.rows[1].seconds, paired.rows[2].seconds,
+                paired.rows[2].triangles, paired.ratio(0, 2), paired.ratio(1, 2));
+#else
+  const char* paired_line = "";
 #endif
   if (with_decimater) {
     rows.push_back(measure("decimater+locks", std::min(runs, 3), [&] { return decimater_locked(scene, labels); }));
@@ -364,6 +442,7 @@ void bench_model(const std::string& title, const Scene& scene, int runs, bool wi
   std::printf("target N = %zu (perclod paper's output); ratio column = method time / perclod paper time\n"
               "(meshoptimizer and the Decimater may stop short of their target: see the triangles column)\n",
               target);
+  std::fputs(paired_line, stdout);
 }
 
 // The Decimater trap of docs/method.md section 5: a flat 200x200-quad wall (80,000 triangles, all
