@@ -430,7 +430,7 @@ class HalfedgeHeap {
 
  private:
   // Four children per node: half the levels of a binary heap, and the four
-  // children share a cache line.
+  // children are 64 contiguous bytes.
   static constexpr size_t kArity = 4;
   struct Node {
     double cost;

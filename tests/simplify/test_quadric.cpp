@@ -45,21 +45,18 @@ TEST(Quadric, RootWithinDecidesAsTheRootDoesOnRandomValues) {
   std::uniform_real_distribution<double> mantissa(1.0, 2.0);
   std::uniform_int_distribution<int> exponent(-60, 60);
   std::uniform_int_distribution<int> ulps(-4, 4);
-  size_t near = 0;
   for (int i = 0; i < 200000; ++i) {
     const double t = std::ldexp(mantissa(rng), exponent(rng));
     double e;  // a root near t, within a few ulps half the time
     if (i % 2) {
       e = t;
       for (int k = ulps(rng); k != 0; k += k > 0 ? -1 : 1) e = std::nextafter(e, k > 0 ? 1e300 : 0.0);
-      ++near;
     } else {
       e = t * mantissa(rng) * (i % 4 == 0 ? 0.5 : 1.0);
     }
     const double e2 = e * e;
     ASSERT_EQ(root_within(e2, t), by_root(e2, t)) << "e " << e << " t " << t;
   }
-  EXPECT_EQ(near, 100000u);
 }
 
 }  // namespace
