@@ -142,6 +142,20 @@ struct Row {
   long peak_kb = 0;
 };
 
+// A method's row from its runs: the median run's seconds, CPU seconds and
+// triangles, and the largest peak.
+Row row_of(const std::string& name, std::vector<Sample> s) {
+  Row r{name};
+  if (s.empty()) return r;
+  std::sort(s.begin(), s.end(), [](const Sample& a, const Sample& b) { return a.seconds < b.seconds; });
+  const Sample& m = s[s.size() / 2];
+  r.seconds = m.seconds;
+  r.cpu_seconds = m.cpu_seconds;
+  r.triangles = m.triangles;
+  for (const Sample& x : s) r.peak_kb = std::max(r.peak_kb, x.peak_kb);
+  return r;
+}
+
 Row measure(const std::string& name, int runs, const std::function<size_t()>& work) {
   std::vector<Sample> s;
   for (int i = 0; i < runs; ++i) {
@@ -152,14 +166,8 @@ Row measure(const std::string& name, int runs, const std::function<size_t()>& wo
     }
     s.push_back(x);
   }
-  Row r{name};
-  if (s.empty()) return r;
-  std::sort(s.begin(), s.end(), [](const Sample& a, const Sample& b) { return a.seconds < b.seconds; });
-  const Sample& m = s[s.size() / 2];
-  r.seconds = m.seconds;
-  r.cpu_seconds = m.cpu_seconds;
-  r.triangles = m.triangles;
-  for (const Sample& x : s) r.peak_kb = std::max(r.peak_kb, x.peak_kb);
+  if (s.empty()) return Row{name};
+  Row r = row_of(name, std::move(s));
   std::fprintf(stderr, "  %-18s %9.3f s  %9zu tris  %7.0f MB\n", name.c_str(), r.seconds, r.triangles,
                r.peak_kb / 1024.0);
   return r;
@@ -202,19 +210,7 @@ Interleaved measure_interleaved(const std::vector<std::string>& names,
       out.seconds[k].push_back(got[k].seconds);
     }
   }
-  for (size_t k = 0; k < works.size(); ++k) {
-    Row r{names[k]};
-    std::vector<Sample> s = samples[k];
-    if (!s.empty()) {
-      std::sort(s.begin(), s.end(), [](const Sample& a, const Sample& b) { return a.seconds < b.seconds; });
-      const Sample& m = s[s.size() / 2];
-      r.seconds = m.seconds;
-      r.cpu_seconds = m.cpu_seconds;
-      r.triangles = m.triangles;
-      for (const Sample& x : s) r.peak_kb = std::max(r.peak_kb, x.peak_kb);
-    }
-    out.rows.push_back(r);
-  }
+  for (size_t k = 0; k < works.size(); ++k) out.rows.push_back(row_of(names[k], samples[k]));
   return out;
 }
 
