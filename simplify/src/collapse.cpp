@@ -382,50 +382,57 @@ Legality legality(const Model& m, HH h, const Limits& lim, std::vector<VH>& ring
 
 // ---- the collapse loop ------------------------------------------------------
 
-// A binary min-heap of half-edges keyed by cost, indexed so a cost can change
-// in place: a collapse re-keys its few affected half-edges instead of piling
-// stale entries onto the queue. Equal costs (flat walls collapse at cost 0
-// plus an edge-length tie-break that regular grids repeat) are ordered by
-// half-edge index, so the order of collapses depends on the mesh alone and
-// not on the heap's history: a chunk of pieces simplified on its own then
-// makes exactly the collapses it makes as part of the whole mesh.
-class HalfedgeHeap {
+// A 4-ary min-heap of vertices, each keyed by the cheapest collapse that
+// removes it: (cost, half-edge) of its best outgoing candidate, indexed so a
+// key can change in place. Equal costs (flat walls collapse at cost 0 plus
+// an edge-length tie-break that regular grids repeat) are ordered by
+// half-edge index, so the heap's top is the cheapest half-edge of the whole
+// mesh by a strict order that depends on the mesh alone and not on the
+// heap's history: a chunk of pieces simplified on its own then makes
+// exactly the collapses it makes as part of the whole mesh. One entry per
+// vertex rather than per half-edge (about six leave each vertex): a smaller
+// heap, and a collapse re-keys v1 and its neighbours instead of taking out
+// and putting back every half-edge around v0 and v1.
+class VertexHeap {
  public:
-  explicit HalfedgeHeap(size_t n) : pos_(n, -1) {}
+  explicit VertexHeap(size_t n) : pos_(n, -1) {}
   bool empty() const { return heap_.empty(); }
-  // Bulk insert of half-edges not in the heap yet, then one O(n) heapify.
-  void build(const std::vector<std::pair<double, uint32_t>>& items) {
-    for (const auto& [cost, h] : items) {
-      pos_[h] = int(heap_.size());
-      heap_.push_back({cost, h});
+  // Bulk insert of vertices not in the heap yet, then one O(n) heapify.
+  void build(const std::vector<std::pair<double, uint32_t>>& best, const std::vector<uint32_t>& vertex) {
+    for (size_t i = 0; i < best.size(); ++i) {
+      pos_[vertex[i]] = int(heap_.size());
+      heap_.push_back({best[i].first, best[i].second, vertex[i]});
     }
     const size_t n = heap_.size();
     for (size_t i = n > 1 ? (n - 2) / kArity + 1 : 0; i-- > 0;) down(i);  // every node with a child
   }
-  uint32_t top() const { return heap_[0].h; }
-  void set(uint32_t h, double cost) {
-    if (pos_[h] < 0) {
-      pos_[h] = int(heap_.size());
-      heap_.push_back({cost, h});
-      up(size_t(pos_[h]));
+  uint32_t top() const { return heap_[0].h; }  // the cheapest half-edge
+  // v's key's half-edge, or -1 when v is not in the heap.
+  int64_t best_of(uint32_t v) const { return pos_[v] < 0 ? -1 : int64_t(heap_[size_t(pos_[v])].h); }
+  void set(uint32_t v, double cost, uint32_t h) {
+    const Node n{cost, h, v};
+    if (pos_[v] < 0) {
+      pos_[v] = int(heap_.size());
+      heap_.push_back(n);
+      up(size_t(pos_[v]));
     } else {
-      size_t i = size_t(pos_[h]);
-      double old = heap_[i].cost;
-      heap_[i].cost = cost;
-      if (cost < old) up(i); else if (old < cost) down(i);
+      size_t i = size_t(pos_[v]);
+      const Node old = heap_[i];
+      heap_[i] = n;
+      if (before(n, old)) up(i); else down(i);
     }
   }
-  void remove(uint32_t h) {
-    if (pos_[h] < 0) return;
-    size_t i = size_t(pos_[h]);
-    pos_[h] = -1;
+  void remove(uint32_t v) {
+    if (pos_[v] < 0) return;
+    size_t i = size_t(pos_[v]);
+    pos_[v] = -1;
     Node last = heap_.back();
     heap_.pop_back();
     if (i == heap_.size()) return;
     heap_[i] = last;
-    pos_[last.h] = int(i);
+    pos_[last.v] = int(i);
     up(i);
-    down(size_t(pos_[last.h]));
+    down(size_t(pos_[last.v]));
   }
 
  private:
@@ -434,12 +441,13 @@ class HalfedgeHeap {
   static constexpr size_t kArity = 4;
   struct Node {
     double cost;
-    uint32_t h;
+    uint32_t h;  // the vertex's cheapest outgoing half-edge
+    uint32_t v;
   };
   static bool before(const Node& a, const Node& b) { return a.cost < b.cost || (a.cost == b.cost && a.h < b.h); }
   void place(size_t i, const Node& n) {
     heap_[i] = n;
-    pos_[n.h] = int(i);
+    pos_[n.v] = int(i);
   }
   void up(size_t i) {
     Node n = heap_[i];
@@ -471,27 +479,43 @@ class HalfedgeHeap {
   std::vector<int> pos_;
 };
 
-// The queue holds every half-edge that may collapse (both directions of an
-// edge). A collapse into v1 changes the costs of v1's edges only, so only
-// those are re-keyed; legality is checked when a half-edge reaches the top.
-// One refused there leaves the queue and is tried again in the next pass if
-// the mesh around it has changed since, until a pass collapses nothing.
+// The candidates are every half-edge that may collapse (both directions of
+// an edge), each with its cost; the queue holds each vertex's cheapest. A
+// collapse into v1 changes the costs of v1's edges only, so only those are
+// evaluated again, and v1 and its neighbours re-keyed; legality is checked
+// when a half-edge reaches the top. One refused there stops being a
+// candidate and is tried again in the next pass if the mesh around it has
+// changed since, until a pass collapses nothing.
 class Collapser {
  public:
   Collapser(Model& m, const Limits& lim, size_t target)
-      : m_(m), lim_(lim), target_(target), heap_(m.mesh.n_halfedges()) {}
+      : m_(m),
+        lim_(lim),
+        target_(target),
+        heap_(m.mesh.n_vertices()),
+        cost_(m.mesh.n_halfedges(), 0.0),
+        live_(m.mesh.n_halfedges(), 0) {}
 
   void run(SimplifyStats& stats, int max_passes = 8) {
-    changed_.assign(m_.mesh.n_vertices(), 0);
-    std::vector<std::pair<double, uint32_t>> initial;
-    initial.reserve(m_.mesh.n_halfedges());
-    for (auto e : m_.mesh.edges())
-      for (int side = 0; side < 2; ++side) {
-        HH h = m_.mesh.halfedge_handle(e, side);
-        Candidate c;
-        if (evaluate(m_, h, lim_, c)) initial.push_back({c.cost, uint32_t(h.idx())});
+    const Mesh& mesh = m_.mesh;
+    changed_.assign(mesh.n_vertices(), 0);
+    for (auto e : mesh.edges())
+      for (int side = 0; side < 2; ++side) offer(mesh.halfedge_handle(e, side));
+    // Each vertex's cheapest candidate, in one pass over the half-edges.
+    std::vector<uint32_t> best_h(mesh.n_vertices(), UINT32_MAX);
+    for (uint32_t i = 0; i < uint32_t(mesh.n_halfedges()); ++i) {
+      if (!live_[i]) continue;
+      uint32_t& b = best_h[size_t(mesh.from_vertex_handle(HH(int(i))).idx())];
+      if (b == UINT32_MAX || cost_[i] < cost_[b]) b = i;  // ascending i: ties keep the lower index
+    }
+    std::vector<std::pair<double, uint32_t>> best;
+    std::vector<uint32_t> vertex;
+    for (uint32_t v = 0; v < uint32_t(best_h.size()); ++v)
+      if (best_h[v] != UINT32_MAX) {
+        best.push_back({cost_[best_h[v]], best_h[v]});
+        vertex.push_back(v);
       }
-    heap_.build(initial);
+    heap_.build(best, vertex);
     int pass = 0;
     for (; pass < max_passes && m_.faces_alive > target_; ++pass) {
       if (pass > 0) requeue_refused();
@@ -536,6 +560,44 @@ class Collapser {
   }
 
  private:
+  // h becomes a candidate at its current cost, or stops being one.
+  void offer(HH h) {
+    Candidate c;
+    const size_t i = size_t(h.idx());
+    live_[i] = evaluate(m_, h, lim_, c);
+    cost_[i] = c.cost;
+  }
+  // v's cheapest candidate, by (cost, half-edge index); false when it has none.
+  bool cheapest(VH v, std::pair<double, uint32_t>& best) const {
+    bool any = false;
+    for (HH h : m_.mesh.voh_range(v)) {
+      const uint32_t i = uint32_t(h.idx());
+      if (!live_[i]) continue;
+      if (!any || cost_[i] < best.first || (cost_[i] == best.first && i < best.second)) best = {cost_[i], i};
+      any = true;
+    }
+    return any;
+  }
+  void rekey(VH v) {
+    std::pair<double, uint32_t> b;
+    if (cheapest(v, b))
+      heap_.set(uint32_t(v.idx()), b.first, b.second);
+    else
+      heap_.remove(uint32_t(v.idx()));
+  }
+  // The same when only `changed`, one of v's half-edges, has changed (its
+  // cost, or whether it is a candidate) or v's key may name a deleted one:
+  // v's other costs are as they were, so the whole fan is read again only
+  // when the key's half-edge itself changed.
+  void rekey(VH v, HH changed) {
+    const uint32_t c = uint32_t(changed.idx());
+    const int64_t key = heap_.best_of(uint32_t(v.idx()));
+    if (key == int64_t(c) || (key >= 0 && !live_[size_t(key)])) return rekey(v);
+    if (!live_[c]) return;
+    if (key < 0 || cost_[c] < cost_[size_t(key)] || (cost_[c] == cost_[size_t(key)] && c < uint32_t(key)))
+      heap_.set(uint32_t(v.idx()), cost_[c], c);
+  }
+
   // A refused half-edge comes back only if the one-ring of one of its ends
   // changed after the refusal (legality depends on nothing else).
   void requeue_refused() {
@@ -550,8 +612,8 @@ class Collapser {
         refused_.push_back(r);  // still refused, nothing to retry yet
         continue;
       }
-      Candidate c;
-      if (evaluate(m_, h, lim_, c)) heap_.set(r.halfedge, c.cost);
+      offer(h);
+      rekey(mesh.from_vertex_handle(h), h);
     }
   }
 
@@ -559,11 +621,11 @@ class Collapser {
     size_t done = 0;
     while (!heap_.empty() && m_.faces_alive > target_) {
       HH h(int(heap_.top()));
-      heap_.remove(uint32_t(h.idx()));
+      live_[size_t(h.idx())] = 0;  // no longer a candidate: collapsed or refused
       Candidate c;
-      if (!evaluate(m_, h, lim_, c)) continue;
-      if (legality(m_, h, lim_, ring_, c.area_change) != Legality::Legal) {
+      if (!evaluate(m_, h, lim_, c) || legality(m_, h, lim_, ring_, c.area_change) != Legality::Legal) {
         refused_.push_back({uint32_t(h.idx()), clock_});
+        rekey(m_.mesh.from_vertex_handle(h));
         continue;
       }
       collapse(c, stats);
@@ -572,33 +634,24 @@ class Collapser {
     return done;
   }
 
-  void queue_edge(OpenMesh::EdgeHandle e) {
-    for (int side = 0; side < 2; ++side) {
-      HH h = m_.mesh.halfedge_handle(e, side);
-      Candidate c;
-      if (evaluate(m_, h, lim_, c))
-        heap_.set(uint32_t(h.idx()), c.cost);
-      else
-        heap_.remove(uint32_t(h.idx()));
-    }
-  }
-
   void collapse(const Candidate& c, SimplifyStats& stats) {
     Mesh& mesh = m_.mesh;
     VH v0 = mesh.from_vertex_handle(c.h), v1 = mesh.to_vertex_handle(c.h);
-    // The edges that disappear with v0 leave the queue first.
-    for (HH h : mesh.voh_range(v0)) {
-      heap_.remove(uint32_t(h.idx()));
-      heap_.remove(uint32_t(mesh.opposite_halfedge_handle(h).idx()));
-    }
+    // The half-edges the collapse may delete: v0's (both directions) and
+    // the far edges of the faces of c.h. Those deleted stop being
+    // candidates; the others end up around v1 and are evaluated below.
+    touched_.clear();
+    for (HH h : mesh.voh_range(v0)) touched_.insert(touched_.end(), {h, mesh.opposite_halfedge_handle(h)});
     for (HH h : {c.h, mesh.opposite_halfedge_handle(c.h)})
       if (mesh.face_handle(h).is_valid()) {
         HH n = mesh.next_halfedge_handle(h);
-        heap_.remove(uint32_t(n.idx()));
-        heap_.remove(uint32_t(mesh.opposite_halfedge_handle(n).idx()));
+        touched_.insert(touched_.end(), {n, mesh.opposite_halfedge_handle(n)});
       }
     size_t removed = mesh.face_handle(c.h).is_valid() + mesh.face_handle(mesh.opposite_halfedge_handle(c.h)).is_valid();
     mesh.collapse(c.h);
+    for (HH h : touched_)
+      if (mesh.status(mesh.edge_handle(h)).deleted()) live_[size_t(h.idx())] = 0;
+    heap_.remove(uint32_t(v0.idx()));
     m_.faces_alive -= removed;
     m_.qa(v1) += m_.qa(v0);
     if (m_.has_qd()) m_.qd(v1) += m_.qd(v0);
@@ -613,16 +666,24 @@ class Collapser {
     ++clock_;
     changed_[v1.idx()] = clock_;
     for (HH h : mesh.voh_range(v1)) {
-      changed_[mesh.to_vertex_handle(h).idx()] = clock_;
-      queue_edge(mesh.edge_handle(h));
+      const VH n = mesh.to_vertex_handle(h);
+      const HH back = mesh.opposite_halfedge_handle(h);
+      changed_[n.idx()] = clock_;
+      offer(h);
+      offer(back);
+      rekey(n, back);  // n's only half-edge whose cost changed
     }
+    rekey(v1);
   }
 
   Model& m_;
   Limits lim_;
   size_t target_;
-  HalfedgeHeap heap_;
+  VertexHeap heap_;
+  std::vector<double> cost_;      // per half-edge: its cost when it is a candidate
+  std::vector<uint8_t> live_;     // per half-edge: a candidate (may collapse, not refused)
   std::vector<VH> ring_;          // scratch: one-ring of a v1
+  std::vector<HH> touched_;       // scratch: half-edges a collapse may delete
   struct Refusal {
     uint32_t halfedge;
     uint64_t when;  // clock_ at the refusal
