@@ -37,8 +37,12 @@ Key make_key(const float* p, uint32_t group, double inv_cell) {
 void weld_corners(Work& w, bool per_component, double tolerance) {
   const Scene& s = *w.scene;
   const size_t nv = s.vertex_count();
-  // 1. Items: (input vertex, group) pairs in order of first use.
+  // 1. Items: (input vertex, group) pairs in order of first use. Groups are
+  // only kept with per_component (otherwise every group is 0).
   std::vector<uint32_t> item_vertex, item_group;
+  item_vertex.reserve(nv);
+  if (per_component) item_group.reserve(nv);
+  auto group_of = [&](uint32_t item) { return per_component ? item_group[item] : 0u; };
   std::vector<uint32_t> primary(nv, UINT32_MAX);  // item of (v, first group seen)
   std::unordered_map<uint64_t, uint32_t> extra;   // items of (v, other groups)
   // Corner -> item here; step 3 turns it into corner -> welded vertex in place.
@@ -53,8 +57,8 @@ void weld_corners(Work& w, bool per_component, double tolerance) {
       if (p == UINT32_MAX) {
         p = item = uint32_t(item_vertex.size());
         item_vertex.push_back(v);
-        item_group.push_back(g);
-      } else if (item_group[p] == g) {
+        if (per_component) item_group.push_back(g);
+      } else if (group_of(p) == g) {
         item = p;
       } else {
         auto [it, fresh] = extra.try_emplace((uint64_t(v) << 32) | g, uint32_t(item_vertex.size()));
@@ -67,30 +71,40 @@ void weld_corners(Work& w, bool per_component, double tolerance) {
       corner_item[3 * size_t(t) + k] = item;
     }
   }
+  std::vector<uint32_t>().swap(primary);
   // 2. Weld the items by (group, quantised position) with an open-addressing
   // hash table; welded ids follow first use, and a welded vertex keeps the
-  // position of its first item.
+  // position of its first item. A slot's key is made again from that
+  // position when compared (no table of keys: 32 bytes per welded vertex
+  // that a fresh process would have to fault in).
   const size_t ni = item_vertex.size();
   const double inv_cell = tolerance > 0 ? 1.0 / tolerance : 0.0;
   size_t cap = 16;
   while (cap < 2 * ni) cap *= 2;
   std::vector<uint32_t> slot(cap, UINT32_MAX);  // welded id per slot
-  std::vector<Key> welded_key;
-  welded_key.reserve(ni);
-  std::vector<uint32_t> welded_of_item(ni);
-  w.weld.positions.clear();
-  w.weld.positions.reserve(3 * ni);
+  std::vector<uint32_t> welded_group;           // per welded vertex, with per_component
+  std::vector<float>& pos = w.weld.positions;
+  pos.clear();
+  pos.reserve(3 * ni);
+  uint32_t welded = 0;
+  // Item i's input vertex is read once, here, and its slot then holds its
+  // welded vertex: item_vertex becomes item -> welded vertex in place.
+  std::vector<uint32_t>& welded_of_item = item_vertex;
   for (size_t i = 0; i < ni; ++i) {
     const float* p = &s.positions[3 * size_t(item_vertex[i])];
-    Key k = make_key(p, item_group[i], inv_cell);
+    const uint32_t g = group_of(uint32_t(i));
+    Key k = make_key(p, g, inv_cell);
     uint64_t h = uint64_t(k.g) * 0x9E3779B97F4A7C15ull ^ uint64_t(k.x) * 0xC2B2AE3D27D4EB4Full ^
                  uint64_t(k.y) * 0x165667B19E3779F9ull ^ uint64_t(k.z) * 0x27D4EB2F165667C5ull;
     size_t at = size_t(h ^ (h >> 29)) & (cap - 1);
-    while (slot[at] != UINT32_MAX && !(welded_key[slot[at]] == k)) at = (at + 1) & (cap - 1);
+    auto same = [&](uint32_t id) {
+      return make_key(&pos[3 * size_t(id)], per_component ? welded_group[id] : 0u, inv_cell) == k;
+    };
+    while (slot[at] != UINT32_MAX && !same(slot[at])) at = (at + 1) & (cap - 1);
     if (slot[at] == UINT32_MAX) {
-      slot[at] = uint32_t(welded_key.size());
-      welded_key.push_back(k);
-      w.weld.positions.insert(w.weld.positions.end(), p, p + 3);
+      slot[at] = welded++;
+      pos.insert(pos.end(), p, p + 3);
+      if (per_component) welded_group.push_back(g);
     }
     welded_of_item[i] = slot[at];
   }
