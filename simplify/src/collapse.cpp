@@ -397,12 +397,14 @@ class VertexHeap {
  public:
   explicit VertexHeap(size_t n) : pos_(n, -1) {}
   bool empty() const { return heap_.empty(); }
-  // Bulk insert of vertices not in the heap yet, then one O(n) heapify.
-  void build(const std::vector<std::pair<double, uint32_t>>& best, const std::vector<uint32_t>& vertex) {
-    for (size_t i = 0; i < best.size(); ++i) {
-      pos_[vertex[i]] = int(heap_.size());
-      heap_.push_back({best[i].first, best[i].second, vertex[i]});
-    }
+  // Every vertex with a candidate (best[v]: its cheapest half-edge, or
+  // UINT32_MAX for none; cost: per half-edge), then one O(n) heapify.
+  void build(const std::vector<uint32_t>& best, const std::vector<double>& cost) {
+    for (uint32_t v = 0; v < uint32_t(best.size()); ++v)
+      if (best[v] != UINT32_MAX) {
+        pos_[v] = int(heap_.size());
+        heap_.push_back({cost[best[v]], best[v], v});
+      }
     const size_t n = heap_.size();
     for (size_t i = n > 1 ? (n - 2) / kArity + 1 : 0; i-- > 0;) down(i);  // every node with a child
   }
@@ -502,20 +504,13 @@ class Collapser {
     for (auto e : mesh.edges())
       for (int side = 0; side < 2; ++side) offer(mesh.halfedge_handle(e, side));
     // Each vertex's cheapest candidate, in one pass over the half-edges.
-    std::vector<uint32_t> best_h(mesh.n_vertices(), UINT32_MAX);
+    std::vector<uint32_t> best(mesh.n_vertices(), UINT32_MAX);
     for (uint32_t i = 0; i < uint32_t(mesh.n_halfedges()); ++i) {
       if (!live_[i]) continue;
-      uint32_t& b = best_h[size_t(mesh.from_vertex_handle(HH(int(i))).idx())];
-      if (b == UINT32_MAX || cost_[i] < cost_[b]) b = i;  // ascending i: ties keep the lower index
+      uint32_t& b = best[size_t(mesh.from_vertex_handle(HH(int(i))).idx())];
+      if (b == UINT32_MAX || cheaper(i, b)) b = i;
     }
-    std::vector<std::pair<double, uint32_t>> best;
-    std::vector<uint32_t> vertex;
-    for (uint32_t v = 0; v < uint32_t(best_h.size()); ++v)
-      if (best_h[v] != UINT32_MAX) {
-        best.push_back({cost_[best_h[v]], best_h[v]});
-        vertex.push_back(v);
-      }
-    heap_.build(best, vertex);
+    heap_.build(best, cost_);
     int pass = 0;
     for (; pass < max_passes && m_.faces_alive > target_; ++pass) {
       if (pass > 0) requeue_refused();
@@ -567,21 +562,21 @@ class Collapser {
     live_[i] = evaluate(m_, h, lim_, c);
     cost_[i] = c.cost;
   }
-  // v's cheapest candidate, by (cost, half-edge index); false when it has none.
-  bool cheapest(VH v, std::pair<double, uint32_t>& best) const {
-    bool any = false;
+  // The order of candidates, and of the heap: by cost, then by index.
+  bool cheaper(uint32_t a, uint32_t b) const { return cost_[a] < cost_[b] || (cost_[a] == cost_[b] && a < b); }
+  // v's cheapest candidate; UINT32_MAX when it has none.
+  uint32_t cheapest(VH v) const {
+    uint32_t best = UINT32_MAX;
     for (HH h : m_.mesh.voh_range(v)) {
       const uint32_t i = uint32_t(h.idx());
-      if (!live_[i]) continue;
-      if (!any || cost_[i] < best.first || (cost_[i] == best.first && i < best.second)) best = {cost_[i], i};
-      any = true;
+      if (live_[i] && (best == UINT32_MAX || cheaper(i, best))) best = i;
     }
-    return any;
+    return best;
   }
   void rekey(VH v) {
-    std::pair<double, uint32_t> b;
-    if (cheapest(v, b))
-      heap_.set(uint32_t(v.idx()), b.first, b.second);
+    const uint32_t b = cheapest(v);
+    if (b != UINT32_MAX)
+      heap_.set(uint32_t(v.idx()), cost_[b], b);
     else
       heap_.remove(uint32_t(v.idx()));
   }
@@ -594,8 +589,7 @@ class Collapser {
     const int64_t key = heap_.best_of(uint32_t(v.idx()));
     if (key == int64_t(c) || (key >= 0 && !live_[size_t(key)])) return rekey(v);
     if (!live_[c]) return;
-    if (key < 0 || cost_[c] < cost_[size_t(key)] || (cost_[c] == cost_[size_t(key)] && c < uint32_t(key)))
-      heap_.set(uint32_t(v.idx()), cost_[c], c);
+    if (key < 0 || cheaper(c, uint32_t(key))) heap_.set(uint32_t(v.idx()), cost_[c], c);
   }
 
   // A refused half-edge comes back only if the one-ring of one of its ends
