@@ -10,6 +10,9 @@
 
 namespace perclod::test {
 
+// The demo building (data/ingolstadt/, in the repo), which most CLI tests run on.
+inline const std::string kBuilding = PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj";
+
 struct CliResult {
   int exit_code = -1;
   std::string out, err;

@@ -11,7 +11,7 @@
 using perclod::test::run_cli;
 namespace fs = std::filesystem;
 
-static const std::string kBuilding = PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj";
+using perclod::test::kBuilding;
 
 TEST(Cli, HelpExplainsEveryCommand) {
   auto r = run_cli("--help");

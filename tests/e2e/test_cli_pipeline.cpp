@@ -16,7 +16,7 @@
 using perclod::test::run_cli;
 namespace fs = std::filesystem;
 
-static const std::string kBuilding = PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj";
+using perclod::test::kBuilding;
 
 static fs::path fresh_dir(const std::string& name) {
   fs::path p = fs::temp_directory_path() / ("perclod-" + name + "-" + std::to_string(getpid()));

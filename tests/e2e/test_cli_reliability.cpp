@@ -16,7 +16,7 @@ namespace {
 using perclod::test::run_cli;
 namespace fs = std::filesystem;
 
-const std::string kBuilding = PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj";
+using perclod::test::kBuilding;
 
 // Files this shell's children write may not grow beyond 8 KB: write() fails
 // with EFBIG as on a full disk (SIGXFSZ ignored so the process sees the error).

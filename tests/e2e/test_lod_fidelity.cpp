@@ -10,11 +10,12 @@
 
 #include "perclod/load.h"
 #include "perclod/pipeline.h"
+#include "cli_util.h"
 
 namespace perclod {
 namespace {
 
-const std::string kBuilding = std::string(PERCLOD_SOURCE_DIR) + "/data/ingolstadt/bldg_4018215.obj";
+using perclod::test::kBuilding;
 
 struct Labelled {
   Scene scene;

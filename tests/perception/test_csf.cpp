@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "perclod/perception.h"
@@ -10,7 +11,6 @@ namespace {
 
 using perclod::BandOrientation;
 using perclod::PerceptionSettings;
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(Csf, MatchesTheFormulaAtHandComputedPoints) {
   // 2.6 (0.0192 + 0.912) exp(-0.912^1.1) = 0.9807 (Mannos-Sakrison near its 8 cpd peak)
@@ -77,7 +77,7 @@ TEST(Bands, HighPassBandsAreSpectrallyInverted) {
 double measured_response(const std::vector<double>& taps, double nu) {
   const int n = 256, M = int(taps.size()) - 1;
   std::vector<double> x(n), y(n, 0.0);
-  for (int i = 0; i < n; ++i) x[i] = std::cos(2 * kPi * nu * i);
+  for (int i = 0; i < n; ++i) x[i] = std::cos(2 * std::numbers::pi * nu * i);
   for (int i = M; i < n - M; ++i) {
     y[i] = taps[0] * x[i];
     for (int m = 1; m <= M; ++m) y[i] += taps[m] * (x[i - m] + x[i + m]);
@@ -126,7 +126,7 @@ TEST(Fir, MeasuredResponseFollowsTheCsfAcrossEachBand) {
 
 TEST(Fir, DesignReproducesACosineSeriesExactly) {
   // A target that is itself a 3-term cosine series is fitted exactly.
-  auto target = [](double nu) { return 0.5 + 2 * 0.2 * std::cos(2 * kPi * nu) - 2 * 0.05 * std::cos(4 * kPi * nu); };
+  auto target = [](double nu) { return 0.5 + 2 * 0.2 * std::cos(2 * std::numbers::pi * nu) - 2 * 0.05 * std::cos(4 * std::numbers::pi * nu); };
   std::vector<double> taps = perclod::design_fir(target, 3);
   EXPECT_NEAR(taps[0], 0.5, 1e-9);
   EXPECT_NEAR(taps[1], 0.2, 1e-9);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -14,20 +15,19 @@ namespace {
 
 using perclod::PerceptionResult;
 using perclod::PerceptionSettings;
-constexpr double kPi = 3.14159265358979323846;
 
 // Gratings on a 257 x 257 image with axis frequency m / 512 cycles/pixel: a
 // cosine whose whole-sample mirror at both borders continues it exactly, so
 // the borders add nothing. dir: 0 varies along x, 1 along y, 2 along x + y.
-constexpr int kN = 257;
+constexpr int kSide = 257;
 
 std::vector<float> grating(int m, int dir, double amplitude = 50.0) {
   const double f = m / 512.0;
-  std::vector<float> img(size_t(kN) * kN);
-  for (int y = 0; y < kN; ++y)
-    for (int x = 0; x < kN; ++x) {
+  std::vector<float> img(size_t(kSide) * kSide);
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
       double phase = dir == 0 ? f * x : dir == 1 ? f * y : f * (x + y);
-      img[size_t(y) * kN + x] = float(128.0 + amplitude * std::cos(2 * kPi * phase));
+      img[size_t(y) * kSide + x] = float(128.0 + amplitude * std::cos(2 * std::numbers::pi * phase));
     }
   return img;
 }
@@ -42,10 +42,10 @@ PerceptionResult simulate(const std::vector<float>& lum, int w, int h, const Per
 // the borders (16 pixels).
 double grating_gain(const std::vector<float>& img, const PerceptionResult& r) {
   double num = 0, den = 0;
-  for (int y = 16; y < kN - 16; ++y)
-    for (int x = 16; x < kN - 16; ++x) {
-      double c = img[size_t(y) * kN + x] - 128.0;
-      num += (r.simulated[size_t(y) * kN + x] - 128.0) * c;
+  for (int y = 16; y < kSide - 16; ++y)
+    for (int x = 16; x < kSide - 16; ++x) {
+      double c = img[size_t(y) * kSide + x] - 128.0;
+      num += (r.simulated[size_t(y) * kSide + x] - 128.0) * c;
       den += c * c;
     }
   return num / den;
@@ -68,7 +68,7 @@ long long count(const std::vector<uint8_t>& mask) {
 TEST(Gratings, PassbandGratingIsUntouchedAndTheMaskEmpty) {
   for (int dir : {0, 1}) {
     std::vector<float> img = grating(35, dir);  // 0.068 c/px = 2.03 cpd
-    PerceptionResult r = simulate(img, kN, kN);
+    PerceptionResult r = simulate(img, kSide, kSide);
     EXPECT_LT(max_abs(r.difference), 0.25f) << "dir " << dir;
     EXPECT_EQ(count(r.mask), 0) << "dir " << dir;
     EXPECT_EQ(r.imperceptible_fraction, 0.0);
@@ -82,12 +82,12 @@ TEST(Gratings, NearFmaxAmplitudeFallsByTheCsfFactor) {
   for (int m : {205, 230, 250}) {  // 11.9, 13.3, 14.5 cpd
     for (int dir : {0, 1}) {
       std::vector<float> img = grating(m, dir);
-      PerceptionResult r = simulate(img, kN, kN, s);
+      PerceptionResult r = simulate(img, kSide, kSide, s);
       double f_cpd = m / 512.0 * s.ppd;
       double want = perclod::csf_flat(f_cpd, s.k);
       EXPECT_LT(want, 0.8);
       EXPECT_NEAR(grating_gain(img, r), want, 0.02) << "m " << m << " dir " << dir;
-      EXPECT_GT(count(r.mask), (long long)(kN) * kN / 2);
+      EXPECT_GT(count(r.mask), (long long)(kSide) * kSide / 2);
     }
   }
 }
@@ -103,7 +103,7 @@ TEST(Gratings, BordersBehaveAsTheSymmetricExtensionOfTheImage) {
     auto image = [&](int w, int x0) {
       std::vector<float> img(size_t(w) * h);
       for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) img[size_t(y) * w + x] = float(128 + 50 * std::cos(2 * kPi * f * (x + x0)));
+        for (int x = 0; x < w; ++x) img[size_t(y) * w + x] = float(128 + 50 * std::cos(2 * std::numbers::pi * f * (x + x0)));
       return img;
     };
     for (bool transpose : {false, true}) {
@@ -140,7 +140,7 @@ TEST(Gratings, DiagonalGratingFollowsTheCsfAtSqrt2TimesTheAxisFrequency) {
   const PerceptionSettings s;
   for (int m : {205, 250}) {
     std::vector<float> img = grating(m, 2);
-    PerceptionResult r = simulate(img, kN, kN, s);
+    PerceptionResult r = simulate(img, kSide, kSide, s);
     double f_cpd = std::sqrt(2.0) * m / 512.0 * s.ppd;
     EXPECT_NEAR(grating_gain(img, r), perclod::csf_flat(f_cpd, s.k), 0.02) << "m " << m;
   }
@@ -150,7 +150,7 @@ TEST(Gratings, WeightsModeScalesABandCentreGratingByTheBandWeight) {
   PerceptionSettings s;
   s.csf = PerceptionSettings::CsfMode::Weights;
   std::vector<float> img = grating(192, 0);  // 0.375 c/px: centre of level 1
-  PerceptionResult r = simulate(img, kN, kN, s);
+  PerceptionResult r = simulate(img, kSide, kSide, s);
   EXPECT_NEAR(grating_gain(img, r), r.bands[0].weight, 0.02);
   EXPECT_LT(r.bands[0].weight, 0.85);
 }
@@ -269,7 +269,7 @@ TEST(Threshold, QuantisationAloneStaysUnderTheDefaultThreshold) {
     std::vector<float> smooth(size_t(n) * n), quantised(smooth.size());
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
-        double v = 128 + gx * x + gy * y + 40 * std::cos(2 * kPi * f * (x * std::cos(th) + y * std::sin(th)));
+        double v = 128 + gx * x + gy * y + 40 * std::cos(2 * std::numbers::pi * f * (x * std::cos(th) + y * std::sin(th)));
         smooth[size_t(y) * n + x] = float(v);
         quantised[size_t(y) * n + x] = float(std::round(v));
       }

@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::has;
 
 // Files in `dir` whose names start with ".tmp-".
 size_t temporaries_in(const fs::path& dir) {

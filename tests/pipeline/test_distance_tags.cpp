@@ -6,12 +6,11 @@
 #include <string>
 
 #include "perclod/outputs.h"
+#include "test_util.h"
 
 using namespace perclod;
 
-namespace {
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-}  // namespace
+using test::has;
 
 TEST(DistanceTags, DistancesWithTheSameFileNameAreRefused) {
   EXPECT_NO_THROW(check_distinct_tags({56, 132, 12.5}));

@@ -30,7 +30,7 @@ std::string load_error(const std::string& path, const LoadOptions& opt = {}) {
   return "";
 }
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::has;
 
 // A binary little-endian PLY of test::box(): 8 float vertices, 6 quads (uchar count, int indices).
 std::string binary_ply_cube() {

@@ -36,14 +36,6 @@ g panel
 f 4 3 1
 )";
 
-std::string message_of(const std::string& path) {
-  try {
-    load_scene(path);
-  } catch (const LoadError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 }  // namespace
 
@@ -168,7 +160,7 @@ TEST_P(LoadErrors, NameTheFileAndTheProblem) {
   test::TempDir dir("bad");
   const BadFile& b = GetParam();
   std::string path = b.text ? dir.file(b.name, b.text) : dir / b.name;
-  std::string msg = message_of(path);
+  std::string msg = test::load_error(path);
   ASSERT_FALSE(msg.empty()) << "no error for " << b.name;
   EXPECT_NE(msg.find(b.name), std::string::npos) << msg;
   EXPECT_NE(msg.find(b.expected), std::string::npos) << msg;

@@ -22,7 +22,7 @@ using json = nlohmann::json;
 
 namespace {
 
-bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+using test::has;
 
 size_t occurrences(const std::string& text, const std::string& part) {
   size_t n = 0;

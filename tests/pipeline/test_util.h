@@ -1,4 +1,4 @@
-// Small helpers for pipeline tests: temporary files.
+// Small helpers for pipeline tests: temporary files, a box, messages.
 #pragma once
 
 #include <filesystem>
@@ -6,6 +6,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "perclod/load.h"
 #include "perclod/scene.h"
 
 namespace perclod::test {
@@ -36,6 +37,19 @@ inline Scene box() {
   for (auto& q : quads) s.indices.insert(s.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
   s.component_names = {"box"};
   return s;
+}
+
+// Whether text contains part.
+inline bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// The LoadError message load_scene gives for path, or "" when it loads.
+inline std::string load_error(const std::string& path, const LoadOptions& opt = {}) {
+  try {
+    load_scene(path, opt);
+  } catch (const LoadError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 }  // namespace perclod::test
