@@ -1,87 +1,66 @@
-// Image files through OpenImageIO; writes are atomic (perclod/outputs.h).
+// Image files through OpenImageIO, loaded on first use (image_codec.h);
+// writes are atomic (perclod/outputs.h).
 #include "perclod/image_io.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
+#include <dlfcn.h>
 
 #include <condition_variable>
 #include <exception>
-#include <filesystem>
 #include <mutex>
 #include <stdexcept>
 #include <utility>
 
+#include "image_codec.h"
 #include "perclod/outputs.h"
 #include "worker.h"
 
 namespace perclod {
+namespace detail {
+
 namespace {
 
-// Largest image perclod reads: renders are a few thousand pixels wide.
-constexpr int kMaxImageSide = 32768;
-constexpr long long kMaxImagePixels = 1LL << 28;
-constexpr int kPngLevel = 2;
-constexpr int kPngFilterUp = 0x20;  // libpng's PNG_FILTER_UP
-
-std::runtime_error io_error(const std::string& path, const std::string& what) {
-  return std::runtime_error(path + ": " + what);
+// dlopen()s the module: RTLD_NOW, so a missing symbol fails here and not in
+// the middle of a write; never closed (OpenImageIO keeps threads and caches).
+const ImageCodec& load_image_codec() {
+  const char* file = PERCLOD_IMAGE_MODULE;
+  void* module = dlopen(file, RTLD_NOW | RTLD_LOCAL);
+  if (!module) throw std::runtime_error(std::string("cannot load perclod's image module: ") + dlerror());
+  auto entry = reinterpret_cast<ImageCodecEntry>(dlsym(module, kImageCodecEntry));
+  if (!entry) throw std::runtime_error(std::string(file) + ": no " + kImageCodecEntry + " (not perclod's image module)");
+  const ImageCodec* codec = entry();
+  if (!codec || codec->abi != kImageCodecAbi)
+    throw std::runtime_error(std::string(file) + ": built from another perclod (image module ABI " +
+                             std::to_string(codec ? codec->abi : -1) + ", expected " +
+                             std::to_string(kImageCodecAbi) + "); rebuild perclod");
+  return *codec;
 }
 
-// Encodes into memory and writes the bytes with write_bytes_atomic: OIIO's
-// PNG writer does not report a failed write or close (a full disk would leave
-// a truncated PNG under its final name and report success).
-void write_image(const std::string& path, int w, int h, int channels, OIIO::TypeDesc type,
-                 const void* data) {
-  if (w <= 0 || h <= 0 || channels < 1 || channels > 4) throw io_error(path, "bad image size");
-  std::vector<unsigned char> bytes;
-  OIIO::Filesystem::IOVecOutput mem(bytes);
-  auto out = OIIO::ImageOutput::create(path, &mem);
-  if (!out) throw io_error(path, "no image writer for this extension");
-  if (!out->supports("ioproxy")) throw io_error(path, "the image writer cannot write to memory");
-  OIIO::ImageSpec spec(w, h, channels, type);
-  if (std::string(out->format_name()) == "png") {
-    // Every row filtered with "up" at zlib level 2: on 1280x1024 renders and
-    // debug images 3-4x faster to encode than libpng's default (adaptive
-    // filters, level 6), for files 0-60% larger (a run writes hundreds).
-    spec.attribute("png:compressionLevel", kPngLevel);
-    spec.attribute("png:filter", kPngFilterUp);
-  }
-  if (!out->set_ioproxy(&mem) || !out->open(path, spec) || !out->write_image(type, data) || !out->close())
-    throw io_error(path, "cannot encode image: " + out->geterror());
-  out.reset();
+}  // namespace
+
+const ImageCodec& image_codec() {
+  static const ImageCodec& codec = load_image_codec();  // a failure throws and is retried next call
+  return codec;
+}
+
+}  // namespace detail
+
+namespace {
+
+void write_image(const std::string& path, int w, int h, int channels, detail::PixelType type, const void* data) {
+  const std::vector<unsigned char> bytes = detail::image_codec().encode(path, w, h, channels, type, data);
   write_bytes_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 template <class T>
-std::vector<T> read_image(const std::string& path, OIIO::TypeDesc type, int* w, int* h, int* c) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw io_error(path, "cannot read image: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  // The header's size is untrusted: bound it before allocating (a 68-byte PNG
-  // declaring 60000x60000 asked for 2 x 10.8 GB).
-  const double pixels = double(spec.width) * spec.height;
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1 || spec.nchannels > 16 || spec.depth > 1)
-    throw io_error(path, "unsupported image layout (" + std::to_string(spec.width) + "x" +
-                             std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) + " channels)");
-  if (spec.width > kMaxImageSide || spec.height > kMaxImageSide || pixels > double(kMaxImagePixels))
-    throw io_error(path, "image size " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                             " is beyond perclod's limit (" + std::to_string(kMaxImageSide) + " per side, " +
-                             std::to_string(kMaxImagePixels) + " pixels): corrupt or not a perclod image");
-  std::error_code ec;
-  const auto file_bytes = std::filesystem::file_size(path, ec);
-  // Deflate (PNG) expands at most ~1032:1; allow some slack for the format's own structures.
-  if (!ec && std::string(in->format_name()) == "png" &&
-      pixels * spec.nchannels * spec.format.size() > 1100.0 * double(file_bytes) + 65536)
-    throw io_error(path, "PNG header declares " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                             " pixels, more than its " + std::to_string(file_bytes) +
-                             " bytes can hold (truncated or corrupt)");
-  *w = spec.width;
-  *h = spec.height;
-  *c = spec.nchannels;
-  std::vector<T> data(size_t(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, type, data.data()))
-    throw io_error(path, "cannot decode image: " + in->geterror());
+std::vector<T> read_image(const std::string& path, detail::PixelType type, int* w, int* h, int* c) {
+  std::vector<T> data;
+  detail::image_codec().decode(path, type, [&](int width, int height, int channels) -> void* {
+    *w = width;
+    *h = height;
+    *c = channels;
+    data.resize(size_t(width) * height * channels);
+    return data.data();
+  });
   return data;
 }
 
@@ -89,7 +68,7 @@ std::vector<T> read_image(const std::string& path, OIIO::TypeDesc type, int* w, 
 
 Rgb8Image read_rgb8(const std::string& path) {
   int w, h, c;
-  auto raw = read_image<uint8_t>(path, OIIO::TypeDesc::UINT8, &w, &h, &c);
+  auto raw = read_image<uint8_t>(path, detail::PixelType::u8, &w, &h, &c);
   Rgb8Image img;
   img.width = w;
   img.height = h;
@@ -100,15 +79,15 @@ Rgb8Image read_rgb8(const std::string& path) {
 }
 
 void write_png(const std::string& path, int w, int h, int channels, const uint8_t* data) {
-  write_image(path, w, h, channels, OIIO::TypeDesc::UINT8, data);
+  write_image(path, w, h, channels, detail::PixelType::u8, data);
 }
 
 void write_tiff_float(const std::string& path, int w, int h, int channels, const float* data) {
-  write_image(path, w, h, channels, OIIO::TypeDesc::FLOAT, data);
+  write_image(path, w, h, channels, detail::PixelType::f32, data);
 }
 
 void write_tiff_uint32(const std::string& path, int w, int h, const uint32_t* data) {
-  write_image(path, w, h, 1, OIIO::TypeDesc::UINT32, data);
+  write_image(path, w, h, 1, detail::PixelType::u32, data);
 }
 
 struct ImageWriter::State {
@@ -166,8 +145,8 @@ void ImageWriter::finish() {
 
 std::vector<uint32_t> read_tiff_uint32(const std::string& path, int* w, int* h) {
   int c;
-  auto v = read_image<uint32_t>(path, OIIO::TypeDesc::UINT32, w, h, &c);
-  if (c != 1) throw io_error(path, "expected a one-channel ID image");
+  auto v = read_image<uint32_t>(path, detail::PixelType::u32, w, h, &c);
+  if (c != 1) throw std::runtime_error(path + ": expected a one-channel ID image");
   return v;
 }
 

@@ -33,6 +33,27 @@ TEST(Cli, InfoJsonDescribesTheBuilding) {
   EXPECT_NEAR(j["bounds_max"][2].get<double>(), 29.18, 1e-3);
 }
 
+// OpenImageIO (some 260 shared libraries, 0.42 s to load) is dlopen()ed by
+// the first image read or write (pipeline/src/image_codec.h): a command that
+// touches no image never loads it, one that writes images does. The dynamic
+// loader lists every file it loads under LD_DEBUG=files.
+TEST(Cli, OpenImageIoIsLoadedOnlyByCommandsThatTouchImages) {
+  auto info = run_cli("info " + kBuilding + " --up z", "export LD_DEBUG=files;");
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.err.find("file=libOSMesa"), std::string::npos) << "LD_DEBUG listed nothing";
+  EXPECT_EQ(info.err.find("libOpenImageIO"), std::string::npos);
+  EXPECT_EQ(info.err.find("libperclod_oiio"), std::string::npos);
+
+  fs::path out = fs::temp_directory_path() / ("perclod-lazy-oiio-" + std::to_string(getpid()));
+  fs::remove_all(out);
+  auto render = run_cli("render " + kBuilding + " --up z -d 427 -f +x -o " + out.string(), "export LD_DEBUG=files;");
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_NE(render.err.find("libperclod_oiio.so"), std::string::npos);
+  EXPECT_NE(render.err.find("file=libOpenImageIO"), std::string::npos);
+  EXPECT_EQ(perclod::read_rgb8((out / "bldg_4018215_+x_427m.png").string()).width, 1280);
+  fs::remove_all(out);
+}
+
 TEST(Cli, BadInputFailsWithAMessageOnStderr) {
   auto missing = run_cli("info /nonexistent/model.obj");
   EXPECT_EQ(missing.exit_code, 1);
