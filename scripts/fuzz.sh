@@ -8,6 +8,7 @@
 #   scripts/fuzz.sh --keep-going        # -fork=1: go on after a finding, collect them all
 #   scripts/fuzz.sh --no-build          # use the targets already in build-asan/
 #   scripts/fuzz.sh --seed 1            # libFuzzer -seed: the same mutations every run (CI)
+#   scripts/fuzz.sh --parallel 2        # targets at once (default 1); each is one process
 #
 # Each target starts from its committed seeds (tests/fuzz/corpus/<target>/)
 # plus whatever earlier runs added to build-asan/fuzz/<target>/corpus/, and
@@ -25,6 +26,7 @@ seconds=${FUZZ_SECONDS:-600}
 fork=()
 seed=()
 build=1
+parallel=1
 targets=()
 while (($#)); do
   case "$1" in
@@ -32,7 +34,8 @@ while (($#)); do
     --keep-going) fork=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1); shift ;;
     --no-build) build=0; shift ;;
     --seed) seed=(-seed="$2"); shift 2 ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    --parallel) parallel=$2; shift 2 ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
     *) targets+=("$1"); shift ;;
   esac
 done
@@ -45,36 +48,55 @@ fi
 # Leaks inside Debian's assimp are not perclod's (tests/lsan.supp says which).
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/lsan.supp}
 
-passed=0
-failed=0
-summary=()
-for t in "${targets[@]}"; do
-  work=build-asan/fuzz/$t
+# One target; its summary line goes to $work/summary, its status (0: no
+# finding) to $work/status.
+fuzz_target() {
+  local t=$1 work=build-asan/fuzz/$1
   mkdir -p "$work/corpus" "$work/findings"
-  log=$work/log.txt
+  local log=$work/log.txt
   echo "fuzz: $t for ${seconds}s (log: $log)"
-  rc=0
+  local rc=0 start
   start=$(date +%s)
   build-asan/tests/fuzz/"$t" "$work/corpus" "tests/fuzz/corpus/$t" \
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$work/findings/" "${seed[@]}" "${fork[@]}" >"$log" 2>&1 || rc=$?
-  elapsed=$(($(date +%s) - start))
+  local elapsed=$(($(date +%s) - start))
   # Executions: the final stats, else (fork mode) the last status line "#N ...".
+  local execs cov corpus findings
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   [[ -n "$execs" ]] || execs=$({ grep -oE '^#[0-9]+' "$log" || true; } | tail -1 | tr -d '#')
   cov=$({ grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" || true; } | tail -1)
   corpus=$(find "$work/corpus" -type f | wc -l)
   findings=$({ grep -oE 'Test unit written to [^ ]+' "$log" || true; } | sed 's/Test unit written to //' | sort -u | tr '\n' ' ')
-  line="$t: ${execs:-0} executions in ${elapsed}s, ${cov:-cov: ?}, corpus $corpus"
+  local line="$t: ${execs:-0} executions in ${elapsed}s, ${cov:-cov: ?}, corpus $corpus"
   if ((rc == 0)) && [[ -z "$findings" ]]; then
+    echo "$line: no finding" >"$work/summary"
+    echo 0 >"$work/status"
+  else
+    local what
+    what=$(grep -m1 -E '^SUMMARY:|ERROR: libFuzzer:|==ERROR:' "$log" || true)
+    echo "$line: FINDING (exit $rc) ${what} ${findings:+-> $findings}" >"$work/summary"
+    echo 1 >"$work/status"
+  fi
+}
+
+for t in "${targets[@]}"; do
+  rm -f "build-asan/fuzz/$t/summary" "build-asan/fuzz/$t/status"
+  while (($(jobs -rp | wc -l) >= parallel)); do wait -n || true; done
+  fuzz_target "$t" &
+done
+wait
+
+passed=0
+failed=0
+for t in "${targets[@]}"; do
+  work=build-asan/fuzz/$t
+  if [[ "$(cat "$work/status" 2>/dev/null)" == 0 ]]; then
     passed=$((passed + 1))
-    summary+=("$line: no finding")
   else
     failed=$((failed + 1))
-    what=$(grep -m1 -E '^SUMMARY:|ERROR: libFuzzer:|==ERROR:' "$log" || true)
-    summary+=("$line: FINDING (exit $rc) ${what} ${findings:+-> $findings}")
   fi
+  cat "$work/summary" 2>/dev/null || echo "$t: no result (the fuzzing script failed)"
 done
-printf '%s\n' "${summary[@]}"
 echo "$passed passed, $failed failed"
 ((failed == 0))

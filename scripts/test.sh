@@ -64,7 +64,7 @@ stage_fuzz() {
   # within seconds (tests/fuzz/findings/README.md); scripts/fuzz.sh fuzzes it.
   scripts/build-asan.sh fuzz >/dev/null
   build-asan/tests/fuzz/fuzz_assimp -runs=0 -timeout=10 -rss_limit_mb=2048 tests/fuzz/corpus/fuzz_assimp 2>&1 | tail -2
-  scripts/fuzz.sh --no-build --seconds "${FUZZ_SECONDS:-15}" --seed 1 fuzz_obj fuzz_labels fuzz_yaml
+  scripts/fuzz.sh --no-build --seconds "${FUZZ_SECONDS:-15}" --seed 1 --parallel "$JOBS" fuzz_obj fuzz_labels fuzz_yaml
 }
 
 stages=(normal asan fuzz)
