@@ -37,10 +37,9 @@ struct ImageCodec {
                  const std::function<void*(int width, int height, int channels)>& buffer);
 };
 
-// The module's one exported symbol.
-extern "C" {
+// The module's one exported symbol, an extern "C" function of this type
+// named kImageCodecEntry, returns its table.
 using ImageCodecEntry = const ImageCodec* (*)();
-}
 inline constexpr const char* kImageCodecEntry = "perclod_image_codec";
 
 // The codec, loading the module on the first call (thread-safe). Throws
