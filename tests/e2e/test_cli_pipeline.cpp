@@ -201,20 +201,20 @@ TEST(CliPipeline, RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput) {
   fs::remove_all(out);
 }
 
+// A config for the demo building (Z up) in `dir` with `settings`, writing to dir/<result>.
+static std::string job_file(const fs::path& dir, const char* name, const std::string& settings, const char* result) {
+  std::ofstream(dir / name) << "model: " << kBuilding << "\nup: z\n" << settings << "out: " << (dir / result).string()
+                            << "\n";
+  return (dir / name).string();
+}
+
 // fidelity_target: the run searches e_imperceptible for the fewest triangles
-// within the target in every judged view, and says what it tried; --strict
-// turns figures over the limits into a failure after every output is written.
-TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
+// within the target in every judged view, and says what it tried.
+TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
   fs::path out = fresh_dir("run-target");
   fs::create_directories(out);
-  // A config for the demo building (Z up) with `settings`, writing to out/<result>.
-  auto job_file = [&](const char* name, const std::string& settings, const char* result) {
-    std::ofstream(out / name) << "model: " << kBuilding << "\nup: z\n" << settings << "out: " << (out / result).string()
-                              << "\n";
-    return (out / name).string();
-  };
   auto r = run_cli("run " +
-                   job_file("job.yaml",
+                   job_file(out, "job.yaml",
                             "distances: [132]\nsamples: 1\njudge_views: az22.5el15\n"
                             "fidelity_target: {max_changed: 0.02, max_silhouette: 0.01}\n",
                             "result") +
@@ -243,7 +243,12 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
   ASSERT_TRUE(lod["bounds_px"].contains("undisplayable_exposure")) << lod["bounds_px"];
   EXPECT_LE(lod["bounds_px"]["undisplayable_exposure"].get<double>(), perclod::kKeepUndisplayableExposure);
   EXPECT_EQ(search.front()["undisplayable"], "deleted");
+  fs::remove_all(out);
+}
 
+TEST(CliPipeline, FidelityTargetNoLooserStepMeetsTriesEveryStep) {
+  fs::path out = fresh_dir("run-target-all");
+  fs::create_directories(out);
   // A target only an unchanged picture meets: every step is tried, both
   // bounds tighten to 0 px, the last steps keep undisplayable triangles
   // (collapsed within the step's bound) instead of deleting them, and the
@@ -251,7 +256,7 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
   // triangles deleted as asked: the four facades alone leave so much unseen
   // that keep_undisplayable: auto would keep them from the first step.)
   auto none = run_cli("run " +
-                      job_file("none.yaml",
+                      job_file(out, "none.yaml",
                                "distances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
                                "keep_undisplayable: false\nfidelity_target: {max_changed: 0}\n",
                                "none") +
@@ -288,10 +293,17 @@ TEST(CliPipeline, FidelityTargetIsMetAndStrictFailsOverLimits) {
   EXPECT_EQ(all["simplify"]["undisplayable_faces_deleted"].get<double>(), 0.0) << all["simplify"];
   EXPECT_EQ(all["fidelity"]["worst"]["changed_fraction"].get<double>(), 0.0) << all["fidelity"];
   EXPECT_EQ(none.err.find("no bound meets the fidelity target"), std::string::npos) << none.err;
+  fs::remove_all(out);
+}
 
+// --strict turns figures over the limits into a failure after every output
+// is written; a fidelity target needs fidelity mode.
+TEST(CliPipeline, StrictFailsOverLimitsAfterWritingEverything) {
+  fs::path out = fresh_dir("run-strict");
+  fs::create_directories(out);
   // Limits nobody meets: warnings name the view, and --strict fails.
   auto t = run_cli("run " +
-                   job_file("tight.yaml",
+                   job_file(out, "tight.yaml",
                             "distances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
                             "max_changed: 0\nmax_silhouette: 0\nmin_ssim: 1\nsimplify: paper\n",
                             "tight") +
