@@ -6,6 +6,7 @@
 
 #include <condition_variable>
 #include <exception>
+#include <filesystem>
 #include <mutex>
 #include <stdexcept>
 #include <utility>
@@ -19,17 +20,32 @@ namespace detail {
 
 namespace {
 
+// The module's file: beside the running program (a perclod copied elsewhere
+// with its module), else where the build wrote it.
+std::string image_module_file() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const std::filesystem::path beside = exe.parent_path() / PERCLOD_IMAGE_MODULE_NAME;
+    if (std::filesystem::exists(beside, ec)) return beside.string();
+  }
+  if (std::filesystem::exists(PERCLOD_IMAGE_MODULE, ec)) return PERCLOD_IMAGE_MODULE;
+  throw std::runtime_error(std::string("cannot find perclod's image module ") + PERCLOD_IMAGE_MODULE_NAME +
+                           ": it is neither beside " + (exe.empty() ? "the program" : exe.string()) +
+                           " nor at " + PERCLOD_IMAGE_MODULE + " (copy it beside perclod, or rebuild)");
+}
+
 // dlopen()s the module: RTLD_NOW, so a missing symbol fails here and not in
 // the middle of a write; never closed (OpenImageIO keeps threads and caches).
 const ImageCodec& load_image_codec() {
-  const char* file = PERCLOD_IMAGE_MODULE;
-  void* module = dlopen(file, RTLD_NOW | RTLD_LOCAL);
+  const std::string file = image_module_file();
+  void* module = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!module) throw std::runtime_error(std::string("cannot load perclod's image module: ") + dlerror());
   auto entry = reinterpret_cast<ImageCodecEntry>(dlsym(module, kImageCodecEntry));
-  if (!entry) throw std::runtime_error(std::string(file) + ": no " + kImageCodecEntry + " (not perclod's image module)");
+  if (!entry) throw std::runtime_error(file + ": no " + kImageCodecEntry + " (not perclod's image module)");
   const ImageCodec* codec = entry();
   if (!codec || codec->abi != kImageCodecAbi)
-    throw std::runtime_error(std::string(file) + ": built from another perclod (image module ABI " +
+    throw std::runtime_error(file + ": built from another perclod (image module ABI " +
                              std::to_string(codec ? codec->abi : -1) + ", expected " +
                              std::to_string(kImageCodecAbi) + "); rebuild perclod");
   return *codec;

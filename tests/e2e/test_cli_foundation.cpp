@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
@@ -52,6 +55,27 @@ TEST(Cli, OpenImageIoIsLoadedOnlyByCommandsThatTouchImages) {
   EXPECT_NE(render.err.find("file=libOpenImageIO"), std::string::npos);
   EXPECT_EQ(perclod::read_rgb8((out / "bldg_4018215_+x_427m.png").string()).width, 1280);
   fs::remove_all(out);
+}
+
+// A perclod copied elsewhere with its module loads the module beside it,
+// not the build's.
+TEST(Cli, ACopiedPerclodLoadsTheImageModuleBesideIt) {
+  const fs::path dir = fs::temp_directory_path() / ("perclod-copied-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path build = fs::path(PERCLOD_CLI).parent_path();
+  fs::copy_file(PERCLOD_CLI, dir / "perclod");
+  fs::copy_file(build / "libperclod_oiio.so", dir / "libperclod_oiio.so");
+  const std::string cmd = "LD_DEBUG=files " + (dir / "perclod").string() + " render " + kBuilding +
+                          " --up z -d 427 -f +x -o " + (dir / "out").string() + " 2>" + (dir / "err.txt").string() +
+                          " >/dev/null";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream in(dir / "err.txt");
+  const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(err.find("file=" + (dir / "libperclod_oiio.so").string()), std::string::npos) << err.substr(0, 2000);
+  EXPECT_EQ(err.find("file=" + (build / "libperclod_oiio.so").string()), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir / "out" / "bldg_4018215_+x_427m.png"));
+  fs::remove_all(dir);
 }
 
 TEST(Cli, BadInputFailsWithAMessageOnStderr) {
