@@ -382,6 +382,12 @@ Legality legality(const Model& m, HH h, const Limits& lim, std::vector<VH>& ring
 
 // ---- the collapse loop ------------------------------------------------------
 
+// The one order of collapse candidates: half-edge a (cost ca) before b
+// (cost cb). The heap and the Collapser's per-vertex choice both use it.
+bool cheaper_candidate(double ca, uint32_t a, double cb, uint32_t b) {
+  return ca < cb || (ca == cb && a < b);
+}
+
 // A 4-ary min-heap of vertices, each keyed by the cheapest collapse that
 // removes it: (cost, half-edge) of its best outgoing candidate, indexed so a
 // key can change in place. Equal costs (flat walls collapse at cost 0 plus
@@ -446,7 +452,7 @@ class VertexHeap {
     uint32_t h;  // the vertex's cheapest outgoing half-edge
     uint32_t v;
   };
-  static bool before(const Node& a, const Node& b) { return a.cost < b.cost || (a.cost == b.cost && a.h < b.h); }
+  static bool before(const Node& a, const Node& b) { return cheaper_candidate(a.cost, a.h, b.cost, b.h); }
   void place(size_t i, const Node& n) {
     heap_[i] = n;
     pos_[n.v] = int(i);
@@ -562,8 +568,8 @@ class Collapser {
     live_[i] = evaluate(m_, h, lim_, c);
     cost_[i] = c.cost;
   }
-  // The order of candidates, and of the heap: by cost, then by index.
-  bool cheaper(uint32_t a, uint32_t b) const { return cost_[a] < cost_[b] || (cost_[a] == cost_[b] && a < b); }
+  // cheaper_candidate of half-edges a and b at their current costs.
+  bool cheaper(uint32_t a, uint32_t b) const { return cheaper_candidate(cost_[a], a, cost_[b], b); }
   // v's cheapest candidate; UINT32_MAX when it has none.
   uint32_t cheapest(VH v) const {
     uint32_t best = UINT32_MAX;
