@@ -18,11 +18,13 @@ struct CliResult {
   std::string out, err;
 };
 
-// Runs `perclod ARGS` through the shell; stdout and stderr captured separately.
-// `shell_prefix` runs before it in the same shell (e.g. "ulimit -f 16;").
-inline CliResult run_cli(const std::string& args, const std::string& shell_prefix = "") {
+// Runs `PROGRAM ARGS` through the shell; stdout and stderr captured
+// separately. `shell_prefix` runs before it in the same shell (e.g.
+// "ulimit -f 16;").
+inline CliResult run_program(const std::string& program, const std::string& args,
+                             const std::string& shell_prefix = "") {
   auto err_path = std::filesystem::temp_directory_path() / ("perclod-cli-err-" + std::to_string(::getpid()));
-  std::string cmd = shell_prefix + std::string(PERCLOD_CLI) + " " + args + " 2>" + err_path.string();
+  std::string cmd = shell_prefix + program + " " + args + " 2>" + err_path.string();
   CliResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -37,6 +39,11 @@ inline CliResult run_cli(const std::string& args, const std::string& shell_prefi
   }
   std::filesystem::remove(err_path);
   return r;
+}
+
+// run_program of the perclod binary under test.
+inline CliResult run_cli(const std::string& args, const std::string& shell_prefix = "") {
+  return run_program(PERCLOD_CLI, args, shell_prefix);
 }
 
 }  // namespace perclod::test

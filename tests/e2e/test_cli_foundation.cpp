@@ -2,10 +2,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
@@ -66,14 +63,12 @@ TEST(Cli, ACopiedPerclodLoadsTheImageModuleBesideIt) {
   const fs::path build = fs::path(PERCLOD_CLI).parent_path();
   fs::copy_file(PERCLOD_CLI, dir / "perclod");
   fs::copy_file(build / "libperclod_oiio.so", dir / "libperclod_oiio.so");
-  const std::string cmd = "LD_DEBUG=files " + (dir / "perclod").string() + " render " + kBuilding +
-                          " --up z -d 427 -f +x -o " + (dir / "out").string() + " 2>" + (dir / "err.txt").string() +
-                          " >/dev/null";
-  ASSERT_EQ(std::system(cmd.c_str()), 0);
-  std::ifstream in(dir / "err.txt");
-  const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(err.find("file=" + (dir / "libperclod_oiio.so").string()), std::string::npos) << err.substr(0, 2000);
-  EXPECT_EQ(err.find("file=" + (build / "libperclod_oiio.so").string()), std::string::npos);
+  auto r = perclod::test::run_program((dir / "perclod").string(),
+                                      "render " + kBuilding + " --up z -d 427 -f +x -o " + (dir / "out").string(),
+                                      "export LD_DEBUG=files;");
+  ASSERT_EQ(r.exit_code, 0) << r.err.substr(0, 2000);
+  EXPECT_NE(r.err.find("file=" + (dir / "libperclod_oiio.so").string()), std::string::npos) << r.err.substr(0, 2000);
+  EXPECT_EQ(r.err.find("file=" + (build / "libperclod_oiio.so").string()), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "out" / "bldg_4018215_+x_427m.png"));
   fs::remove_all(dir);
 }
