@@ -13,6 +13,15 @@ namespace perclod::test {
 // The demo building (data/ingolstadt/, in the repo), which most CLI tests run on.
 inline const std::string kBuilding = PERCLOD_SOURCE_DIR "/data/ingolstadt/bldg_4018215.obj";
 
+// temp/perclod-NAME-PID, emptied (removed; made again when `create`).
+inline std::filesystem::path fresh_dir(const std::string& name, bool create = false) {
+  std::filesystem::path p =
+      std::filesystem::temp_directory_path() / ("perclod-" + name + "-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(p);
+  if (create) std::filesystem::create_directories(p);
+  return p;
+}
+
 struct CliResult {
   int exit_code = -1;
   std::string out, err;

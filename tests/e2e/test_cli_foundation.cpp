@@ -11,6 +11,7 @@
 using perclod::test::run_cli;
 namespace fs = std::filesystem;
 
+using perclod::test::fresh_dir;
 using perclod::test::kBuilding;
 
 TEST(Cli, HelpExplainsEveryCommand) {
@@ -44,8 +45,7 @@ TEST(Cli, OpenImageIoIsLoadedOnlyByCommandsThatTouchImages) {
   EXPECT_EQ(info.err.find("libOpenImageIO"), std::string::npos);
   EXPECT_EQ(info.err.find("libperclod_oiio"), std::string::npos);
 
-  fs::path out = fs::temp_directory_path() / ("perclod-lazy-oiio-" + std::to_string(getpid()));
-  fs::remove_all(out);
+  const fs::path out = fresh_dir("lazy-oiio");
   auto render = run_cli("render " + kBuilding + " --up z -d 427 -f +x -o " + out.string(), "export LD_DEBUG=files;");
   ASSERT_EQ(render.exit_code, 0) << render.err;
   EXPECT_NE(render.err.find("libperclod_oiio.so"), std::string::npos);
@@ -57,9 +57,7 @@ TEST(Cli, OpenImageIoIsLoadedOnlyByCommandsThatTouchImages) {
 // A perclod copied elsewhere with its module loads the module beside it,
 // not the build's.
 TEST(Cli, ACopiedPerclodLoadsTheImageModuleBesideIt) {
-  const fs::path dir = fs::temp_directory_path() / ("perclod-copied-" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = fresh_dir("copied", true);
   const fs::path build = fs::path(PERCLOD_CLI).parent_path();
   fs::copy_file(PERCLOD_CLI, dir / "perclod");
   fs::copy_file(build / "libperclod_oiio.so", dir / "libperclod_oiio.so");

@@ -18,11 +18,7 @@ namespace fs = std::filesystem;
 
 using perclod::test::kBuilding;
 
-static fs::path fresh_dir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("perclod-" + name + "-" + std::to_string(getpid()));
-  fs::remove_all(p);
-  return p;
-}
+using perclod::test::fresh_dir;
 
 TEST(CliPipeline, LabelWritesLabelsMarkingRendersAndAgreement) {
   fs::path out = fresh_dir("label");

@@ -16,18 +16,13 @@ namespace {
 using perclod::test::run_cli;
 namespace fs = std::filesystem;
 
+using perclod::test::fresh_dir;
 using perclod::test::kBuilding;
 
 // Files this shell's children write may not grow beyond 8 KB: write() fails
 // with EFBIG as on a full disk (SIGXFSZ ignored so the process sees the error).
 const std::string kFullDisk = "trap '' XFSZ; ulimit -f 16; ";
 
-fs::path fresh_dir(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("perclod-rel-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 // Names of the files in `dir`, each with its size.
 std::string listing(const fs::path& dir) {
@@ -38,7 +33,7 @@ std::string listing(const fs::path& dir) {
 }
 
 TEST(ReliabilityCli, AFullDiskFailsRenderSimplifyAndGenerateWithNothingHalfWritten) {
-  fs::path out = fresh_dir("full");
+  fs::path out = fresh_dir("rel-full", true);
   auto r = run_cli("render " + kBuilding + " --up z -d 56 -f +x -o " + out.string(), kFullDisk);
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("bldg_4018215_+x_56m.png: cannot write"), std::string::npos) << r.err;
@@ -65,7 +60,7 @@ TEST(ReliabilityCli, AFullDiskFailsRenderSimplifyAndGenerateWithNothingHalfWritt
 }
 
 TEST(ReliabilityCli, DistancesThatNameTheSameFilesAreRefused) {
-  fs::path out = fresh_dir("dist");
+  fs::path out = fresh_dir("rel-dist", true);
   auto r = run_cli("render " + kBuilding + " --up z -d 56,56.0000001 -f +x -o " + out.string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("56 and 56.0000001 both name their files '56m'"), std::string::npos) << r.err;
@@ -83,7 +78,7 @@ TEST(ReliabilityCli, DistancesThatNameTheSameFilesAreRefused) {
 }
 
 TEST(ReliabilityCli, CoordinatesBeyondFloatAreRefusedNamingTheFile) {
-  fs::path out = fresh_dir("float");
+  fs::path out = fresh_dir("rel-float", true);
   const std::string big = (out / "big.obj").string();
   std::ofstream(big) << "v 1e39 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n";
   auto r = run_cli("info " + big);
@@ -98,7 +93,7 @@ TEST(ReliabilityCli, CoordinatesBeyondFloatAreRefusedNamingTheFile) {
 
 // A crash would show as a signal (exit code -1 from run_cli), a hang as a timeout.
 TEST(ReliabilityCli, TruncatedAndOverDeclaredPlyFilesAreErrors) {
-  fs::path out = fresh_dir("ply");
+  fs::path out = fresh_dir("rel-ply", true);
   std::string ply =
       "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
       "property float z\nelement face 6\nproperty list uchar int vertex_indices\nend_header\n";
@@ -127,7 +122,7 @@ TEST(ReliabilityCli, TruncatedAndOverDeclaredPlyFilesAreErrors) {
 // Two commands writing to one directory: the second is refused while the
 // first holds it, and writes nothing there.
 TEST(ReliabilityCli, ASecondCommandOnABusyOutputDirectoryIsRefused) {
-  fs::path out = fresh_dir("busy");
+  fs::path out = fresh_dir("rel-busy", true);
   {
     perclod::OutputDirectoryLock busy(out.string());  // as a running `perclod run` holds it
     auto r = run_cli("render " + kBuilding + " --up z -d 56 -f +x -o " + out.string());
