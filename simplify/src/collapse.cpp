@@ -14,8 +14,6 @@
 // (Bounded: one for all; Fidelity: the tightest of its faces' labels, and of
 // every vertex merged into it); a collapse whose error bound exceeds the
 // tolerance of either end is refused.
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -26,6 +24,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "mesh_edits.h"
 #include "quadric.h"
 #include "simplify_internal.h"
 
@@ -33,16 +32,6 @@ namespace perclod::detail {
 
 namespace {
 
-struct Traits : OpenMesh::DefaultTraits {
-  VertexAttributes(OpenMesh::Attributes::Status);
-  EdgeAttributes(OpenMesh::Attributes::Status);
-  FaceAttributes(OpenMesh::Attributes::Status);
-  HalfedgeAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::PrevHalfedge);
-};
-using Mesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
-using VH = OpenMesh::VertexHandle;
-using FH = OpenMesh::FaceHandle;
-using HH = OpenMesh::HalfedgeHandle;
 using Vec = OpenMesh::Vec3d;
 
 Vec to_d(const Mesh::Point& p) { return Vec(p[0], p[1], p[2]); }
@@ -94,16 +83,6 @@ VH add_vertex(Model& m, const Work& w, uint32_t welded) {
   return v;
 }
 
-// OpenMesh prints a line per refused face; we count them instead.
-struct QuietOpenMesh {
-  QuietOpenMesh() : was(omerr().is_enabled()) { omerr().disable(); }
-  ~QuietOpenMesh() {
-    if (was) omerr().enable();
-  }
-  bool was;
-};
-
-// OpenMesh's error stream is switched off by the caller (QuietOpenMesh).
 // vh_of: the mesh vertex of each welded vertex, -1 until made; one table for
 // every chunk (chunks hold whole pieces, so no welded vertex is in two), which
 // spares each chunk clearing a table of every welded vertex.
@@ -119,19 +98,13 @@ void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, std
     m.face_source.push_back(src);
     m.flipped.push_back(flipped);
   };
-  // An edge already used in this direction is a complex edge: refuse it here
-  // rather than let OpenMesh format an error message.
-  auto edge_free = [&](VH a, VH b) {
-    HH h = m.mesh.find_halfedge(a, b);
-    return !h.is_valid() || m.mesh.is_boundary(h);
-  };
-  // Shared vertices first. A face OpenMesh refuses (non-manifold edge or
+  // Shared vertices first. A face add_triangle refuses (non-manifold edge or
   // vertex) may fit once its neighbours are in: those are retried after the
   // first pass, and only faces refused again get their own vertices.
   std::vector<uint32_t> refused;
   // A face whose edge is already used in the same direction (its neighbour
   // is wound the other way, common in CityGML-derived models) is tried again
-  // reversed: OpenMesh then sees one consistently oriented surface, and the
+  // reversed: the mesh then holds one consistently oriented surface, and the
   // output restores the input winding (Model::flipped).
   auto try_shared = [&](uint32_t src) {
     const uint32_t* c = &w.weld.corner[3 * size_t(src)];
@@ -141,9 +114,8 @@ void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, std
       v[k] = VH(vh_of[c[k]]);
     }
     for (int flip = 0; flip < 2; ++flip) {
-      VH a = v[0], b = flip ? v[2] : v[1], d = flip ? v[1] : v[2];
-      if (!edge_free(a, b) || !edge_free(b, d) || !edge_free(d, a)) continue;
-      FH f = m.mesh.add_face(a, b, d);
+      const VH t[3] = {v[0], flip ? v[2] : v[1], flip ? v[1] : v[2]};
+      FH f = add_triangle(m.mesh, t);
       if (!f.is_valid()) continue;
       record(f, src, uint8_t(flip));
       return true;
@@ -154,7 +126,7 @@ void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, std
     const uint32_t* c = &w.weld.corner[3 * size_t(src)];
     VH v[3];
     for (int k = 0; k < 3; ++k) v[k] = add_vertex(m, w, c[k]);
-    record(m.mesh.add_face(v[0], v[1], v[2]), src, 0);
+    record(add_triangle(m.mesh, v), src, 0);
   };
   for (uint32_t src : faces) {
     const uint32_t* c = &w.weld.corner[3 * size_t(src)];
@@ -373,7 +345,7 @@ Legality legality(const Model& m, HH h, const Limits& lim, std::vector<VH>& ring
   VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
   ring1.clear();
   for (VH n : mesh.vv_range(v1)) ring1.push_back(n);
-  if (int(mesh.valence(v0)) + int(ring1.size()) - 4 > lim.max_valence) return Legality::Valence;
+  if (valence_of(mesh, v0) + int(ring1.size()) - 4 > lim.max_valence) return Legality::Valence;
   if (!link_ok(mesh, h, ring1)) return Legality::Topology;
   if (!geometry_ok(mesh, v0, v1, to_d(mesh.point(v1)), lim, &area_change) || !area_ok(m, v0, v1, area_change))
     return Legality::Shape;
@@ -648,7 +620,7 @@ class Collapser {
         touched_.insert(touched_.end(), {n, mesh.opposite_halfedge_handle(n)});
       }
     size_t removed = mesh.face_handle(c.h).is_valid() + mesh.face_handle(mesh.opposite_halfedge_handle(c.h)).is_valid();
-    mesh.collapse(c.h);
+    collapse_halfedge(mesh, c.h);
     for (HH h : touched_)
       if (mesh.status(mesh.edge_handle(h)).deleted()) live_[size_t(h.idx())] = 0;
     heap_.remove(uint32_t(v0.idx()));
@@ -1016,7 +988,6 @@ void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats&
   std::vector<Chunk> chunks(parts.size());
   for (size_t i = 0; i < parts.size(); ++i) chunks[i].faces = std::move(parts[i]);
   std::vector<int> vh_of(w.weld.positions.size() / 3, -1);  // build_mesh's, shared by the chunks
-  QuietOpenMesh quiet;  // once for every thread: the switch is global
   tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) simplify_chunk(w, opt, tolerance, vh_of, chunks[i]);
   });
