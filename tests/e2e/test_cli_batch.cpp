@@ -1,7 +1,6 @@
 // `perclod run` over a batch: failures reported and survived, reruns skipped,
 // shards that partition the list, and the manifest, tileset and GLBs a viewer loads.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -41,8 +40,7 @@ std::string building_obj(double dx) {
 struct BatchDir {
   fs::path root;
   explicit BatchDir(const std::string& name) {
-    root = fs::temp_directory_path() / ("perclod-batch-" + name + "-" + std::to_string(::getpid()));
-    fs::remove_all(root);
+    root = perclod::test::fresh_dir("batch-" + name);
     fs::create_directories(root / "models");
     std::ofstream(root / "models" / "alpha.obj") << building_obj(0);
     std::ofstream(root / "models" / "beta.obj") << building_obj(100);

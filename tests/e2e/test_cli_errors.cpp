@@ -3,7 +3,6 @@
 // the file (or option) concerned, and nothing left under a final output name
 // or a .tmp-* name in the output directory, whose earlier content survives.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -54,9 +53,7 @@ std::string expand(std::string s, const Fixture& f) {
 
 Fixture make_fixture() {
   Fixture f;
-  f.dir = fs::temp_directory_path() / ("perclod-cli-errors-" + std::to_string(::getpid()));
-  fs::remove_all(f.dir);
-  fs::create_directories(f.dir);
+  f.dir = perclod::test::fresh_dir("cli-errors", true);
   f.out = f.dir / "out";
   f.file("cube.obj", kCube);
   // Same triangle count, one vertex moved: another model.

@@ -1,7 +1,6 @@
 // `perclod generate facade` through the CLI and back through the loader (the
 // generator's own tests are pipeline/facade/test_facade.cpp).
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -23,8 +22,7 @@ using test::facade_fixtures::corner;
 // project's loader reads it back with every triangle, group and the offset.
 TEST(Facade, CliWritesTheFacadeAndItLoadsBack) {
   namespace fs = std::filesystem;
-  fs::path dir = fs::temp_directory_path() / ("perclod-facade-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  fs::path dir = test::fresh_dir("facade", true);
   const std::string obj = (dir / "f.obj").string();
   auto r = test::run_cli("generate facade --floors 2 --bays 3 --coplanar-panels --hidden-interior " +
                          obj + " --json");

@@ -30,7 +30,7 @@ fs::path write_test_image(const fs::path& dir) {
 }
 
 struct CliPerceive : ::testing::Test {
-  fs::path dir = fs::temp_directory_path() / ("perclod-perceive-" + std::to_string(::getpid()));
+  fs::path dir = perclod::test::fresh_dir("perceive");
   void TearDown() override { fs::remove_all(dir); }
 };
 
