@@ -37,6 +37,10 @@ std::string building_obj(double dx) {
   return s;
 }
 
+// Every batch config here is written beside BatchDir's small-display.yaml.
+constexpr const char* kRunSettings =
+    "distances: [56]\nviews: facades\nsamples: 1\njudge_views: none\ndisplay: small-display.yaml\n";
+
 struct BatchDir {
   fs::path root;
   explicit BatchDir(const std::string& name) {
@@ -45,8 +49,12 @@ struct BatchDir {
     std::ofstream(root / "models" / "alpha.obj") << building_obj(0);
     std::ofstream(root / "models" / "beta.obj") << building_obj(100);
     std::ofstream(root / "models" / "broken.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 nan\nf 1 2 3\n";
-    std::ofstream(root / "batch.yaml") << "out: " << (root / "out").string() << "\n"
-                                       << "distances: [56]\nviews: facades\nsamples: 1\njudge_views: none\n"
+    // A quarter of the paper display's resolution at its size and distance:
+    // a sixteenth of the pixels to render, perceive and trace, which is what
+    // these runs spend their time on (they test the batch, not the labels).
+    std::ofstream(root / "small-display.yaml")
+        << "name: test-320\nwidth: 320\nheight: 256\ndpi: 21.5675\nviewer_distance_m: 0.5\n";
+    std::ofstream(root / "batch.yaml") << "out: " << (root / "out").string() << "\n" << kRunSettings
                                        << "models:\n  - models/alpha.obj\n  - models/broken.obj\n"
                                        << "  - {model: models/beta.obj, up: z, crs_origin: {lat: 48.77, lon: 11.43, height: 370}}\n";
   }
@@ -195,7 +203,8 @@ TEST(CliBatch, ManifestTilesetAndGlbsValidate) {
 TEST(CliBatch, OneModelConfigsWriteTheManifestBesideTheLods) {
   BatchDir b("single");
   std::ofstream(b.root / "one.yaml") << "model: models/alpha.obj\nout: " << (b.root / "one").string()
-                                     << "\ndistances: [56, 427]\nviews: facades\nsamples: 1\njudge_views: none\n";
+                                     << "\ndistances: [56, 427]\nviews: facades\nsamples: 1\njudge_views: none\n"
+                                     << "display: small-display.yaml\n";
   auto r = run_cli("run " + (b.root / "one.yaml").string() + " --shard 0/2");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("apply to a batch"), std::string::npos) << r.err;
@@ -212,7 +221,7 @@ TEST(CliBatch, CityJsonModelsTakeTheirLodFromTheConfig) {
   BatchDir b("cityjson");
   const std::string fixture = PERCLOD_SOURCE_DIR "/tests/pipeline/fixtures/bldg_4018215.city.json";
   std::ofstream(b.root / "city.yaml") << "out: " << (b.root / "cj").string() << "\n"
-                                      << "distances: [56]\nviews: facades\nsamples: 1\njudge_views: none\nup: z\n"
+                                      << kRunSettings << "up: z\n"
                                       << "models:\n  - {model: " << fixture << ", cityjson_lod: \"2\"}\n"
                                       << "  - {model: " << fixture << ", cityjson_lod: \"3\"}\n";
   auto r = run_cli("run " + (b.root / "city.yaml").string() + " --json");
@@ -235,11 +244,11 @@ TEST(CliBatch, CityJsonModelsTakeTheirLodFromTheConfig) {
 TEST(CliBatch, ModelsInParallelGiveTheSameOutputsAndTheMemoryBudgetHoldsThemBack) {
   BatchDir b("jobs");
   std::ofstream(b.root / "seq.yaml") << "out: " << (b.root / "seq").string() << "\n"
-                                     << "distances: [56]\nviews: facades\nsamples: 1\njudge_views: none\n"
+                                     << kRunSettings
                                      << "models:\n  - models/alpha.obj\n  - models/broken.obj\n"
                                      << "  - {model: models/beta.obj, up: z}\n";
   std::ofstream(b.root / "par.yaml") << "out: " << (b.root / "par").string() << "\njobs: 2\n"
-                                     << "distances: [56]\nviews: facades\nsamples: 1\njudge_views: none\n"
+                                     << kRunSettings
                                      << "models:\n  - models/alpha.obj\n  - models/broken.obj\n"
                                      << "  - {model: models/beta.obj, up: z}\n";
   auto seq = run_cli("run " + (b.root / "seq.yaml").string());
