@@ -65,6 +65,11 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_VIEWS = "facades,ring8el30,ring8el60,top"  # perclod's default view set (pipeline/include/perclod/views.h)
 SECTIONS = ("tracers", "simplifiers", "sweeps", "stability", "scaling", "failures")
 
+# --smoke: bench_fidelity at half the display's resolution (a quarter of the
+# pixels to label, render and judge; 24 -> 10 s for the simplifiers section's
+# run). The smoke checks the machinery, and its figures mean nothing anyway.
+SMOKE_FIDELITY = ["--set", "resolution=0.5"]
+
 # The perceptual pipeline's settings, one at a time from the default
 # (bench_fidelity --set KEY=VALUE; "default" changes nothing).
 SWEEPS = [("default", []), ("resolution=1.5", ["resolution=1.5"]), ("levels=3", ["levels=3"]),
@@ -144,7 +149,7 @@ def run_simplifiers(a, out):
     shutil.rmtree(pairs, ignore_errors=True)
     os.makedirs(pairs)
     if a.smoke:
-        fid = ["--models", "demo", "--distances", "427", "--e-imperceptible", "1"]
+        fid = ["--models", "demo", "--distances", "427", "--e-imperceptible", "1"] + SMOKE_FIDELITY
         simp = ["--runs", "1", "--facade-triangles", "5000", "--skip-decimater", "--no-city"]
     else:
         fid = ["--models", "demo,han,sibenik,sponza", "--distances", "56,132,427", "--e-imperceptible", "0.5,1,2,4"]
@@ -233,7 +238,8 @@ def run_stability(a, out):
     # unmoved model (bench_fidelity --label-shift).
     models, dists = ("demo", "427") if a.smoke else ("demo,han", "56,132,427")
     run([a.bin("bench_fidelity"), "--models", models, "--distances", dists, "--e-imperceptible", "0.5",
-         "--only-fidelity", "--label-shift", "--csv", out("stability_lod.csv")], out("stability_lod.txt"))
+         "--only-fidelity", "--label-shift", "--csv", out("stability_lod.csv")] + (SMOKE_FIDELITY if a.smoke else []),
+        out("stability_lod.txt"))
 
 
 def timed_run(a, work, model, views, distances, name):
