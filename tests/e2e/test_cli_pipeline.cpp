@@ -16,9 +16,8 @@
 using perclod::test::run_cli;
 namespace fs = std::filesystem;
 
-using perclod::test::kBuilding;
-
 using perclod::test::fresh_dir;
+using perclod::test::kBuilding;
 
 TEST(CliPipeline, LabelWritesLabelsMarkingRendersAndAgreement) {
   fs::path out = fresh_dir("label");

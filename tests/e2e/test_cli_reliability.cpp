@@ -23,7 +23,6 @@ using perclod::test::kBuilding;
 // with EFBIG as on a full disk (SIGXFSZ ignored so the process sees the error).
 const std::string kFullDisk = "trap '' XFSZ; ulimit -f 16; ";
 
-
 // Names of the files in `dir`, each with its size.
 std::string listing(const fs::path& dir) {
   std::string s;
