@@ -17,6 +17,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
+#include <new>
 #include <numeric>
 #include <queue>
 #include <string>
@@ -220,17 +222,10 @@ void lock_perceptible(Model& m, const Work& w) {
 
 // ---- candidates ------------------------------------------------------------
 
-// Square of the distance bound of collapsing v0 into v1: the unit-weight
-// quadric of both, evaluated at v1.
-double collapse_error2(const Model& m, VH v0, VH v1) {
-  const auto& p = m.mesh.point(v1);
-  return (m.qd(v0) + m.qd(v1)).eval(p[0], p[1], p[2]);
-}
-
 struct Candidate {
   HH h;
   double cost = 0;
-  double error2 = 0;       // square of the distance bound: the unit-weight quadric at v1
+  double error2 = 0;       // square of the distance bound: both ends' unit-weight quadrics at v1
   double area_change = 0;  // surface area the collapse adds (or removes, < 0)
 };
 
@@ -316,23 +311,49 @@ bool link_ok(const Mesh& mesh, HH h, const std::vector<VH>& ring1) {
   return true;
 }
 
-// Cost of collapsing h (v0 -> v1), and its error when there is a tolerance;
-// false when h may never collapse (v0 locked, a constraint line, error above
-// the tolerance).
-bool evaluate(const Model& m, HH h, const Limits& lim, Candidate& c) {
+// The candidates h (v0 -> v1) and its opposite (v1 -> v0), as side 0 and 1:
+// each side's cost, and its error when there is a tolerance; live[s] is false
+// when that side may never collapse (its v0 locked, a constraint line, error
+// above the tolerance). Both sides sum the same two quadrics and differ only
+// in the end they are evaluated at (addition commutes, so each side's figures
+// are what evaluating it alone would give).
+void evaluate_edge(const Model& m, HH h, const Limits& lim, Candidate c[2], bool live[2]) {
   const Mesh& mesh = m.mesh;
-  VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
-  if (m.locked[v0.idx()] || m.feature_edge[mesh.edge_handle(h).idx()]) return false;
+  const VH v[2] = {mesh.from_vertex_handle(h), mesh.to_vertex_handle(h)};
+  const bool free_edge = !m.feature_edge[mesh.edge_handle(h).idx()];
+  live[0] = free_edge && !m.locked[v[0].idx()];
+  live[1] = free_edge && !m.locked[v[1].idx()];
+  c[0] = Candidate{h};
+  c[1] = Candidate{mesh.opposite_halfedge_handle(h)};
+  if (!live[0] && !live[1]) return;
+  const Mesh::Point* p[2] = {&mesh.point(v[0]), &mesh.point(v[1])};
+  auto at_v1 = [&](const Quadric& q, int side) {  // side s moves v[s] onto v[1 - s]
+    const Mesh::Point& e = *p[1 - side];
+    return q.eval(e[0], e[1], e[2]);
+  };
   if (!m.tol.empty()) {  // the bound first: a refusal needs no cost
-    c.error2 = collapse_error2(m, v0, v1);
-    if (!root_within(c.error2, std::min(m.tol[v0.idx()], m.tol[v1.idx()]))) return false;
+    const Quadric q = m.qd(v[0]) + m.qd(v[1]);
+    const double t = std::min(m.tol[v[0].idx()], m.tol[v[1].idx()]);
+    for (int s = 0; s < 2; ++s)
+      if (live[s]) {
+        c[s].error2 = at_v1(q, s);
+        live[s] = root_within(c[s].error2, t);
+      }
+    if (!live[0] && !live[1]) return;
   }
-  const auto& q1 = mesh.point(v1);
-  const double x = q1[0], y = q1[1], z = q1[2];
-  double l2 = (to_d(q1) - to_d(mesh.point(v0))).sqrnorm();
-  c.h = h;
-  c.cost = (m.qa(v0) + m.qa(v1)).eval(x, y, z) + lim.tie * l2 * l2;
-  return true;
+  const Quadric q = m.qa(v[0]) + m.qa(v[1]);
+  const double l2 = (to_d(*p[1]) - to_d(*p[0])).sqrnorm();
+  for (int s = 0; s < 2; ++s)
+    if (live[s]) c[s].cost = at_v1(q, s) + lim.tie * l2 * l2;
+}
+
+// Side 0 of evaluate_edge: h alone.
+bool evaluate(const Model& m, HH h, const Limits& lim, Candidate& c) {
+  Candidate both[2];
+  bool live[2];
+  evaluate_edge(m, h, lim, both, live);
+  c = both[0];
+  return live[0];
 }
 
 // Everything that depends on the neighbourhood: fan size, link condition,
@@ -373,17 +394,18 @@ bool cheaper_candidate(double ca, uint32_t a, double cb, uint32_t b) {
 // and putting back every half-edge around v0 and v1.
 class VertexHeap {
  public:
-  explicit VertexHeap(size_t n) : pos_(n, -1) {}
-  bool empty() const { return heap_.empty(); }
+  explicit VertexHeap(size_t n)
+      : pos_(n, -1), store_(new (std::align_val_t(kLine)) Node[n + kPad]), heap_(store_.get() + kPad) {}
+  bool empty() const { return size_ == 0; }
   // Every vertex with a candidate (best[v]: its cheapest half-edge, or
   // UINT32_MAX for none; cost: per half-edge), then one O(n) heapify.
   void build(const std::vector<uint32_t>& best, const std::vector<double>& cost) {
     for (uint32_t v = 0; v < uint32_t(best.size()); ++v)
       if (best[v] != UINT32_MAX) {
-        pos_[v] = int(heap_.size());
-        heap_.push_back({cost[best[v]], best[v], v});
+        pos_[v] = int(size_);
+        heap_[size_++] = {cost[best[v]], best[v], v};
       }
-    const size_t n = heap_.size();
+    const size_t n = size_;
     for (size_t i = n > 1 ? (n - 2) / kArity + 1 : 0; i-- > 0;) down(i);  // every node with a child
   }
   uint32_t top() const { return heap_[0].h; }  // the cheapest half-edge
@@ -392,8 +414,8 @@ class VertexHeap {
   void set(uint32_t v, double cost, uint32_t h) {
     const Node n{cost, h, v};
     if (pos_[v] < 0) {
-      pos_[v] = int(heap_.size());
-      heap_.push_back(n);
+      pos_[v] = int(size_);
+      heap_[size_++] = n;
       up(size_t(pos_[v]));
     } else {
       size_t i = size_t(pos_[v]);
@@ -406,9 +428,8 @@ class VertexHeap {
     if (pos_[v] < 0) return;
     size_t i = size_t(pos_[v]);
     pos_[v] = -1;
-    Node last = heap_.back();
-    heap_.pop_back();
-    if (i == heap_.size()) return;
+    Node last = heap_[--size_];
+    if (i == size_) return;
     heap_[i] = last;
     pos_[last.v] = int(i);
     up(i);
@@ -417,13 +438,18 @@ class VertexHeap {
 
  private:
   // Four children per node: half the levels of a binary heap, and the four
-  // children are 64 contiguous bytes.
+  // children of a node are one 64-byte cache line: node i's are 4i+1..4i+4,
+  // so with the root kPad nodes into a line-aligned block they start on a
+  // line.
   static constexpr size_t kArity = 4;
   struct Node {
     double cost;
     uint32_t h;  // the vertex's cheapest outgoing half-edge
     uint32_t v;
   };
+  static constexpr size_t kLine = 64;
+  static constexpr size_t kPad = kLine / sizeof(Node) - 1;
+  static_assert(kArity * sizeof(Node) == kLine);
   static bool before(const Node& a, const Node& b) { return cheaper_candidate(a.cost, a.h, b.cost, b.h); }
   void place(size_t i, const Node& n) {
     heap_[i] = n;
@@ -441,7 +467,7 @@ class VertexHeap {
   }
   void down(size_t i) {
     Node n = heap_[i];
-    const size_t size = heap_.size();
+    const size_t size = size_;
     for (;;) {
       const size_t first = kArity * i + 1;
       if (first >= size) break;
@@ -455,8 +481,13 @@ class VertexHeap {
     }
     place(i, n);
   }
-  std::vector<Node> heap_;
+  struct FreeAligned {
+    void operator()(Node* p) const { ::operator delete[](p, std::align_val_t(kLine)); }
+  };
   std::vector<int> pos_;
+  std::unique_ptr<Node[], FreeAligned> store_;  // room for every vertex, never reallocated
+  Node* heap_;                                  // the root: store_ + kPad
+  size_t size_ = 0;
 };
 
 // The candidates are every half-edge that may collapse (both directions of
@@ -479,8 +510,7 @@ class Collapser {
   void run(SimplifyStats& stats, int max_passes = 8) {
     const Mesh& mesh = m_.mesh;
     changed_.assign(mesh.n_vertices(), 0);
-    for (auto e : mesh.edges())
-      for (int side = 0; side < 2; ++side) offer(mesh.halfedge_handle(e, side));
+    for (auto e : mesh.edges()) offer_edge(mesh.halfedge_handle(e, 0));
     // Each vertex's cheapest candidate, in one pass over the half-edges.
     std::vector<uint32_t> best(mesh.n_vertices(), UINT32_MAX);
     for (uint32_t i = 0; i < uint32_t(mesh.n_halfedges()); ++i) {
@@ -539,6 +569,18 @@ class Collapser {
     const size_t i = size_t(h.idx());
     live_[i] = evaluate(m_, h, lim_, c);
     cost_[i] = c.cost;
+  }
+  // The same for both half-edges of h's edge: both become candidates at their current costs,
+  // or stop being ones.
+  void offer_edge(HH h) {
+    Candidate c[2];
+    bool live[2];
+    evaluate_edge(m_, h, lim_, c, live);
+    for (int s = 0; s < 2; ++s) {
+      const size_t i = size_t(c[s].h.idx());
+      live_[i] = live[s];
+      cost_[i] = c[s].cost;
+    }
   }
   // cheaper_candidate of half-edges a and b at their current costs.
   bool cheaper(uint32_t a, uint32_t b) const { return cheaper_candidate(cost_[a], a, cost_[b], b); }
@@ -641,8 +683,7 @@ class Collapser {
       const VH n = mesh.to_vertex_handle(h);
       const HH back = mesh.opposite_halfedge_handle(h);
       changed_[n.idx()] = clock_;
-      offer(h);
-      offer(back);
+      offer_edge(h);
       rekey(n, back);  // n's only half-edge whose cost changed
     }
     rekey(v1);
