@@ -87,24 +87,40 @@ void weld_corners(Work& w, bool per_component, double tolerance) {
   pos.clear();
   pos.reserve(3 * ni);
   uint32_t welded = 0;
-  // Item i's input vertex is read once, here, and its slot then holds its
-  // welded vertex: item_vertex becomes item -> welded vertex in place.
+  // The table is far larger than the cache and the hash scatters
+  // neighbouring items, so each item's first slot is worked out kAhead
+  // items early and prefetched (a ring of the next kAhead probes).
+  struct Probe {
+    Key key;
+    size_t at;  // first slot to look at
+  };
+  auto probe_of = [&](size_t i) {
+    const Key k = make_key(&s.positions[3 * size_t(item_vertex[i])], group_of(uint32_t(i)), inv_cell);
+    const uint64_t h = uint64_t(k.g) * 0x9E3779B97F4A7C15ull ^ uint64_t(k.x) * 0xC2B2AE3D27D4EB4Full ^
+                       uint64_t(k.y) * 0x165667B19E3779F9ull ^ uint64_t(k.z) * 0x27D4EB2F165667C5ull;
+    const size_t at = size_t(h ^ (h >> 29)) & (cap - 1);
+    __builtin_prefetch(&slot[at]);
+    return Probe{k, at};
+  };
+  constexpr size_t kAhead = 16;
+  Probe ahead[kAhead];
+  for (size_t i = 0; i < std::min(kAhead, ni); ++i) ahead[i] = probe_of(i);
+  // Item i's slot ends up holding its welded vertex: item_vertex becomes
+  // item -> welded vertex in place (probe_of reads only items after i).
   std::vector<uint32_t>& welded_of_item = item_vertex;
   for (size_t i = 0; i < ni; ++i) {
+    const Probe probe = ahead[i % kAhead];
     const float* p = &s.positions[3 * size_t(item_vertex[i])];
-    const uint32_t g = group_of(uint32_t(i));
-    Key k = make_key(p, g, inv_cell);
-    uint64_t h = uint64_t(k.g) * 0x9E3779B97F4A7C15ull ^ uint64_t(k.x) * 0xC2B2AE3D27D4EB4Full ^
-                 uint64_t(k.y) * 0x165667B19E3779F9ull ^ uint64_t(k.z) * 0x27D4EB2F165667C5ull;
-    size_t at = size_t(h ^ (h >> 29)) & (cap - 1);
+    if (i + kAhead < ni) ahead[i % kAhead] = probe_of(i + kAhead);
     auto same = [&](uint32_t id) {
-      return make_key(&pos[3 * size_t(id)], per_component ? welded_group[id] : 0u, inv_cell) == k;
+      return make_key(&pos[3 * size_t(id)], per_component ? welded_group[id] : 0u, inv_cell) == probe.key;
     };
+    size_t at = probe.at;
     while (slot[at] != UINT32_MAX && !same(slot[at])) at = (at + 1) & (cap - 1);
     if (slot[at] == UINT32_MAX) {
       slot[at] = welded++;
       pos.insert(pos.end(), p, p + 3);
-      if (per_component) welded_group.push_back(g);
+      if (per_component) welded_group.push_back(uint32_t(probe.key.g));
     }
     welded_of_item[i] = slot[at];
   }
