@@ -570,8 +570,7 @@ class Collapser {
     live_[i] = evaluate(m_, h, lim_, c);
     cost_[i] = c.cost;
   }
-  // The same for both half-edges of h's edge: both become candidates at their current costs,
-  // or stop being ones.
+  // offer() of both half-edges of h's edge, from one evaluate_edge.
   void offer_edge(HH h) {
     Candidate c[2];
     bool live[2];
