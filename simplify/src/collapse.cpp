@@ -20,7 +20,6 @@
 #include <memory>
 #include <new>
 #include <numeric>
-#include <queue>
 #include <string>
 
 #include <tbb/blocked_range.h>
