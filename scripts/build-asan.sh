@@ -7,7 +7,9 @@
 # Usage: scripts/build-asan.sh [TARGET...]   (default: everything but benchmarks)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+generator=(-G Ninja)  # as scripts/setup.sh; a build-asan/ made with Make keeps Make
+[[ -f build-asan/CMakeCache.txt ]] && generator=()
+cmake "${generator[@]}" -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
