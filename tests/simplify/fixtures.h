@@ -173,7 +173,7 @@ inline bool indices_in_range(const Scene& s) {
          std::all_of(s.indices.begin(), s.indices.end(), [&](uint32_t i) { return i < s.vertex_count(); });
 }
 
-namespace detail {
+namespace oracle {
 struct P3 {
   double x, y, z;
 };
@@ -243,7 +243,7 @@ PERCLOD_TEST_UNSANITIZED inline double one_sided_hausdorff(const Scene& from, co
   }
   return worst;
 }
-}  // namespace detail
+}  // namespace oracle
 
 inline std::array<double, 3> vertex(const Scene& s, uint32_t i) {
   return {s.positions[3 * size_t(i)], s.positions[3 * size_t(i) + 1], s.positions[3 * size_t(i) + 2]};
@@ -253,7 +253,7 @@ inline std::array<double, 3> vertex(const Scene& s, uint32_t i) {
 // out of range: no check can pass on such a scene).
 inline double distance_to_surface(const std::array<double, 3>& p, const Scene& s) {
   if (!indices_in_range(s)) return INFINITY;
-  return detail::distance_to_surface({p[0], p[1], p[2]}, s);
+  return oracle::distance_to_surface({p[0], p[1], p[2]}, s);
 }
 
 // One side of the sampled Hausdorff distance: barycentric samples of each
@@ -261,7 +261,7 @@ inline double distance_to_surface(const std::array<double, 3>& p, const Scene& s
 // (infinite if either has an index out of range).
 inline double one_sided_hausdorff(const Scene& from, const Scene& to, int samples_per_edge = 4) {
   if (samples_per_edge < 1 || !indices_in_range(from) || !indices_in_range(to)) return INFINITY;
-  return detail::one_sided_hausdorff(from, to, samples_per_edge);
+  return oracle::one_sided_hausdorff(from, to, samples_per_edge);
 }
 
 // Every perceptible input triangle appears in the output exactly as it was
