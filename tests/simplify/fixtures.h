@@ -159,19 +159,15 @@ inline Tri canonical(Tri t) {
 // triangles), and they are left out of the sanitized build's instrumentation:
 // with it they ran some 40x slower than in Release (SimplifyFidelity.
 // EachLabelKeepsItsOwnBound: 0.4 s Release, 17.8 s ASan), without checking
-// any more of perclod's code. What they read is checked first instead: every
-// index names a vertex (`indices_in_range`), so the unsanitized loops stay in
-// bounds. The simplifier that made the scenes runs instrumented as before.
+// any more of perclod's code. What they read is checked first instead, by
+// the Scene contract's validate() (every index names a vertex), so the
+// unsanitized loops stay in bounds. The simplifier that made the scenes runs
+// instrumented as before.
 #if defined(__clang__) || defined(__GNUC__)
 #define PERCLOD_TEST_UNSANITIZED __attribute__((no_sanitize("address", "undefined")))
 #else
 #define PERCLOD_TEST_UNSANITIZED
 #endif
-
-inline bool indices_in_range(const Scene& s) {
-  return s.positions.size() % 3 == 0 && s.indices.size() % 3 == 0 &&
-         std::all_of(s.indices.begin(), s.indices.end(), [&](uint32_t i) { return i < s.vertex_count(); });
-}
 
 namespace oracle {
 struct P3 {
@@ -249,18 +245,20 @@ inline std::array<double, 3> vertex(const Scene& s, uint32_t i) {
   return {s.positions[3 * size_t(i)], s.positions[3 * size_t(i) + 1], s.positions[3 * size_t(i) + 2]};
 }
 
-// Distance from p to the nearest triangle of s (infinite if s has an index
-// out of range: no check can pass on such a scene).
+// Distance from p to the nearest triangle of s (validate() throws, failing
+// the test, if s breaks the Scene contract).
 inline double distance_to_surface(const std::array<double, 3>& p, const Scene& s) {
-  if (!indices_in_range(s)) return INFINITY;
+  validate(s);
   return oracle::distance_to_surface({p[0], p[1], p[2]}, s);
 }
 
 // One side of the sampled Hausdorff distance: barycentric samples of each
 // triangle of one mesh (corners included) against the other surface
-// (infinite if either has an index out of range).
+// (validate() throws, failing the test, if either breaks the Scene contract).
 inline double one_sided_hausdorff(const Scene& from, const Scene& to, int samples_per_edge = 4) {
-  if (samples_per_edge < 1 || !indices_in_range(from) || !indices_in_range(to)) return INFINITY;
+  validate(from);
+  validate(to);
+  if (samples_per_edge < 1) return INFINITY;
   return oracle::one_sided_hausdorff(from, to, samples_per_edge);
 }
 
