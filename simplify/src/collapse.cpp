@@ -374,6 +374,15 @@ Legality legality(const Model& m, HH h, const Limits& lim, std::vector<VH>& ring
 
 // ---- the collapse loop ------------------------------------------------------
 
+// Edges that cannot become candidates are skipped (Collapser::dead_).
+// tests/simplify/test_dead_edges.cpp builds this file a second time with
+// PERCLOD_EVALUATE_EVERY_EDGE and checks that the skip changes no LOD.
+#ifdef PERCLOD_EVALUATE_EVERY_EDGE
+constexpr bool kSkipDeadEdges = false;
+#else
+constexpr bool kSkipDeadEdges = true;
+#endif
+
 // The one order of collapse candidates: half-edge a (cost ca) before b
 // (cost cb). The heap and the Collapser's per-vertex choice both use it.
 bool cheaper_candidate(double ca, uint32_t a, double cb, uint32_t b) {
@@ -574,7 +583,7 @@ class Collapser {
   // the edge is dead (see dead_).
   void offer_edge(HH h) {
     uint8_t& dead = dead_[size_t(m_.mesh.edge_handle(h).idx())];
-    if (dead) return;  // both half-edges stay non-candidates
+    if (kSkipDeadEdges && dead) return;  // both half-edges stay non-candidates
     Candidate c[2];
     bool live[2];
     evaluate_edge(m_, h, lim_, c, live);
