@@ -245,16 +245,6 @@ inline std::array<double, 3> vertex(const Scene& s, uint32_t i) {
   return {s.positions[3 * size_t(i)], s.positions[3 * size_t(i) + 1], s.positions[3 * size_t(i) + 2]};
 }
 
-// The largest distance from any of `points` to the nearest triangle of s
-// (validate() throws, failing the test, if s breaks the Scene contract; it
-// runs once, not once per point).
-inline double max_distance_to_surface(const std::vector<std::array<double, 3>>& points, const Scene& s) {
-  validate(s);
-  double worst = 0;
-  for (const auto& p : points) worst = std::max(worst, oracle::distance_to_surface({p[0], p[1], p[2]}, s));
-  return worst;
-}
-
 // One side of the sampled Hausdorff distance: barycentric samples of each
 // triangle of one mesh (corners included) against the other surface
 // (validate() throws, failing the test, if either breaks the Scene contract).

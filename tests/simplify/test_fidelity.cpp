@@ -31,6 +31,22 @@ double total_area(const Scene& s) {
   return sum;
 }
 
+// The triangles of s for which keep(t) holds, on the same vertices.
+template <class Keep>
+Scene triangles_where(const Scene& s, Keep keep) {
+  Scene out = s;
+  out.indices.clear();
+  out.component.clear();
+  out.material.clear();
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    if (!keep(t)) continue;
+    out.indices.insert(out.indices.end(), s.indices.begin() + 3 * t, s.indices.begin() + 3 * t + 3);
+    if (!s.component.empty()) out.component.push_back(s.component[t]);
+    if (!s.material.empty()) out.material.push_back(s.material[t]);
+  }
+  return out;
+}
+
 }  // namespace
 
 TEST(SimplifyFidelity, ParsesItsName) {
@@ -76,13 +92,15 @@ TEST(SimplifyFidelity, EachLabelKeepsItsOwnBound) {
   EXPECT_LT(out.triangle_count(), in.triangle_count() / 2);
   EXPECT_LE(test::one_sided_hausdorff(out, in, 3), e_i * p * 1.0001);
   EXPECT_LE(test::one_sided_hausdorff(in, out, 1), e_i * p * 1.0001);
-  // Output triangles from the perceptible band: each corner within e_P * p of the input.
-  std::vector<std::array<double, 3>> band_corners;
-  for (size_t t = 0; t < out.triangle_count(); ++t)
-    if (labels[src[t]] == Label::Perceptible)
-      for (int k = 0; k < 3; ++k) band_corners.push_back(vertex(out, out.indices[3 * t + k]));
-  EXPECT_GT(band_corners.size(), 0u);
-  EXPECT_LE(max_distance_to_surface(band_corners, in), e_p * p * 1.0001);
+  // The perceptible band both ways: its input surface within e_P * p of the
+  // output, and the output triangles made from it within e_P * p of the
+  // input (measured at 0.24 px of e_P = 0.5; with the band given 2 px, 0.77
+  // and 0.52).
+  const Scene band_in = triangles_where(in, [&](size_t t) { return labels[t] == Label::Perceptible; });
+  const Scene band_out = triangles_where(out, [&](size_t t) { return labels[src[t]] == Label::Perceptible; });
+  EXPECT_GT(band_out.triangle_count(), 0u);
+  EXPECT_LE(test::one_sided_hausdorff(band_in, out, 3), e_p * p * 1.0001);
+  EXPECT_LE(test::one_sided_hausdorff(band_out, in, 3), e_p * p * 1.0001);
   // A looser perceptible bound removes more; zero bounds remove only what is exactly flat.
   Scene tighter = simplify(in, labels, fidelity(p, 0.0, 0.0));
   EXPECT_GT(tighter.triangle_count(), out.triangle_count());
