@@ -48,6 +48,14 @@ void print_table(const SimplifyArgs& a, const SimplifyRun& r) {
   if (st.nonmanifold_faces_duplicated || st.degenerate_faces)
     std::printf("input        %zu non-manifold faces and %zu degenerate faces kept on their own vertices\n",
                 st.nonmanifold_faces_duplicated, st.degenerate_faces);
+  if (st.refused_counted) {
+    const SimplifyStats::Refused& why = st.refused;
+    std::printf("stopped      %zu half-edges left: %zu locked or over their bound, %zu refused by shape (normal "
+                "change, sliver, area), %zu by topology, %zu by the valence cap",
+                why.total(), why.bound_or_locked, why.shape, why.topology, why.valence);
+    if (why.legal) std::printf(", %zu legal only after the last pass", why.legal);
+    std::printf("\n");
+  }
   std::printf("displacement max %.3g, mean %.3g of the bounding-box diagonal (%.2f m)\n",
               st.max_displacement_rel, st.mean_displacement_rel, st.bbox_diagonal);
   std::printf("time         %.3f s simplify, %.3f s write\n", st.seconds, r.write_seconds);
@@ -72,6 +80,8 @@ void run_simplify(SimplifyArgs a) {
   a.job.up = a.model.up_axis();
   if (a.job.options.mode == SimplifyMode::Qem && a.target == 0)
     throw OptionError("--mode qem needs --target N (the number of triangles to keep)");
+  if (a.job.options.mode == SimplifyMode::Cluster && a.job.options.explain_stop)
+    throw OptionError("--explain applies to the collapse modes (fidelity, paper, bounded, qem), not cluster");
   if (a.job.options.mode != SimplifyMode::Qem && a.target != 0)
     throw OptionError("--target applies only to --mode qem");
   if (simplify_mode_uses_labels(a.job.options.mode) && a.job.labels_file.empty())
@@ -183,6 +193,10 @@ void register_simplify(CLI::App& app) {
   cmd->add_option("--format", a->job.format, "LOD file format: obj (+ .mtl) or glb")
       ->check(CLI::IsMember({"obj", "glb"}))
       ->capture_default_str();
+  cmd->add_flag("--explain", a->job.options.explain_stop,
+                "Collapse modes: count every half-edge left by the first rule that refuses its collapse\n"
+                "(locked or over its bound, shape, topology, valence): why the LOD holds what it holds\n"
+                "(the table's 'stopped' line, the JSON's 'refused'); one more pass over the mesh");
   cmd->add_flag("--json", a->json, "Print a JSON report on stdout");
   cmd->callback([a] { run_simplify(*a); });
 }

@@ -25,7 +25,7 @@ nlohmann::json simplify_stats_json(const SimplifyStats& s) {
     return nlohmann::json{{"perceptible", n[0]}, {"imperceptible", n[1]}, {"undisplayable", n[2]},
                           {"total", n[0] + n[1] + n[2]}};
   };
-  return {{"triangles_before", per_label(s.triangles_before)},
+  nlohmann::json j = {{"triangles_before", per_label(s.triangles_before)},
           {"triangles_after", per_label(s.triangles_after)},
           {"total_before", s.total_before()},
           {"total_after", s.total_after()},
@@ -50,6 +50,12 @@ nlohmann::json simplify_stats_json(const SimplifyStats& s) {
           {"mean_displacement_rel", s.mean_displacement_rel},
           {"bbox_diagonal", s.bbox_diagonal},
           {"seconds", s.seconds}};
+  if (s.refused_counted) {
+    const SimplifyStats::Refused& r = s.refused;
+    j["refused"] = {{"bound_or_locked", r.bound_or_locked}, {"valence", r.valence}, {"topology", r.topology},
+                    {"shape", r.shape}, {"legal", r.legal}, {"total", r.total()}};
+  }
+  return j;
 }
 
 SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {

@@ -372,6 +372,17 @@ Legality legality(const Model& m, HH h, const Limits& lim, std::vector<VH>& ring
   return Legality::Legal;
 }
 
+// Why nothing more collapses, in words (qem's stop_reason).
+std::string describe_refusals(const SimplifyStats::Refused& r) {
+  std::string why = "every remaining collapse is refused: " + std::to_string(r.topology) +
+                    " half-edges by topology (link condition, boundary ears), " + std::to_string(r.shape) +
+                    " by the normal-change, sliver or area limits, " + std::to_string(r.valence) +
+                    " by the valence cap, " + std::to_string(r.bound_or_locked) +
+                    " are locked or over the error bound";
+  if (r.legal) why += ", " + std::to_string(r.legal) + " became legal only at the end";
+  return why;
+}
+
 // ---- the collapse loop ------------------------------------------------------
 
 // Edges that cannot become candidates are skipped (Collapser::dead_).
@@ -516,7 +527,7 @@ class Collapser {
         live_(m.mesh.n_halfedges(), 0),
         dead_(m.mesh.n_edges(), 0) {}
 
-  void run(SimplifyStats& stats, int max_passes = 8) {
+  void run(SimplifyStats& stats, bool explain, int max_passes = 8) {
     const Mesh& mesh = m_.mesh;
     changed_.assign(mesh.n_vertices(), 0);
     for (auto e : mesh.edges()) offer_edge(mesh.halfedge_handle(e, 0));
@@ -533,45 +544,42 @@ class Collapser {
       if (pass > 0) requeue_refused();
       if (drain(stats) == 0) break;
     }
-    if (target_ > 0 && m_.faces_alive > target_) {
+    const bool missed = target_ > 0 && m_.faces_alive > target_;
+    if (explain || missed) {
+      count_refusals(stats.refused);
+      stats.refused_counted = true;
+    }
+    if (missed) {
       stats.target_reached = false;
       stats.stop_reason = pass == max_passes ? "the pass limit (" + std::to_string(max_passes) + ") was reached; "
                                              : std::string();
-      stats.stop_reason += explain_refusals();
+      stats.stop_reason += describe_refusals(stats.refused);
     }
   }
 
-  // Why nothing more collapses: every live half-edge, by the first rule that
-  // refuses it.
-  std::string explain_refusals() {
+ private:
+  // Every half-edge left, by the first rule that refuses it.
+  void count_refusals(SimplifyStats::Refused& r) {
     const Mesh& mesh = m_.mesh;
-    size_t fixed = 0, valence = 0, topology = 0, shape = 0, open = 0;
     for (auto e : mesh.edges()) {
       if (mesh.status(e).deleted()) continue;
       for (int side = 0; side < 2; ++side) {
         HH h = mesh.halfedge_handle(e, side);
         Candidate c;
         if (!evaluate(m_, h, lim_, c)) {
-          ++fixed;
+          ++r.bound_or_locked;
           continue;
         }
         switch (legality(m_, h, lim_, ring_, c.area_change)) {
-          case Legality::Valence: ++valence; break;
-          case Legality::Topology: ++topology; break;
-          case Legality::Shape: ++shape; break;
-          case Legality::Legal: ++open; break;
+          case Legality::Valence: ++r.valence; break;
+          case Legality::Topology: ++r.topology; break;
+          case Legality::Shape: ++r.shape; break;
+          case Legality::Legal: ++r.legal; break;
         }
       }
     }
-    std::string why = "every remaining collapse is refused: " + std::to_string(topology) +
-                      " half-edges by topology (link condition, boundary ears), " + std::to_string(shape) +
-                      " by the normal-change, sliver or area limits, " + std::to_string(valence) +
-                      " by the valence cap, " + std::to_string(fixed) + " are locked or over the error bound";
-    if (open) why += ", " + std::to_string(open) + " became legal only at the end";
-    return why;
   }
 
- private:
   // h becomes a candidate at its current cost, or stops being one.
   void offer(HH h) {
     Candidate c;
@@ -999,7 +1007,7 @@ void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance,
   lim.max_valence = opt.max_valence;
   lim.tie = 1e-8;
   size_t target = opt.mode == SimplifyMode::Qem ? opt.target_triangles : 0;
-  Collapser(m, lim, target).run(stats);
+  Collapser(m, lim, target).run(stats, opt.explain_stop);
 
   if (labelled) remove_pieces(m, w, opt.mode, tolerance, stats);
   c.moved = displacement(m);
@@ -1023,6 +1031,14 @@ void merge_chunk(Chunk& c, SimplifyStats& stats, Result& out) {
   stats.degenerate_faces += s.degenerate_faces;
   stats.collapses += s.collapses;
   stats.max_error = std::max(stats.max_error, s.max_error);
+  if (s.refused_counted) {
+    stats.refused_counted = true;
+    stats.refused.bound_or_locked += s.refused.bound_or_locked;
+    stats.refused.valence += s.refused.valence;
+    stats.refused.topology += s.refused.topology;
+    stats.refused.shape += s.refused.shape;
+    stats.refused.legal += s.refused.legal;
+  }
   if (!s.target_reached) {
     stats.target_reached = false;
     stats.stop_reason = s.stop_reason;

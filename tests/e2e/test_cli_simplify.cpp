@@ -146,4 +146,34 @@ TEST(SimplifyCli, QemReportsATargetItCannotReach) {
   fs::remove_all(dir);
 }
 
+// --explain counts every half-edge left by the rule that refuses it, in the
+// table and the JSON; cluster has no collapses to explain.
+TEST(SimplifyCli, ExplainSaysWhyTheLodStopped) {
+  fs::path dir = fs::temp_directory_path() / "perclod_simplify_explain";
+  fs::create_directories(dir);
+  write_labels(dir / "labels.txt", 12456);
+  const std::string base = "simplify " + std::string(kModel) + " --up z --distance 56 --labels " +
+                           (dir / "labels.txt").string() + " --out " + dir.string();
+  auto r = run_cli(base + " --explain --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("refused")) << r.out;
+  const auto& why = j["refused"];
+  const size_t total = why["total"];
+  EXPECT_GT(total, 0u);
+  EXPECT_EQ(total, why["bound_or_locked"].get<size_t>() + why["shape"].get<size_t>() +
+                       why["topology"].get<size_t>() + why["valence"].get<size_t>() + why["legal"].get<size_t>());
+  r = run_cli(base + " --json");  // not counted unless asked
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(nlohmann::json::parse(r.out).contains("refused"));
+  r = run_cli(base + " --explain");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("stopped      " + std::to_string(total) + " half-edges left"), std::string::npos) << r.out;
+  r = run_cli("simplify " + std::string(kModel) + " --up z --distance 56 --mode cluster --explain --out " +
+              dir.string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--explain applies to the collapse modes"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
 }  // namespace

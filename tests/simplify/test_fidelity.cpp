@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
+#include <utility>
 
 #include "fixtures.h"
 #include "perclod/simplify.h"
@@ -204,6 +206,50 @@ TEST(SimplifyFidelity, RefusesBadBounds) {
   EXPECT_THROW(simplify(in, labels, fidelity(0.0, 0.5, 2)), std::invalid_argument);
 }
 
+// The number of distinct undirected edges of s's triangles.
+size_t edge_count(const Scene& s) {
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  for (size_t t = 0; t < s.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = s.indices[3 * t + k], b = s.indices[3 * t + (k + 1) % 3];
+      edges.insert({std::min(a, b), std::max(a, b)});
+    }
+  return edges.size();
+}
+
+TEST(SimplifyFidelity, ExplainsWhyItStopped) {
+  // A bumpy grid under a tight bound: nearly every half-edge left is over it.
+  Scene grid;
+  add_grid(grid, 30, 6.0, 0, [](double x, double y) { return 0.3 * std::sin(1.3 * x) * std::cos(0.9 * y); });
+  std::vector<Label> labels(grid.triangle_count(), Label::Imperceptible);
+  SimplifyStats plain, told;
+  const Scene a = simplify(grid, labels, fidelity(0.01, 0.5, 0.5), &plain);
+  EXPECT_FALSE(plain.refused_counted);  // only when asked
+  EXPECT_EQ(plain.refused.total(), 0u);
+  SimplifyOptions o = fidelity(0.01, 0.5, 0.5);
+  o.explain_stop = true;
+  const Scene b = simplify(grid, labels, o, &told);
+  EXPECT_EQ(b.indices, a.indices);  // counting changes nothing
+  EXPECT_EQ(b.positions, a.positions);
+  ASSERT_TRUE(told.refused_counted);
+  EXPECT_EQ(told.refused.total(), 2 * edge_count(b));  // both directions of every edge left
+  EXPECT_GT(told.refused.bound_or_locked, told.refused.total() / 2);
+  EXPECT_EQ(told.refused.legal, 0u);  // the last pass found nothing to collapse
+  // A sphere with no bound stops where the shape and topology rules do.
+  Scene ball;
+  add_sphere(ball, 1.0, 12, 24, 0);
+  std::vector<Label> ball_labels(ball.triangle_count(), Label::Perceptible);  // kept as a piece
+  SimplifyOptions loose = fidelity(0.01, 1e9, 1e9);
+  loose.bound_area_px2 = INFINITY;
+  loose.explain_stop = true;
+  SimplifyStats bs;
+  const Scene small = simplify(ball, ball_labels, loose, &bs);
+  EXPECT_LT(small.triangle_count(), ball.triangle_count() / 4);
+  EXPECT_EQ(bs.refused.bound_or_locked, 0u);
+  EXPECT_GT(bs.refused.shape + bs.refused.topology, 0u);
+  EXPECT_EQ(bs.refused.total(), 2 * edge_count(small)) << small.triangle_count();
+}
+
 TEST(SimplifyQem, ReportsATargetItCannotReach) {
   // 50 separate triangles: no edge can collapse, so a target of 10 is missed.
   Scene in;
@@ -221,6 +267,9 @@ TEST(SimplifyQem, ReportsATargetItCannotReach) {
   EXPECT_FALSE(st.target_reached);
   EXPECT_NE(st.stop_reason.find("every remaining collapse is refused"), std::string::npos) << st.stop_reason;
   EXPECT_NE(st.stop_reason.find("by topology"), std::string::npos) << st.stop_reason;
+  EXPECT_TRUE(st.refused_counted);  // the counts behind the words: 50 x 3 boundary edges, both ways
+  EXPECT_EQ(st.refused.total(), 300u);
+  EXPECT_NE(st.stop_reason.find(std::to_string(st.refused.topology) + " half-edges by topology"), std::string::npos);
   // A reachable target is reported as reached.
   Scene grid;
   add_grid(grid, 10, 1.0, 0);

@@ -92,6 +92,10 @@ struct SimplifyOptions {
   double pixel_footprint = 0.0;   // p(d) in scene units at the LOD's distance (Bounded, Cluster)
   double k = 1.0;                 // tolerance / cell size = k * pixel_footprint
   size_t target_triangles = 0;    // Qem: stop at this many triangles
+  // Paper, Bounded, Fidelity, Qem: after the last pass, sort every half-edge
+  // left by the first rule that refuses its collapse (SimplifyStats::refused):
+  // why the LOD holds what it holds. One more pass over the mesh.
+  bool explain_stop = false;
   // Fidelity: how far, in pixels at the distance, a collapse may move the
   // surface of a triangle of each label (infinity = unbounded).
   double bound_perceptible_px = kDefaultBoundPerceptiblePx;
@@ -164,6 +168,20 @@ struct SimplifyStats {
   // stopped (empty when reached or when the mode has no target).
   bool target_reached = true;
   std::string stop_reason;
+  // Every half-edge left after the last pass, by the first rule that refuses
+  // its collapse; counted when explain_stop is set or a qem target is missed
+  // (refused_counted), summed over the chunks. Half-edges of pieces removed
+  // afterwards are counted too.
+  struct Refused {
+    size_t bound_or_locked = 0;  // a fixed end, a constraint line, or over the error bound
+    size_t valence = 0;          // the fan would exceed max_valence
+    size_t topology = 0;         // link condition, boundary ears
+    size_t shape = 0;            // normal change, sliver, area rule
+    size_t legal = 0;            // became legal only after the last pass
+    size_t total() const { return bound_or_locked + valence + topology + shape + legal; }
+  };
+  Refused refused;
+  bool refused_counted = false;
   // Belblidia's measures: displacement of each input vertex to the vertex that
   // represents it in the output, relative to the bounding-box diagonal.
   double max_displacement_rel = 0.0;
