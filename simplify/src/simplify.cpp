@@ -137,19 +137,29 @@ std::vector<uint32_t> faces_in_play(const Scene& s, const std::vector<Label>& la
 
 }  // namespace
 
+namespace detail {
+
+Work prepare_work(const Scene& scene, const std::vector<Label>& labels, const SimplifyOptions& opt,
+                  SimplifyStats& stats) {
+  Work work;
+  work.scene = &scene;
+  work.labels = &labels;
+  work.diagonal = scene_bounds(scene).diagonal();
+  work.faces = faces_in_play(scene, labels, opt, stats);
+  weld_corners(work, opt.weld_per_component, opt.weld_tolerance_rel * work.diagonal);
+  return work;
+}
+
+}  // namespace detail
+
 Scene simplify(const Scene& scene, const std::vector<Label>& labels, const SimplifyOptions& opt,
                SimplifyStats* stats_out, std::vector<uint32_t>* out_source) {
   auto t0 = std::chrono::steady_clock::now();
   check_input(scene, labels, opt);
   SimplifyStats stats;
   for (Label l : labels) stats.triangles_before[size_t(l)]++;
-  detail::Work work;
-  work.scene = &scene;
-  work.labels = &labels;
-  work.diagonal = scene_bounds(scene).diagonal();
+  const detail::Work work = detail::prepare_work(scene, labels, opt, stats);
   stats.bbox_diagonal = work.diagonal;
-  work.faces = faces_in_play(scene, labels, opt, stats);
-  detail::weld_corners(work, opt.weld_per_component, opt.weld_tolerance_rel * work.diagonal);
 
   detail::Result r;
   if (opt.mode == SimplifyMode::Cluster)

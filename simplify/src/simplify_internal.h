@@ -27,6 +27,13 @@ struct Work {
   double diagonal = 0.0;        // bounding-box diagonal of the input
 };
 
+// The work simplify() hands to a simplifier: the triangles in play (all,
+// less those of components no view displays and, where the mode deletes
+// them, undisplayable ones; counted in stats) with their corners welded as
+// opt says.
+Work prepare_work(const Scene& scene, const std::vector<Label>& labels, const SimplifyOptions& opt,
+                  SimplifyStats& stats);
+
 // Fills work.weld for work.faces: corners whose positions round to the same
 // cell of size `tolerance` weld (two points closer than the tolerance but on
 // either side of a cell border stay apart; equal positions always weld;

@@ -71,17 +71,12 @@ struct Lod {
   SimplifyStats stats;
 };
 
-// Every triangle in play and welded as simplify() welds them, then one of
-// the two collapsers.
+// The work simplify() prepares, then one of the two collapsers.
 template <class Collapse>
 Lod simplify_with(const Field& f, const SimplifyOptions& opt, Collapse collapse) {
-  perclod::detail::Work work;
-  work.scene = &f.scene;
-  work.labels = &f.labels;
-  work.diagonal = perclod::scene_bounds(f.scene).diagonal();
-  for (uint32_t t = 0; t < uint32_t(f.scene.triangle_count()); ++t) work.faces.push_back(t);
-  perclod::detail::weld_corners(work, opt.weld_per_component, opt.weld_tolerance_rel * work.diagonal);
   Lod lod;
+  const perclod::detail::Work work = perclod::detail::prepare_work(f.scene, f.labels, opt, lod.stats);
+  EXPECT_EQ(work.faces.size(), f.scene.triangle_count());  // none deleted: every label's bound in play
   collapse(work, opt, lod.stats, lod.result);
   return lod;
 }
