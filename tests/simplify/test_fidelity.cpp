@@ -49,6 +49,17 @@ Scene triangles_where(const Scene& s, Keep keep) {
   return out;
 }
 
+// The number of distinct undirected edges of s's triangles.
+size_t edge_count(const Scene& s) {
+  std::set<std::pair<uint32_t, uint32_t>> edges;
+  for (size_t t = 0; t < s.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = s.indices[3 * t + k], b = s.indices[3 * t + (k + 1) % 3];
+      edges.insert({std::min(a, b), std::max(a, b)});
+    }
+  return edges.size();
+}
+
 }  // namespace
 
 TEST(SimplifyFidelity, ParsesItsName) {
@@ -204,17 +215,6 @@ TEST(SimplifyFidelity, RefusesBadBounds) {
   EXPECT_THROW(simplify(in, labels, fidelity(0.01, 0.5, NAN)), std::invalid_argument);
   EXPECT_THROW(simplify(in, labels, fidelity(0.01, 0.5, INFINITY)), std::invalid_argument);
   EXPECT_THROW(simplify(in, labels, fidelity(0.0, 0.5, 2)), std::invalid_argument);
-}
-
-// The number of distinct undirected edges of s's triangles.
-size_t edge_count(const Scene& s) {
-  std::set<std::pair<uint32_t, uint32_t>> edges;
-  for (size_t t = 0; t < s.triangle_count(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t a = s.indices[3 * t + k], b = s.indices[3 * t + (k + 1) % 3];
-      edges.insert({std::min(a, b), std::max(a, b)});
-    }
-  return edges.size();
 }
 
 TEST(SimplifyFidelity, ExplainsWhyItStopped) {
