@@ -553,9 +553,27 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       return met;
     };
     bool tightened = false;  // tighten_to_limits tried tighter bounds
+    bool target_met = false;
     if (searching) {
-      for (const FidelitySearchStep& step : kFidelitySearch)
-        if (log_try(attempt(fidelity_bounds(asked, step)), "fidelity target")) break;
+      size_t first_met = 0;  // down the steps to the first that meets the target
+      while (first_met < std::size(kFidelitySearch) &&
+             !log_try(attempt(fidelity_bounds(asked, kFidelitySearch[first_met])), "fidelity target"))
+        ++first_met;
+      target_met = first_met < std::size(kFidelitySearch);
+      if (first_met == 0) {
+        // The loosest step met it: so may looser bounds. Doubled while they
+        // do; the first that does not is followed by the last that did, made
+        // again (deterministic, as below).
+        FidelitySearchStep kept = kFidelitySearch[0];
+        for (FidelitySearchStep looser{2 * kept.e, false}; looser.e <= kFidelitySearchLoosestPx; looser.e *= 2) {
+          if (!log_try(attempt(fidelity_bounds(asked, looser)), "fidelity target, looser")) {
+            if (progress) progress("  fidelity target: back to the loosest bounds that met it");
+            attempt(fidelity_bounds(asked, kept));
+            break;
+          }
+          kept = looser;
+        }
+      }
     } else {
       const nlohmann::json f = attempt(asked);
       Tightening t = Tightening::NotTried;
@@ -587,7 +605,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     if (tightened) entry["tighten_to_limits"] = tries;
     if (searching) {
       entry["fidelity_search"] = tries;
-      if (!tries.back()["met"].get<bool>()) {
+      if (!target_met) {
         std::ostringstream ss;
         ss << lod_path << ": no bound meets the fidelity target at " << d << " m; kept the tightest (e_imperceptible "
            << so.bound_imperceptible_px << " px, undisplayable " << undisplayable_rule_text(so) << ")";
