@@ -554,12 +554,14 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
     };
     bool tightened = false;  // tighten_to_limits tried tighter bounds
     bool target_met = false;
+    size_t kept_try = 0;  // the try whose LOD is written (marked "kept" in the report)
     if (searching) {
       size_t first_met = 0;  // down the steps to the first that meets the target
       while (first_met < std::size(kFidelitySearch) &&
              !log_try(attempt(fidelity_bounds(asked, kFidelitySearch[first_met])), "fidelity target"))
         ++first_met;
       target_met = first_met < std::size(kFidelitySearch);
+      kept_try = tries.size() - 1;  // the first that met, or the tightest
       if (first_met == 0) {
         // The loosest step met it: so may looser bounds. Doubled while they
         // do; the first that does not is followed by the last that did, made
@@ -572,6 +574,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
             break;
           }
           kept = looser;
+          kept_try = tries.size() - 1;
         }
       }
     } else {
@@ -583,6 +586,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
           return log_try(attempt(o), "tighten to limits");
         });
       tightened = t != Tightening::NotTried;
+      kept_try = t == Tightening::Met ? tries.size() - 1 : 0;  // the one within, or the asked bounds
       if (t == Tightening::NoneWithin) {
         // The LOD at the asked bounds, made again rather than held through
         // the tries (its comparison pictures take up to 1.4 MB per judged
@@ -602,6 +606,7 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       entry["bounds_px"] = {{"perceptible", so.bound_perceptible_px}, {"imperceptible", so.bound_imperceptible_px}};
       add_undisplayable_rule(entry["bounds_px"], so, exposure);
     }
+    if (!tries.empty()) tries[kept_try]["kept"] = true;
     if (tightened) entry["tighten_to_limits"] = tries;
     if (searching) {
       entry["fidelity_search"] = tries;

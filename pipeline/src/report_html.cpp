@@ -486,7 +486,8 @@ std::string tries_table(const json& lod, const char* key, const char* title) {
   std::ostringstream s;
   s << "<h3>" << title << "</h3>\n<table class=\"search\"><tr><th>e_imperceptible (px)</th>"
        "<th>e_perceptible (px)</th><th class=\"l\">undisplayable</th><th>triangles</th>"
-       "<th>worst changed</th><th>lowest SSIM</th><th>worst silhouette</th><th class=\"l\">met</th></tr>\n";
+       "<th>worst changed</th><th>lowest SSIM</th><th>worst silhouette</th><th class=\"l\">met</th>"
+       "<th class=\"l\">kept</th></tr>\n";
   for (const auto& t : search) {
     const json& w = sub(t, "worst");
     const json* met = member(t, "met");
@@ -494,7 +495,8 @@ std::string tries_table(const json& lod, const char* key, const char* title) {
       << "</td><td class=\"l\">" << undisplayable_rule(t) << "</td><td>" << count(num(t, "triangles")) << "</td><td>"
       << percent(num(w, "changed_fraction")) << "</td><td>" << fixed(num(w, "ssim_covered"), 4) << "</td><td>"
       << percent(num(w, "silhouette_mismatch")) << "</td><td class=\"l\">"
-      << (met && met->is_boolean() ? (met->get<bool>() ? "yes" : "no") : "") << "</td></tr>\n";
+      << (met && met->is_boolean() ? (met->get<bool>() ? "yes" : "no") : "") << "</td><td class=\"l\">"
+      << (member(t, "kept") ? "written" : "") << "</td></tr>\n";
   }
   s << "</table>\n";
   return s.str();

@@ -222,6 +222,8 @@ TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
   ASSERT_GE(search.size(), 1u);
   EXPECT_TRUE(search.back()["met"].get<bool>());
   for (size_t i = 0; i + 1 < search.size(); ++i) EXPECT_FALSE(search[i]["met"].get<bool>());
+  for (size_t i = 0; i < search.size(); ++i)  // the report marks the try it wrote
+    EXPECT_EQ(search[i].value("kept", false), i + 1 == search.size()) << search[i];
   EXPECT_EQ(lod["bounds_px"]["imperceptible"], search.back()["e_imperceptible"]);
   EXPECT_EQ(lod["simplify"]["total_after"], search.back()["triangles"]);
   for (const auto& v : lod["lod_vs_original"]) {
@@ -262,6 +264,8 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   EXPECT_EQ(tries[1]["e_imperceptible"].get<double>(), 2 * perclod::kFidelitySearch[0].e);
   EXPECT_FALSE(tries[1]["met"].get<bool>());
   // The LOD written is the one that met it, made again.
+  EXPECT_TRUE(tries[0].value("kept", false));
+  EXPECT_FALSE(tries[1].contains("kept"));
   EXPECT_EQ(back["bounds_px"]["imperceptible"], tries[0]["e_imperceptible"]);
   EXPECT_EQ(back["simplify"]["total_after"], tries[0]["triangles"]);
   for (const auto& v : back["lod_vs_original"]) EXPECT_LE(v["changed_fraction"].get<double>(), 0.019) << v["view"];
@@ -278,6 +282,7 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   EXPECT_EQ(up.back()["e_imperceptible"].get<double>(), perclod::kFidelitySearchLoosestPx);
   for (size_t i = 0; i < up.size(); ++i) {
     EXPECT_TRUE(up[i]["met"].get<bool>()) << up[i];
+    EXPECT_EQ(up[i].value("kept", false), i + 1 == up.size()) << up[i];
     EXPECT_EQ(up[i]["e_imperceptible"].get<double>(), perclod::kFidelitySearch[0].e * double(1u << i));
     if (i > 0) {
       EXPECT_LE(up[i]["triangles"].get<size_t>(), up[i - 1]["triangles"].get<size_t>());
@@ -312,6 +317,7 @@ TEST(CliPipeline, FidelityTargetNoLooserStepMeetsTriesEveryStep) {
     const auto& t = all["fidelity_search"][i];
     const perclod::FidelitySearchStep& step = perclod::kFidelitySearch[i];
     EXPECT_EQ(t["met"].get<bool>(), i + 1 == std::size(perclod::kFidelitySearch)) << t;
+    EXPECT_EQ(t.value("kept", false), i + 1 == std::size(perclod::kFidelitySearch)) << t;
     EXPECT_EQ(t["e_imperceptible"].get<double>(), step.e);
     EXPECT_EQ(t["e_perceptible"].get<double>(), std::min(0.5, step.e));
     if (step.keep_undisplayable) {
@@ -404,6 +410,7 @@ TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
   EXPECT_FALSE(tries[0]["met"].get<bool>());
   EXPECT_TRUE(tries.back()["met"].get<bool>());
   for (size_t i = 1; i + 1 < tries.size(); ++i) EXPECT_FALSE(tries[i]["met"].get<bool>());
+  for (size_t i = 0; i < tries.size(); ++i) EXPECT_EQ(tries[i].value("kept", false), i + 1 == tries.size()) << tries[i];
   EXPECT_EQ(t["bounds_px"]["imperceptible"], tries.back()["e_imperceptible"]);
   EXPECT_LT(t["bounds_px"]["imperceptible"].get<double>(), 0.5);
   EXPECT_EQ(t["simplify"]["total_after"], tries.back()["triangles"]);
@@ -433,6 +440,8 @@ TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
   ASSERT_LE(first["worst"]["changed_fraction"].get<double>(), perclod::kTightenReach * 0.0013);
   EXPECT_EQ(n["tighten_to_limits"].size(), 1 + std::size(perclod::kTightenSteps));  // the asked bounds first
   for (const auto& x : n["tighten_to_limits"]) EXPECT_FALSE(x["met"].get<bool>()) << x;
+  for (size_t i = 0; i < n["tighten_to_limits"].size(); ++i)  // the asked bounds are what is written
+    EXPECT_EQ(n["tighten_to_limits"][i].value("kept", false), i == 0) << n["tighten_to_limits"][i];
   EXPECT_EQ(n["simplify"]["total_after"], first["triangles"]);
   EXPECT_EQ(n["bounds_px"]["imperceptible"].get<double>(), 0.5);
   EXPECT_EQ(n["bounds_px"]["undisplayable"], "deleted");

@@ -298,13 +298,17 @@ TEST(ReportHtml, ShowsEachFidelitySearchTryWithItsBounds) {
                                       {"e_undisplayable", 0.125},
                                       {"triangles", 1200},
                                       {"worst", worst},
-                                      {"met", true}}};
+                                      {"met", true},
+                                      {"kept", true}}};
   const std::string html = model_report_html(r, n);
   EXPECT_TRUE(has(html, "Fidelity target search"));
   EXPECT_TRUE(has(html, "<th>e_perceptible (px)</th>"));
   EXPECT_TRUE(has(html, "<tr><td>0.125</td><td>0.125</td><td class=\"l\">collapsed within 0.125&nbsp;px</td><td>1200</td>"))
       << html;
   EXPECT_TRUE(has(html, "<tr><td>0.250</td><td>0.250</td><td class=\"l\">deleted</td><td>900</td>")) << html;
+  EXPECT_TRUE(has(html, "<th class=\"l\">kept</th>")) << html;
+  EXPECT_TRUE(has(html, "<td class=\"l\">yes</td><td class=\"l\">written</td></tr>")) << html;  // the try written
+  EXPECT_TRUE(has(html, "<td class=\"l\">no</td><td class=\"l\"></td></tr>")) << html;
   EXPECT_FALSE(has(html, "Tightened to the limits"));
   // tighten_to_limits' tries get the same table under their own title.
   r["lods"][0]["tighten_to_limits"] = r["lods"][0]["fidelity_search"];
