@@ -491,12 +491,13 @@ std::string tries_table(const json& lod, const char* key, const char* title) {
   for (const auto& t : search) {
     const json& w = sub(t, "worst");
     const json* met = member(t, "met");
+    const json* kept = member(t, "kept");  // the try whose LOD was written
     s << "<tr><td>" << fixed(num(t, "e_imperceptible"), 3) << "</td><td>" << fixed(num(t, "e_perceptible"), 3)
       << "</td><td class=\"l\">" << undisplayable_rule(t) << "</td><td>" << count(num(t, "triangles")) << "</td><td>"
       << percent(num(w, "changed_fraction")) << "</td><td>" << fixed(num(w, "ssim_covered"), 4) << "</td><td>"
       << percent(num(w, "silhouette_mismatch")) << "</td><td class=\"l\">"
       << (met && met->is_boolean() ? (met->get<bool>() ? "yes" : "no") : "") << "</td><td class=\"l\">"
-      << (member(t, "kept") ? "written" : "") << "</td></tr>\n";
+      << (kept && kept->is_boolean() && kept->get<bool>() ? "written" : "") << "</td></tr>\n";
   }
   s << "</table>\n";
   return s.str();
