@@ -251,11 +251,11 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   fs::create_directories(out);
   // The 56 m LOD of a run from the four facades with these settings, and the run's stderr.
   // Under the sanitizers these runs skip the exit-time leak check (memory
-  // errors are still caught): in 3 of about 25 runs of the first job beside
-  // another test, all on 2026-12-05, the check itself crashed after the run
-  // had written everything ("Tracer caught signal 11", exit 1), also with
-  // oneTBB's workers joined first; the cause is not found yet (README, Tests
-  // and CI). Other tests run the same code with the check on.
+  // errors are still caught): in 3 of 11 runs of the first job beside
+  // another test (none of 17 alone), all on 2026-12-05, the check itself
+  // crashed after the run had written everything ("Tracer caught signal 11",
+  // exit 1), also with oneTBB's workers joined first; the cause is not found
+  // yet (README, Tests and CI). Other tests run the same code with the check on.
   auto run = [&](const char* name, const std::string& settings) {
     const std::string config = std::string(name) + ".yaml";
     auto r = run_cli("run " +
