@@ -4,31 +4,13 @@
 #include <malloc.h>
 #endif
 #include <exception>
-#include <new>
-
-#include <oneapi/tbb/global_control.h>
 
 #include "commands.h"
 #include "perclod/batch.h"
 #include "perclod/outputs.h"
 #include "common.h"
 
-namespace {
-
-// Waits, when main returns, for oneTBB's worker threads to end. Left to
-// the runtime they are released at exit and may still be ending while
-// LeakSanitizer's exit-time check stops every thread, which crashed that
-// check ("Tracer caught signal 11", exit 1) in one `perclod run` of the
-// sanitizer test stage on 2026-12-05.
-struct JoinWorkerThreads {
-  tbb::task_scheduler_handle handle{tbb::attach{}};
-  ~JoinWorkerThreads() { tbb::finalize(handle, std::nothrow); }
-};
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  const JoinWorkerThreads join_workers;  // before any parallel work; joins after the last
 #if defined(__GLIBC__)
   // Buffers of 1 MB and more (renders, ID buffers, perception images) are
   // mapped and unmapped, not kept in the heap when freed, so one stage's

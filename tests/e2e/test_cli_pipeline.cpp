@@ -254,8 +254,9 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   // errors are still caught): in 3 of 11 runs of the first job beside
   // another test (none of 17 alone), all on 2026-12-05, the check itself
   // crashed after the run had written everything ("Tracer caught signal 11",
-  // exit 1), also with oneTBB's workers joined first; the cause is not found
-  // yet (README, Tests and CI). Other tests run the same code with the check on.
+  // exit 1), also when oneTBB's workers were joined first; the cause is not
+  // found yet (README, Tests and CI). Other tests run the same code with the
+  // check on.
   auto run = [&](const char* name, const std::string& settings) {
     const std::string config = std::string(name) + ".yaml";
     auto r = run_cli("run " +
