@@ -122,7 +122,7 @@ const std::set<std::string> kModelKeys = {
     "keep_unsampled_surface", "mask_per_sample", "per_building", "combine_views", "tracer", "verify", "ratio", "simplify", "k", "target",
     "keep_undisplayable", "format",
     "e_perceptible", "e_imperceptible", "e_undisplayable", "judge_views", "max_changed", "max_silhouette",
-    "min_ssim", "strict", "tighten_to_limits",
+    "min_ssim", "strict", "tighten_to_limits", "explain",
     "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb", "debug_images", "marking_near"};
 // Keys of the batch itself (top level only).
 const std::set<std::string> kBatchKeys = {"models", "out", "jobs", "memory_budget_mb"};
@@ -239,6 +239,9 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   c.tighten_to_limits = get<bool>(n, path, "tighten_to_limits", c.tighten_to_limits);
   if (n["tighten_to_limits"] && c.simplify != "fidelity")
     throw config_error(path, "'tighten_to_limits' applies only to 'simplify: fidelity'");
+  c.explain = get<bool>(n, path, "explain", c.explain);
+  if (c.explain && c.simplify == "cluster")
+    throw config_error(path, "'explain' applies to the collapse modes (fidelity, paper, bounded, qem), not cluster");
   if (const YAML::Node t = n["fidelity_target"]) {
     if (!t.IsMap()) throw config_error(path, "'fidelity_target' must be a mapping such as {max_changed: 0.02}");
     if (c.simplify != "fidelity") throw config_error(path, "'fidelity_target' applies only to 'simplify: fidelity'");
@@ -491,6 +494,7 @@ nlohmann::json settings_json(const BatchConfig& c) {
   // Joins in fidelity mode, where it decides: a manifest redoes fidelity
   // LODs made before tightening existed (some of them would now be tighter).
   if (c.simplify == "fidelity") s["tighten_to_limits"] = c.tighten_to_limits;
+  if (c.explain) s["explain"] = true;  // only the report changes; joins when on, so older hashes stay
   return s;
 }
 
@@ -522,6 +526,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.simplify.bound_perceptible_px = c.e_perceptible;
   job.simplify.bound_imperceptible_px = c.e_imperceptible;
   job.simplify.bound_undisplayable_px = c.e_undisplayable;
+  job.simplify.explain_stop = c.explain;
   if (!c.judge_views.empty()) job.judge_views = parse_views(c.judge_views, c.up);
   job.limits.max_changed = c.max_changed;
   job.limits.max_silhouette = c.max_silhouette;

@@ -653,6 +653,15 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
          << w["ssim_covered"].get<double>() << ", silhouette " << 100 * w["silhouette_mismatch"].get<double>()
          << "%; " << lod_path;
       progress(ss.str());
+      if (st.refused_counted) {  // explain: true
+        const SimplifyStats::Refused& why = st.refused;
+        std::ostringstream stop;
+        stop << "  LOD " << d << " m stopped: " << why.total() << " half-edges left, " << why.bound_or_locked
+             << " locked or over their bound, " << why.shape << " refused by shape, " << why.topology
+             << " by topology, " << why.valence << " by the valence cap";
+        if (why.legal) stop << ", " << why.legal << " legal only after the last pass";
+        progress(stop.str());
+      }
     }
     entry["seconds"] = since(t_d);
     report["lods"].push_back(entry);

@@ -211,7 +211,7 @@ TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
   auto r = run_cli("run " +
                    job_file(out, "job.yaml",
                             "distances: [132]\nsamples: 1\njudge_views: az22.5el15\n"
-                            "fidelity_target: {max_changed: 0.02, max_silhouette: 0.01}\n",
+                            "fidelity_target: {max_changed: 0.02, max_silhouette: 0.01}\nexplain: true\n",
                             "result") +
                    " --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -226,6 +226,12 @@ TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
     EXPECT_EQ(search[i].value("kept", false), i + 1 == search.size()) << search[i];
   EXPECT_EQ(lod["bounds_px"]["imperceptible"], search.back()["e_imperceptible"]);
   EXPECT_EQ(lod["simplify"]["total_after"], search.back()["triangles"]);
+  // explain: true: the written LOD's half-edges left, by the rule that refuses them.
+  ASSERT_TRUE(lod["simplify"].contains("refused")) << lod["simplify"];
+  size_t refused = 0;
+  for (const char* rule : {"bound_or_locked", "valence", "topology", "shape", "legal"})
+    refused += lod["simplify"]["refused"][rule].get<size_t>();
+  EXPECT_GT(refused, 0u);
   for (const auto& v : lod["lod_vs_original"]) {
     EXPECT_LE(v["changed_fraction"].get<double>(), 0.02) << v["view"];
     EXPECT_LE(v["silhouette_mismatch"].get<double>(), 0.01) << v["view"];
@@ -271,6 +277,7 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   EXPECT_FALSE(tries[1].contains("kept"));
   EXPECT_EQ(back["bounds_px"]["imperceptible"], tries[0]["e_imperceptible"]);
   EXPECT_EQ(back["simplify"]["total_after"], tries[0]["triangles"]);
+  EXPECT_FALSE(back["simplify"].contains("refused"));  // only with explain: true
   for (const auto& v : back["lod_vs_original"]) EXPECT_LE(v["changed_fraction"].get<double>(), 0.019) << v["view"];
   EXPECT_EQ(back_err.find("no bound meets"), std::string::npos) << back_err;
   // A target every looser step meets: up to the loosest, each with no more triangles.

@@ -233,6 +233,23 @@ TEST(BatchConfig, TightenToLimitsIsOnByDefaultInFidelityMode) {
   b.expect_refused("tighten_to_limits: maybe\n", "'tighten_to_limits'");
 }
 
+// explain: off by default, on per model in any collapse mode, part of the
+// settings hash only when on, and refused with cluster.
+TEST(BatchConfig, ExplainCountsTheRefusalsOfTheCollapseModes) {
+  BatchFolder b;
+  ConfigFile f = load_config_file(b.dir.file(
+      "explain.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, explain: true}\n"
+                      "  - {model: city/a/house.obj, simplify: qem, target: 100, explain: true}\n"));
+  ASSERT_EQ(f.models.size(), 3u);
+  EXPECT_FALSE(lod_job(f.models[0].config).simplify.explain_stop);
+  EXPECT_TRUE(lod_job(f.models[1].config).simplify.explain_stop);
+  EXPECT_TRUE(lod_job(f.models[2].config).simplify.explain_stop);
+  EXPECT_FALSE(settings_json(f.models[0].config).contains("explain"));  // older hashes stay
+  EXPECT_EQ(settings_json(f.models[1].config)["explain"], true);
+  b.expect_refused("simplify: cluster\nexplain: true\n", "'explain' applies to the collapse modes");
+  b.expect_refused("explain: sometimes\n", "'explain'");
+}
+
 TEST(BatchShards, ShardsPartitionTheListExactly) {
   for (size_t count : {0u, 1u, 5u, 17u})
     for (int n : {1, 2, 3, 8}) {

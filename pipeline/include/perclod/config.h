@@ -59,6 +59,9 @@ struct BatchConfig {
   // fidelity, no fidelity_target: a LOD over the limits (within
   // kTightenReach) is tried again at tighter bounds (LodJob::tighten_to_limits).
   bool tighten_to_limits = true;
+  // Collapse modes: also count why each half-edge left was not collapsed
+  // (SimplifyOptions::explain_stop; the report's simplify.refused).
+  bool explain = false;
   double target_max_changed = 0.02, target_max_silhouette = 0.01, target_min_ssim = 0;
   std::string cityjson_lod;          // CityJSON input: the LOD geometry to read ("" = each object's highest)
   double memory_mb = 0;              // batch: this model's peak memory for memory_budget_mb (0 = estimate_memory_mb)
