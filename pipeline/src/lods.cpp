@@ -564,17 +564,22 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
       kept_try = tries.size() - 1;  // the first that met, or the tightest
       if (first_met == 0) {
         // The loosest step met it: so may looser bounds. Doubled while they
-        // do; the first that does not is followed by the last that did, made
-        // again (deterministic, as below).
+        // do and remove triangles. One that does not meet it (or keeps more
+        // triangles) is followed by the last that did, made again
+        // (deterministic, as below); one that removes none more ends it.
         FidelitySearchStep kept = kFidelitySearch[0];
         for (FidelitySearchStep looser{2 * kept.e, false}; looser.e <= kFidelitySearchLoosestPx; looser.e *= 2) {
-          if (!log_try(attempt(fidelity_bounds(asked, looser)), "fidelity target, looser")) {
-            if (progress) progress("  fidelity target: back to the loosest bounds that met it");
-            attempt(fidelity_bounds(asked, kept));
-            break;
+          const size_t kept_triangles = st.total_after();
+          const bool met = log_try(attempt(fidelity_bounds(asked, looser)), "fidelity target, looser");
+          if (met && st.total_after() <= kept_triangles) {
+            kept = looser;
+            kept_try = tries.size() - 1;
+            if (st.total_after() < kept_triangles) continue;
+            break;  // looser bounds removed nothing more
           }
-          kept = looser;
-          kept_try = tries.size() - 1;
+          if (progress) progress("  fidelity target: back to the loosest bounds that met it");
+          attempt(fidelity_bounds(asked, kept));
+          break;
         }
       }
     } else {

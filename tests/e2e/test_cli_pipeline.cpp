@@ -250,8 +250,8 @@ TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
 }
 
 // When the loosest step already meets the target, looser bounds are tried
-// while they meet it (doubling up to kFidelitySearchLoosestPx), and the
-// loosest LOD that met it is the one written.
+// while they meet it and remove triangles (doubling up to
+// kFidelitySearchLoosestPx), and the loosest LOD that met it is the one written.
 TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   fs::path out = fresh_dir("run-target-looser");
   fs::create_directories(out);
@@ -280,20 +280,25 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   EXPECT_FALSE(back["simplify"].contains("refused"));  // only with explain: true
   for (const auto& v : back["lod_vs_original"]) EXPECT_LE(v["changed_fraction"].get<double>(), 0.019) << v["view"];
   EXPECT_EQ(back_err.find("no bound meets"), std::string::npos) << back_err;
-  // A target every looser step meets: up to the loosest, each with no more triangles.
+  // A target every looser step meets: up while each removes triangles (or to
+  // the loosest), each with no more triangles than the one before. Measured:
+  // 16, 32, 64, 128 px remove triangles, 256 px none more (7,704): it stops there.
   const auto all = run("all", "judge_views: az22.5el15\nfidelity_target: {max_changed: 0.05}\n").first;
   const auto& up = all["fidelity_search"];
   ASSERT_GE(up.size(), 2u) << up;
-  EXPECT_EQ(up.back()["e_imperceptible"].get<double>(), perclod::kFidelitySearchLoosestPx);
   for (size_t i = 0; i < up.size(); ++i) {
     EXPECT_TRUE(up[i]["met"].get<bool>()) << up[i];
     EXPECT_EQ(up[i].value("kept", false), i + 1 == up.size()) << up[i];
     EXPECT_EQ(up[i]["e_imperceptible"].get<double>(), perclod::kFidelitySearch[0].e * double(1u << i));
-    if (i > 0) {
-      EXPECT_LE(up[i]["triangles"].get<size_t>(), up[i - 1]["triangles"].get<size_t>());
+    if (i > 0 && i + 1 < up.size()) {  // every try before the last removed triangles
+      EXPECT_LT(up[i]["triangles"].get<size_t>(), up[i - 1]["triangles"].get<size_t>()) << up[i];
     }
   }
-  EXPECT_EQ(all["bounds_px"]["imperceptible"].get<double>(), perclod::kFidelitySearchLoosestPx);
+  const double last_e = up.back()["e_imperceptible"].get<double>();
+  EXPECT_GT(last_e, 64.0);  // past the bound the looser tries stopped at before (2026-12-05)
+  EXPECT_TRUE(last_e == perclod::kFidelitySearchLoosestPx ||
+              up.back()["triangles"] == up[up.size() - 2]["triangles"]) << up;
+  EXPECT_EQ(all["bounds_px"]["imperceptible"].get<double>(), last_e);
   EXPECT_EQ(all["simplify"]["total_after"], up.back()["triangles"]);
   fs::remove_all(out);
 }

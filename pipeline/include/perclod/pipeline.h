@@ -369,8 +369,8 @@ struct LodJob {
   // Fidelity mode: try the steps of kFidelitySearch (loosest first) and keep
   // the first LOD that meets these limits in every judged view (when that is
   // the first step, the loosest of it and the looser bounds above it up to
-  // kFidelitySearchLoosestPx that meet them); the tightest is kept when none
-  // does (and warned about).
+  // kFidelitySearchLoosestPx that meet them and still remove triangles); the
+  // tightest is kept when none does (and warned about).
   bool fidelity_target = false;
   FidelityLimits target;
   // Fidelity mode, no fidelity_target: a LOD over job.limits is tried again
@@ -402,9 +402,11 @@ constexpr FidelitySearchStep kFidelitySearch[] = {
     {16, false}, {8, false}, {4, false}, {2, false}, {1, false}, {0.5, false},  // undisplayable deleted
     {0.25, false}, {0.25, true}, {0.125, true}, {0, true}};                     // then kept
 // When the first try already meets the target, looser bounds may too: e_I
-// then doubles, up to this, while the target holds, and the loosest LOD that
-// met it is kept (han at 56 m: 16 and 32 px meet a 2% target, 64 px does not).
-constexpr double kFidelitySearchLoosestPx = 64;
+// then doubles, up to this, while the target holds and each try removes
+// triangles, and the loosest LOD that met it is kept (han at 56 m: 16 and
+// 32 px meet a 2% target, 64 px does not). 1024 px is more than a whole
+// display at the paper's profile (1280 x 1024).
+constexpr double kFidelitySearchLoosestPx = 1024;
 
 SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& step);
 
