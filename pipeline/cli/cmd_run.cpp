@@ -21,6 +21,7 @@ struct RunArgs {
   int jobs = 0;
   double memory_budget_mb = -1;
   bool json = false, strict = false, force = false, keep_unsampled_surface = false, mask_per_sample = false;
+  bool explain = false;
 };
 
 void print_warnings(const nlohmann::json& report) {
@@ -105,6 +106,9 @@ void register_run(CLI::App& app) {
   cmd->add_flag("--strict", a->strict,
                 "Fail (exit 1, after every output is written) when a LOD exceeds the config's max_changed or\n"
                 "max_silhouette, or falls below its min_ssim, in any judged view (also 'strict: true' in the config)");
+  cmd->add_flag("--explain", a->explain,
+                "Say why each LOD stopped: its half-edges left, by the first rule that refuses their collapse\n"
+                "(the report's simplify.refused and a 'stopped' line; collapse modes; also 'explain: true' in the config)");
   cmd->add_option("--shard", a->shard,
                   "Batch: process only shard i of n (0-based, e.g. 2/8): models i, i+n, i+2n... of the list,\n"
                   "so n machines or Slurm array tasks split a city (scripts/slurm/)");
@@ -141,6 +145,12 @@ void register_run(CLI::App& app) {
       if (a->keep_unsampled_surface) m.config.keep_unsampled_surface = true;
       if (a->mask_per_sample) m.config.mask_per_sample = true;
       if (!a->combine_views.empty()) m.config.combine_views = a->combine_views;
+      if (a->explain) {
+        if (m.config.simplify == "cluster")
+          throw OptionError("--explain applies to the collapse modes (fidelity, paper, bounded, qem); " +
+                            (f.batch ? "model " + m.name : a->config) + " uses cluster");
+        m.config.explain = true;
+      }
     }
     if (f.batch) run_many(*a, f);
     else run_one(*a, f);

@@ -84,6 +84,7 @@ Fixture make_fixture() {
   f.file("nomodel.yaml", "model: gone.obj\ndistances: [56]\nout: " + f.out.string() + "\n");
   f.file("nodpi.yaml", "model: cube.obj\ndisplay: display-nodpi.yaml\ndistances: [56]\nout: " + f.out.string() + "\n");
   f.file("ratio.yaml", base + "ratio: 2\n");
+  f.file("cluster.yaml", base + "simplify: cluster\n");
   return f;
 }
 
@@ -143,6 +144,7 @@ const std::vector<Case>& cases() {
       {"run_missing_model", "run {D}/nomodel.yaml", 1, {"{D}/nomodel.yaml", "gone.obj"}},
       {"run_display_without_dpi", "run {D}/nodpi.yaml", 1, {"display-nodpi.yaml", "'dpi'"}},
       {"run_ratio_out_of_range", "run {D}/ratio.yaml", 1, {"{D}/ratio.yaml", "'ratio'"}},
+      {"run_explain_cluster", "run {D}/cluster.yaml --explain", 1, {"--explain", "{D}/cluster.yaml", "cluster"}},
       {"run_no_config", "run", 2, {"CONFIG"}},
   };
   return c;

@@ -211,9 +211,9 @@ TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
   auto r = run_cli("run " +
                    job_file(out, "job.yaml",
                             "distances: [132]\nsamples: 1\njudge_views: az22.5el15\n"
-                            "fidelity_target: {max_changed: 0.02, max_silhouette: 0.01}\nexplain: true\n",
+                            "fidelity_target: {max_changed: 0.02, max_silhouette: 0.01}\n",
                             "result") +
-                   " --json");
+                   " --json --explain");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto j = nlohmann::json::parse(r.out);
   const auto& lod = j["lods"][0];
@@ -226,7 +226,7 @@ TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
     EXPECT_EQ(search[i].value("kept", false), i + 1 == search.size()) << search[i];
   EXPECT_EQ(lod["bounds_px"]["imperceptible"], search.back()["e_imperceptible"]);
   EXPECT_EQ(lod["simplify"]["total_after"], search.back()["triangles"]);
-  // explain: true: the written LOD's half-edges left, by the rule that refuses them.
+  // --explain (explain: true): the written LOD's half-edges left, by the rule that refuses them.
   ASSERT_TRUE(lod["simplify"].contains("refused")) << lod["simplify"];
   size_t refused = 0;
   for (const char* rule : {"bound_or_locked", "valence", "topology", "shape", "legal"})
