@@ -650,6 +650,14 @@ std::string model_report_html(const json& report, const OutputNames& names) {
         {"views combined", str(l, "combine_views").empty() ? "any" : html_escape(str(l, "combine_views"))},
         {"vertices", count(num(simp, "vertices_before")) + " &rarr; " + count(num(simp, "vertices_after"))}};
     if (!str(simp, "stop_reason").empty()) facts.push_back({"stop reason", html_escape(str(simp, "stop_reason"))});
+    if (const json* why = member(simp, "refused")) {  // explain: true
+      std::string text = count(num(*why, "total")) + " half-edges left: " + count(num(*why, "bound_or_locked")) +
+                         " locked or over their bound, " + count(num(*why, "shape")) + " refused by shape, " +
+                         count(num(*why, "topology")) + " by topology, " + count(num(*why, "valence")) +
+                         " by the valence cap";
+      if (num(*why, "legal") > 0) text += ", " + count(num(*why, "legal")) + " legal only after the last pass";
+      facts.push_back({"stopped", text});
+    }
     if (member(l, "bounds_px"))
       facts.push_back({"bounds (px)", "perceptible " + fixed(num(bounds, "perceptible"), 2) + ", imperceptible " +
                                           fixed(num(bounds, "imperceptible"), 2) + "; undisplayable " +

@@ -332,6 +332,20 @@ TEST(ReportHtml, ShowsWhatAutoDidWithUndisplayableTriangles) {
       << html;
 }
 
+// explain: true: the LOD's facts say why it stopped; without it, nothing.
+TEST(ReportHtml, SaysWhyTheLodStoppedWhenExplained) {
+  const OutputNames n{"out", "bldg"};
+  nlohmann::json r = small_report(n);
+  EXPECT_FALSE(has(model_report_html(r, n), "half-edges left"));
+  r["lods"][1]["simplify"]["refused"] = {{"bound_or_locked", 11489}, {"valence", 0}, {"topology", 3416},
+                                         {"shape", 53},           {"legal", 0},   {"total", 14958}};
+  const std::string html = model_report_html(r, n);
+  EXPECT_TRUE(has(html, "<td>stopped</td><td class=\"l\">14958 half-edges left: 11489 locked or over their "
+                        "bound, 53 refused by shape, 3416 by topology, 0 by the valence cap</td>"))
+      << html;
+  EXPECT_FALSE(has(html, "legal only after"));
+}
+
 TEST(ReportHtml, EscapesEveryText) {
   const OutputNames n{"out", "<a&b>"};
   json report = small_report(n);
