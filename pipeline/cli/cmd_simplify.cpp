@@ -48,14 +48,7 @@ void print_table(const SimplifyArgs& a, const SimplifyRun& r) {
   if (st.nonmanifold_faces_duplicated || st.degenerate_faces)
     std::printf("input        %zu non-manifold faces and %zu degenerate faces kept on their own vertices\n",
                 st.nonmanifold_faces_duplicated, st.degenerate_faces);
-  if (st.refused_counted) {
-    const SimplifyStats::Refused& why = st.refused;
-    std::printf("stopped      %zu half-edges left: %zu locked or over their bound, %zu refused by shape (normal "
-                "change, sliver, area), %zu by topology, %zu by the valence cap",
-                why.total(), why.bound_or_locked, why.shape, why.topology, why.valence);
-    if (why.legal) std::printf(", %zu legal only after the last pass", why.legal);
-    std::printf("\n");
-  }
+  if (st.refused_counted) std::printf("stopped      %s\n", refused_text(st.refused).c_str());
   std::printf("displacement max %.3g, mean %.3g of the bounding-box diagonal (%.2f m)\n",
               st.max_displacement_rel, st.mean_displacement_rel, st.bbox_diagonal);
   std::printf("time         %.3f s simplify, %.3f s write\n", st.seconds, r.write_seconds);

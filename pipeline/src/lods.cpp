@@ -58,6 +58,15 @@ nlohmann::json simplify_stats_json(const SimplifyStats& s) {
   return j;
 }
 
+std::string refused_text(const SimplifyStats::Refused& why) {
+  std::string s = std::to_string(why.total()) + " half-edges left: " + std::to_string(why.bound_or_locked) +
+                  " locked or over their bound, " + std::to_string(why.shape) +
+                  " refused by shape (normal change, sliver, area), " + std::to_string(why.topology) +
+                  " by topology, " + std::to_string(why.valence) + " by the valence cap";
+  if (why.legal) s += ", " + std::to_string(why.legal) + " legal only after the last pass";
+  return s;
+}
+
 SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
   const SimplifyMode mode = job.options.mode;
   if (simplify_mode_uses_labels(mode) && job.labels_file.empty())
@@ -659,12 +668,8 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
          << "%; " << lod_path;
       progress(ss.str());
       if (st.refused_counted) {  // explain: true
-        const SimplifyStats::Refused& why = st.refused;
         std::ostringstream stop;
-        stop << "  LOD " << d << " m stopped: " << why.total() << " half-edges left, " << why.bound_or_locked
-             << " locked or over their bound, " << why.shape << " refused by shape, " << why.topology
-             << " by topology, " << why.valence << " by the valence cap";
-        if (why.legal) stop << ", " << why.legal << " legal only after the last pass";
+        stop << "  LOD " << d << " m stopped: " << refused_text(st.refused);
         progress(stop.str());
       }
     }

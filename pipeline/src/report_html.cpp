@@ -652,7 +652,8 @@ std::string model_report_html(const json& report, const OutputNames& names) {
     if (!str(simp, "stop_reason").empty()) facts.push_back({"stop reason", html_escape(str(simp, "stop_reason"))});
     if (const json* why = member(simp, "refused")) {  // explain: true
       std::string text = count(num(*why, "total")) + " half-edges left: " + count(num(*why, "bound_or_locked")) +
-                         " locked or over their bound, " + count(num(*why, "shape")) + " refused by shape, " +
+                         " locked or over their bound, " + count(num(*why, "shape")) +
+                         " refused by shape (normal change, sliver, area), " +
                          count(num(*why, "topology")) + " by topology, " + count(num(*why, "valence")) +
                          " by the valence cap";
       if (num(*why, "legal") > 0) text += ", " + count(num(*why, "legal")) + " legal only after the last pass";

@@ -232,6 +232,9 @@ TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
   for (const char* rule : {"bound_or_locked", "valence", "topology", "shape", "legal"})
     refused += lod["simplify"]["refused"][rule].get<size_t>();
   EXPECT_GT(refused, 0u);
+  EXPECT_EQ(lod["simplify"]["refused"]["total"].get<size_t>(), refused);
+  EXPECT_NE(r.err.find("LOD 132 m stopped: " + std::to_string(refused) + " half-edges left: "), std::string::npos)
+      << r.err;
   for (const auto& v : lod["lod_vs_original"]) {
     EXPECT_LE(v["changed_fraction"].get<double>(), 0.02) << v["view"];
     EXPECT_LE(v["silhouette_mismatch"].get<double>(), 0.01) << v["view"];

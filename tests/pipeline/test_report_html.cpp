@@ -341,7 +341,8 @@ TEST(ReportHtml, SaysWhyTheLodStoppedWhenExplained) {
                                          {"shape", 53},           {"legal", 0},   {"total", 14958}};
   const std::string html = model_report_html(r, n);
   EXPECT_TRUE(has(html, "<td>stopped</td><td class=\"l\">14958 half-edges left: 11489 locked or over their "
-                        "bound, 53 refused by shape, 3416 by topology, 0 by the valence cap</td>"))
+                        "bound, 53 refused by shape (normal change, sliver, area), 3416 by topology, 0 by the "
+                        "valence cap</td>"))
       << html;
   EXPECT_FALSE(has(html, "legal only after"));
 }

@@ -311,6 +311,11 @@ SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job);
 // SimplifyStats as the reports print them (`run` and `simplify --json`).
 nlohmann::json simplify_stats_json(const SimplifyStats& stats);
 
+// Why a LOD stopped (SimplifyStats::refused), in words: "N half-edges left:
+// X locked or over their bound, ...", as `simplify --explain` and `run`
+// with explain print it.
+std::string refused_text(const SimplifyStats::Refused& why);
+
 // ---- perclod run ----------------------------------------------------------
 
 // The views `perclod run` judges every LOD from besides its labelling views
