@@ -5,6 +5,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "perclod/batch.h"
 #include "perclod/config.h"
@@ -35,6 +37,16 @@ struct BatchFolder {
     for (const char* f : {"city/a/house.obj", "city/b/house.obj", "city/b/tower.obj", "city/b/notes.txt",
                           "city/a/house_report.json"})
       std::ofstream(dir.path / f) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  }
+  // A batch config `name` at 56 m: city/a as it is, then one entry per
+  // override, alternately city/b/tower.obj and city/a/house.obj with those
+  // settings.
+  ConfigFile models_with(const std::string& name, const std::vector<std::string>& overrides) {
+    std::string text = "distances: [56]\nmodels:\n  - city/a\n";
+    for (size_t i = 0; i < overrides.size(); ++i)
+      text += std::string("  - {model: ") + (i % 2 ? "city/a/house.obj" : "city/b/tower.obj") + ", " + overrides[i] +
+              "}\n";
+    return load_config_file(dir.file(name, text));
   }
   // Loading a one-model config with `settings` fails with an error naming
   // the file and holding `says`.
@@ -130,8 +142,7 @@ TEST(BatchConfig, MinSsimJoinsTheSettingsHashOnlyWhenSet) {
 // not a boolean names the key.
 TEST(BatchConfig, KeepUnsampledSurfaceReachesTheLabellingJob) {
   BatchFolder b;
-  ConfigFile f = load_config_file(b.dir.file(
-      "batch.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, keep_unsampled_surface: true}\n"));
+  ConfigFile f = b.models_with("batch.yaml", {"keep_unsampled_surface: true"});
   ASSERT_EQ(f.models.size(), 2u);
   EXPECT_FALSE(f.models[0].config.keep_unsampled_surface);
   EXPECT_TRUE(f.models[1].config.keep_unsampled_surface);
@@ -148,8 +159,7 @@ TEST(BatchConfig, KeepUnsampledSurfaceReachesTheLabellingJob) {
 // or the pair with keep_unsampled_surface, is an error naming the file.
 TEST(BatchConfig, MaskPerSampleReachesTheLabellingJob) {
   BatchFolder b;
-  ConfigFile f = load_config_file(b.dir.file(
-      "batch.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, mask_per_sample: true}\n"));
+  ConfigFile f = b.models_with("batch.yaml", {"mask_per_sample: true"});
   ASSERT_EQ(f.models.size(), 2u);
   EXPECT_FALSE(lod_job(f.models[0].config).label.mask_per_sample);
   EXPECT_TRUE(lod_job(f.models[1].config).label.mask_per_sample);
@@ -179,9 +189,7 @@ TEST(BatchConfig, GridSamplesReachTheLabellingJob) {
 // the key.
 TEST(BatchConfig, AutoSamplesAreTheDefaultAndParse) {
   BatchFolder b;
-  ConfigFile f = load_config_file(b.dir.file(
-      "auto.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, samples: auto}\n"
-                   "  - {model: city/a/house.obj, samples: 4}\n"));
+  ConfigFile f = b.models_with("auto.yaml", {"samples: auto", "samples: 4"});
   ASSERT_EQ(f.models.size(), 3u);
   EXPECT_EQ(lod_job(f.models[0].config).label.samples, kAutoSamples);
   EXPECT_EQ(lod_job(f.models[1].config).label.samples, kAutoSamples);
@@ -194,10 +202,8 @@ TEST(BatchConfig, AutoSamplesAreTheDefaultAndParse) {
 
 TEST(BatchConfig, KeepUndisplayableIsAutoByDefaultAndParses) {
   BatchFolder b;
-  ConfigFile f = load_config_file(b.dir.file(
-      "keep.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, keep_undisplayable: false}\n"
-                   "  - {model: city/a/house.obj, keep_undisplayable: true}\n"
-                   "  - {model: city/b/tower.obj, e_undisplayable: 2}\n"));
+  ConfigFile f =
+      b.models_with("keep.yaml", {"keep_undisplayable: false", "keep_undisplayable: true", "e_undisplayable: 2"});
   ASSERT_EQ(f.models.size(), 4u);
   const LodJob automatic = lod_job(f.models[0].config), deleting = lod_job(f.models[1].config),
                keeping = lod_job(f.models[2].config), bounded = lod_job(f.models[3].config);
@@ -220,9 +226,7 @@ TEST(BatchConfig, KeepUndisplayableIsAutoByDefaultAndParses) {
 // a fidelity model's settings hash only, and refused outside fidelity mode.
 TEST(BatchConfig, TightenToLimitsIsOnByDefaultInFidelityMode) {
   BatchFolder b;
-  ConfigFile f = load_config_file(b.dir.file(
-      "tighten.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, tighten_to_limits: false}\n"
-                      "  - {model: city/a/house.obj, simplify: paper}\n"));
+  ConfigFile f = b.models_with("tighten.yaml", {"tighten_to_limits: false", "simplify: paper"});
   ASSERT_EQ(f.models.size(), 3u);
   EXPECT_TRUE(lod_job(f.models[0].config).tighten_to_limits);
   EXPECT_FALSE(lod_job(f.models[1].config).tighten_to_limits);
@@ -237,9 +241,7 @@ TEST(BatchConfig, TightenToLimitsIsOnByDefaultInFidelityMode) {
 // settings hash only when on, and refused with cluster.
 TEST(BatchConfig, ExplainCountsTheRefusalsOfTheCollapseModes) {
   BatchFolder b;
-  ConfigFile f = load_config_file(b.dir.file(
-      "explain.yaml", "distances: [56]\nmodels:\n  - city/a\n  - {model: city/b/tower.obj, explain: true}\n"
-                      "  - {model: city/a/house.obj, simplify: qem, target: 100, explain: true}\n"));
+  ConfigFile f = b.models_with("explain.yaml", {"explain: true", "simplify: qem, target: 100, explain: true"});
   ASSERT_EQ(f.models.size(), 3u);
   EXPECT_FALSE(lod_job(f.models[0].config).simplify.explain_stop);
   EXPECT_TRUE(lod_job(f.models[1].config).simplify.explain_stop);
