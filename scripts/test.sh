@@ -35,8 +35,8 @@ stage_asan() {
   # intercept_tls_get_addr=0: ASan's record of the main thread's dynamic TLS
   # blocks sometimes held a bogus range after a `perclod run` (module 20,
   # 0x44b9-0x8000055bb), and LeakSanitizer's exit-time check crashed reading
-  # it ("Tracer caught signal 11"; 7 of 50 runs of one job two at a time, 0
-  # of 48 with this). In the passing runs looked at the record is empty (the
+  # it ("Tracer caught signal 11"; 8 of 52 runs of one job under load, 0 of
+  # 48 with this). In the passing runs looked at the record is empty (the
   # TLS blocks here are static), so no leak check loses a root by it.
   ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:intercept_tls_get_addr=0} \
   LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/../tests/lsan.supp} \
