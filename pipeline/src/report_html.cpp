@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "perclod/pipeline.h"
+
 namespace perclod {
 namespace {
 
@@ -650,14 +652,10 @@ std::string model_report_html(const json& report, const OutputNames& names) {
         {"views combined", str(l, "combine_views").empty() ? "any" : html_escape(str(l, "combine_views"))},
         {"vertices", count(num(simp, "vertices_before")) + " &rarr; " + count(num(simp, "vertices_after"))}};
     if (!str(simp, "stop_reason").empty()) facts.push_back({"stop reason", html_escape(str(simp, "stop_reason"))});
-    if (const json* why = member(simp, "refused")) {  // explain: true
-      std::string text = count(num(*why, "total")) + " half-edges left: " + count(num(*why, "bound_or_locked")) +
-                         " locked or over their bound, " + count(num(*why, "shape")) +
-                         " refused by shape (normal change, sliver, area), " +
-                         count(num(*why, "topology")) + " by topology, " + count(num(*why, "valence")) +
-                         " by the valence cap";
-      if (num(*why, "legal") > 0) text += ", " + count(num(*why, "legal")) + " legal only after the last pass";
-      facts.push_back({"stopped", text});
+    if (const json* why = member(simp, "refused")) {  // explain: true: in refused_text's words
+      auto n = [&](const char* rule) { return size_t(std::max(0.0, num(*why, rule))); };
+      facts.push_back({"stopped", refused_text({n("bound_or_locked"), n("valence"), n("topology"), n("shape"),
+                                                n("legal")})});
     }
     if (member(l, "bounds_px"))
       facts.push_back({"bounds (px)", "perceptible " + fixed(num(bounds, "perceptible"), 2) + ", imperceptible " +
