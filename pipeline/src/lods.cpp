@@ -579,16 +579,15 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
         FidelitySearchStep kept = kFidelitySearch[0];
         for (FidelitySearchStep looser{2 * kept.e, false}; looser.e <= kFidelitySearchLoosestPx; looser.e *= 2) {
           const size_t kept_triangles = st.total_after();
-          const bool met = log_try(attempt(fidelity_bounds(asked, looser)), "fidelity target, looser");
-          if (met && st.total_after() <= kept_triangles) {
-            kept = looser;
-            kept_try = tries.size() - 1;
-            if (st.total_after() < kept_triangles) continue;
-            break;  // looser bounds removed nothing more
+          if (!log_try(attempt(fidelity_bounds(asked, looser)), "fidelity target, looser") ||
+              st.total_after() > kept_triangles) {
+            if (progress) progress("  fidelity target: back to the loosest bounds that met it");
+            attempt(fidelity_bounds(asked, kept));
+            break;
           }
-          if (progress) progress("  fidelity target: back to the loosest bounds that met it");
-          attempt(fidelity_bounds(asked, kept));
-          break;
+          kept = looser;
+          kept_try = tries.size() - 1;
+          if (st.total_after() == kept_triangles) break;  // looser bounds removed nothing more
         }
       }
     } else {
