@@ -377,6 +377,24 @@ Tightening tighten_to_limits(const SimplifyOptions& asked, const nlohmann::json&
   return Tightening::NoneWithin;
 }
 
+LooserSearch search_looser(size_t triangles,
+                           const std::function<std::pair<bool, size_t>(const FidelitySearchStep&)>& try_step) {
+  LooserSearch r{kFidelitySearch[0]};
+  for (FidelitySearchStep looser{2 * r.step.e, false}; looser.e <= kFidelitySearchLoosestPx; looser.e *= 2) {
+    const auto [met, left] = try_step(looser);
+    ++r.tries;
+    if (!met || left > triangles) {
+      r.remake = true;
+      break;
+    }
+    r.step = looser;
+    r.kept = r.tries - 1;
+    if (left == triangles) break;  // looser bounds removed nothing more
+    triangles = left;
+  }
+  return r;
+}
+
 std::vector<std::string> exposure_views() {
   std::vector<std::string> v;
   for (int i = 0; i < 8; ++i) {
@@ -571,23 +589,15 @@ nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& 
         ++first_met;
       target_met = first_met < std::size(kFidelitySearch);
       kept_try = tries.size() - 1;  // the first that met, or the tightest
-      if (first_met == 0) {
-        // The loosest step met it: so may looser bounds. Doubled while they
-        // do and remove triangles. One that does not meet it (or keeps more
-        // triangles) is followed by the last that did, made again
-        // (deterministic, as below); one that removes none more ends it.
-        FidelitySearchStep kept = kFidelitySearch[0];
-        for (FidelitySearchStep looser{2 * kept.e, false}; looser.e <= kFidelitySearchLoosestPx; looser.e *= 2) {
-          const size_t kept_triangles = st.total_after();
-          if (!log_try(attempt(fidelity_bounds(asked, looser)), "fidelity target, looser") ||
-              st.total_after() > kept_triangles) {
-            if (progress) progress("  fidelity target: back to the loosest bounds that met it");
-            attempt(fidelity_bounds(asked, kept));
-            break;
-          }
-          kept = looser;
-          kept_try = tries.size() - 1;
-          if (st.total_after() == kept_triangles) break;  // looser bounds removed nothing more
+      if (first_met == 0) {  // the loosest step met it: so may looser bounds
+        const LooserSearch l = search_looser(st.total_after(), [&](const FidelitySearchStep& step) {
+          const bool met = log_try(attempt(fidelity_bounds(asked, step)), "fidelity target, looser");
+          return std::make_pair(met, st.total_after());
+        });
+        kept_try += size_t(l.kept + 1);
+        if (l.remake) {
+          if (progress) progress("  fidelity target: back to the loosest bounds that met it");
+          attempt(fidelity_bounds(asked, l.step));
         }
       }
     } else {

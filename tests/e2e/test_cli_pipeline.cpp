@@ -255,6 +255,8 @@ TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
 // When the loosest step already meets the target, looser bounds are tried
 // while they meet it and remove triangles (doubling up to
 // kFidelitySearchLoosestPx), and the loosest LOD that met it is the one written.
+// Every branch of that rule alone, on scripted tries: FidelitySearch in
+// tests/pipeline/test_view_sets.cpp.
 TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   fs::path out = fresh_dir("run-target-looser");
   fs::create_directories(out);

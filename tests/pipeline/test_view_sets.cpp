@@ -674,6 +674,61 @@ TEST(TightenToLimits, TriesTheStepsInOrderUntilOneIsWithin) {
     EXPECT_EQ(tried[i], fidelity_bounds(so, tighten_steps(so)[i]).bound_imperceptible_px);
 }
 
+// The looser half of a fidelity_target search, on scripted tries (met,
+// triangles) for e = 32, 64, ... px: kept while met with fewer triangles;
+// met with as many ends it there; a failure or more triangles goes back to
+// the last kept step, which is made again.
+TEST(FidelitySearch, LooserBoundsAreKeptWhileTheyMeetTheTargetAndRemoveTriangles) {
+  using Try = std::pair<bool, size_t>;
+  std::vector<double> tried;
+  auto run = [&](size_t triangles, std::vector<Try> script) {
+    tried.clear();
+    return search_looser(triangles, [&tried, script](const FidelitySearchStep& step) {
+      EXPECT_FALSE(step.keep_undisplayable);
+      tried.push_back(step.e);
+      return tried.size() <= script.size() ? script[tried.size() - 1] : Try{false, 0};
+    });
+  };
+  // Han at 56 m with a 5% target: 32 and 64 px meet it, 128 px does not.
+  LooserSearch l = run(13044, {{true, 12701}, {true, 10298}, {false, 9323}});
+  EXPECT_EQ(tried, (std::vector<double>{32, 64, 128}));
+  EXPECT_EQ(l.step.e, 64);
+  EXPECT_EQ(l.tries, 3);
+  EXPECT_EQ(l.kept, 1);
+  EXPECT_TRUE(l.remake);
+  // The demo at 56 m: 256 px removes none more than 128 px, and is written.
+  l = run(7745, {{true, 7709}, {true, 7708}, {true, 7704}, {true, 7704}});
+  EXPECT_EQ(tried, (std::vector<double>{32, 64, 128, 256}));
+  EXPECT_EQ(l.step.e, 256);
+  EXPECT_EQ(l.kept, 3);
+  EXPECT_FALSE(l.remake);
+  // Met, but with more triangles than the step before: back to that step.
+  l = run(1000, {{true, 900}, {true, 950}});
+  EXPECT_EQ(tried, (std::vector<double>{32, 64}));
+  EXPECT_EQ(l.step.e, 32);
+  EXPECT_EQ(l.kept, 0);
+  EXPECT_TRUE(l.remake);
+  // The first looser try fails: back to kFidelitySearch[0].
+  l = run(1000, {{false, 500}});
+  EXPECT_EQ(l.step.e, kFidelitySearch[0].e);
+  EXPECT_EQ(l.tries, 1);
+  EXPECT_EQ(l.kept, -1);
+  EXPECT_TRUE(l.remake);
+  // Met with more triangles at once: the same.
+  l = run(1000, {{true, 1001}});
+  EXPECT_EQ(l.kept, -1);
+  EXPECT_TRUE(l.remake);
+  // Every try met with fewer triangles: up to the cap, the last one written.
+  std::vector<Try> fewer;
+  for (size_t n = 999; n > 900; --n) fewer.push_back({true, n});
+  l = run(1000, fewer);
+  EXPECT_EQ(tried.back(), kFidelitySearchLoosestPx);
+  EXPECT_EQ(tried, (std::vector<double>{32, 64, 128, 256, 512, 1024}));
+  EXPECT_EQ(l.step.e, kFidelitySearchLoosestPx);
+  EXPECT_EQ(l.kept, l.tries - 1);
+  EXPECT_FALSE(l.remake);
+}
+
 // The exposure is the share of the exposure views' hits on undisplayable
 // triangles: none of them 0, all of them 1, and a ground whose half x < 4 is
 // undisplayable one half (the views stand symmetric about x = 4), a

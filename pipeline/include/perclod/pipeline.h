@@ -14,6 +14,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "perclod/display.h"
@@ -412,6 +413,23 @@ constexpr FidelitySearchStep kFidelitySearch[] = {
 // 32 px meet a 2% target, 64 px does not). 1024 px is more than a whole
 // display at the paper's profile (1280 x 1024).
 constexpr double kFidelitySearchLoosestPx = 1024;
+
+// The looser half of a fidelity_target search, for `run` and its tests: the
+// first step (kFidelitySearch[0]) met the target, leaving `triangles`.
+// `try_step(step)` makes and judges the LOD at each looser step in turn (e
+// doubled, up to kFidelitySearchLoosestPx) and returns whether it met the
+// target and its triangle count. A try that meets it with fewer triangles is
+// kept and the next tried; one with as many is kept and ends the search;
+// one that fails, or keeps more, ends it with the last kept step, whose LOD
+// the caller makes again (the simplifier and judge are deterministic).
+struct LooserSearch {
+  FidelitySearchStep step;  // the bounds of the LOD to write
+  int tries = 0;            // looser tries made
+  int kept = -1;            // which of them is `step` (from 0); -1: kFidelitySearch[0]
+  bool remake = false;      // the last try is not `step`: make its LOD again
+};
+LooserSearch search_looser(size_t triangles,
+                           const std::function<std::pair<bool, size_t>(const FidelitySearchStep&)>& try_step);
 
 SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& step);
 
