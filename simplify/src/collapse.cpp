@@ -651,17 +651,30 @@ class Collapser {
     }
   }
 
+  // Candidate::error2 of h, as evaluate_edge computes it (0 with no bound).
+  double error2_of(HH h) const {
+    if (m_.tol.empty()) return 0;
+    const Mesh& mesh = m_.mesh;
+    const VH v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
+    const Mesh::Point& p = mesh.point(v1);
+    return (m_.qd(v0) + m_.qd(v1)).eval(p[0], p[1], p[2]);
+  }
+
   size_t drain(SimplifyStats& stats) {
     size_t done = 0;
     while (!heap_.empty() && m_.faces_alive > target_) {
       HH h(int(heap_.top()));
       live_[size_t(h.idx())] = 0;  // no longer a candidate: collapsed or refused
-      Candidate c;
-      if (!evaluate(m_, h, lim_, c) || legality(m_, h, lim_, ring_, c.area_change) != Legality::Legal) {
+      // The top is a candidate at its current cost: whatever changes a
+      // cost (a collapse into an end: its quadrics and bound) offers the
+      // end's edges again. So only legality is left to check.
+      Candidate c{h};
+      if (legality(m_, h, lim_, ring_, c.area_change) != Legality::Legal) {
         refused_.push_back({uint32_t(h.idx()), clock_});
         rekey(m_.mesh.from_vertex_handle(h));
         continue;
       }
+      c.error2 = error2_of(h);
       collapse(c, stats);
       ++done;
     }

