@@ -325,25 +325,23 @@ void evaluate_edge(const Model& m, HH h, const Limits& lim, Candidate c[2], bool
   c[0] = Candidate{h};
   c[1] = Candidate{mesh.opposite_halfedge_handle(h)};
   if (!live[0] && !live[1]) return;
-  const Mesh::Point* p[2] = {&mesh.point(v[0]), &mesh.point(v[1])};
-  auto at_v1 = [&](const Quadric& q, int side) {  // side s moves v[s] onto v[1 - s]
-    const Mesh::Point& e = *p[1 - side];
-    return q.eval(e[0], e[1], e[2]);
-  };
+  const Mesh::Point &p0 = mesh.point(v[0]), &p1 = mesh.point(v[1]);
+  // Lane s: side s, which moves v[s] onto v[1 - s], so evaluated there.
+  const Double2 x = {p1[0], p0[0]}, y = {p1[1], p0[1]}, z = {p1[2], p0[2]};
   if (!m.tol.empty()) {  // the bound first: a refusal needs no cost
-    const Quadric q = m.qd(v[0]) + m.qd(v[1]);
+    const Double2 e2 = (m.qd(v[0]) + m.qd(v[1])).eval2(x, y, z);
     const double t = std::min(m.tol[v[0].idx()], m.tol[v[1].idx()]);
     for (int s = 0; s < 2; ++s)
       if (live[s]) {
-        c[s].error2 = at_v1(q, s);
+        c[s].error2 = e2[s];
         live[s] = root_within(c[s].error2, t);
       }
     if (!live[0] && !live[1]) return;
   }
-  const Quadric q = m.qa(v[0]) + m.qa(v[1]);
-  const double l2 = (to_d(*p[1]) - to_d(*p[0])).sqrnorm();
+  const Double2 e = (m.qa(v[0]) + m.qa(v[1])).eval2(x, y, z);
+  const double l2 = (to_d(p1) - to_d(p0)).sqrnorm();
   for (int s = 0; s < 2; ++s)
-    if (live[s]) c[s].cost = at_v1(q, s) + lim.tie * l2 * l2;
+    if (live[s]) c[s].cost = e[s] + lim.tie * l2 * l2;
 }
 
 // Side 0 of evaluate_edge: h alone.

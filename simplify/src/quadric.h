@@ -6,6 +6,11 @@
 
 namespace perclod::detail {
 
+// Two doubles, or two 64-bit masks, in one SSE2 register (GCC and Clang
+// vector extensions).
+typedef double Double2 __attribute__((vector_size(16)));
+typedef long long Mask2 __attribute__((vector_size(16)));
+
 struct Quadric {
   double a2 = 0, ab = 0, ac = 0, ad = 0, b2 = 0, bc = 0, bd = 0, c2 = 0, cd = 0, d2 = 0;
 
@@ -20,13 +25,19 @@ struct Quadric {
     bc += q.bc; bd += q.bd; c2 += q.c2; cd += q.cd; d2 += q.d2;
     return *this;
   }
-  // Error at point (x, y, z); clamped at 0 against rounding.
-  double eval(double x, double y, double z) const {
-    double e = a2 * x * x + 2 * ab * x * y + 2 * ac * x * z + 2 * ad * x +
-               b2 * y * y + 2 * bc * y * z + 2 * bd * y +
-               c2 * z * z + 2 * cd * z + d2;
-    return e > 0 ? e : 0;
+  // The error at two points at once, lane s at (x[s], y[s], z[s]); clamped
+  // at 0 against rounding. A candidate edge needs it at both ends, and the
+  // two lanes share one SSE2 register: each lane does the same operations
+  // in the same order as one scalar evaluation, so its bits are eval's.
+  Double2 eval2(Double2 x, Double2 y, Double2 z) const {
+    const Double2 e = a2 * x * x + 2 * ab * x * y + 2 * ac * x * z + 2 * ad * x +
+                      b2 * y * y + 2 * bc * y * z + 2 * bd * y +
+                      c2 * z * z + 2 * cd * z + d2;
+    const Double2 zero = {0, 0};
+    return Double2(Mask2(e) & Mask2(e > zero));  // e where e > 0 (not NaN), else +0
   }
+  // The error at point (x, y, z): one lane of eval2.
+  double eval(double x, double y, double z) const { return eval2(Double2{x, x}, Double2{y, y}, Double2{z, z})[0]; }
 };
 
 inline Quadric operator+(Quadric a, const Quadric& b) { return a += b; }

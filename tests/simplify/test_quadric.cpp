@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -21,6 +22,48 @@ TEST(Quadric, EvalIsTheSumOfSquaredPlaneDistances) {
   EXPECT_DOUBLE_EQ(q.eval(1, 5, 2), 3.0);
   EXPECT_DOUBLE_EQ(q.eval(0, 0, 5), 9.0);
   EXPECT_DOUBLE_EQ((q + q).eval(1, 5, 4), 2 * (4.0 + 3.0));
+}
+
+// The collapser evaluates both ends of an edge with eval2 and a collapse's
+// error with eval: every lane must be eval's value to the bit (the costs
+// order the collapses), including the clamp of a rounding below 0 and NaN.
+TEST(Quadric, Eval2LanesAreEvalToTheBit) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), coord(-500.0, 500.0);
+  auto same_bits = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  int clamped = 0;
+  for (int i = 0; i < 20000; ++i) {
+    Quadric q;
+    double p[2][3];
+    for (auto& pt : p)
+      for (double& c : pt) c = coord(rng);
+    for (int k = 0; k < 1 + i % 5; ++k) {  // planes through p[0], where the error rounds about 0
+      double n[3] = {u(rng), u(rng), u(rng)};
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      for (double& c : n) c /= len;
+      q.add_plane(n[0], n[1], n[2], -(n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2]), 1 + u(rng));
+    }
+    const perclod::detail::Double2 e =
+        q.eval2(perclod::detail::Double2{p[0][0], p[1][0]}, perclod::detail::Double2{p[0][1], p[1][1]},
+                perclod::detail::Double2{p[0][2], p[1][2]});
+    for (int s = 0; s < 2; ++s) {
+      // eval's formula written out in scalar code; at p[0], on every plane,
+      // it rounds below 0 for some of these.
+      const double x = p[s][0], y = p[s][1], z = p[s][2];
+      const double raw = q.a2 * x * x + 2 * q.ab * x * y + 2 * q.ac * x * z + 2 * q.ad * x + q.b2 * y * y +
+                         2 * q.bc * y * z + 2 * q.bd * y + q.c2 * z * z + 2 * q.cd * z + q.d2;
+      const double want = raw > 0 ? raw : 0.0;
+      clamped += raw <= 0;
+      ASSERT_TRUE(same_bits(e[s], want)) << "lane " << s << ": " << e[s] << " against " << want;
+      ASSERT_TRUE(same_bits(q.eval(x, y, z), want)) << "eval at lane " << s << "'s point";
+    }
+  }
+  EXPECT_GT(clamped, 100);  // the clamp was exercised
+  Quadric nan;
+  nan.d2 = std::nan("");
+  const perclod::detail::Double2 one = {1, 1};
+  EXPECT_EQ(nan.eval2(one, one, one)[1], 0.0);
+  EXPECT_EQ(nan.eval(1, 1, 1), 0.0);
 }
 
 // The shortcut must decide exactly as comparing the root: the collapse
