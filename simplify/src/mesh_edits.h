@@ -43,8 +43,8 @@ inline int valence_of(const Mesh& mesh, VH v) {
 // half-edge, as OpenMesh's circulators and boundary tests expect. So
 // mesh.is_boundary(v) reads one half-edge; callers that know v was not on
 // the boundary before an edit that cannot open it skip this walk round the
-// fan, which would find nothing (skipping it made simplify() about 5%
-// faster on one thread on the million-triangle facade).
+// fan, which would find nothing (a few percent of simplify()'s one-thread
+// time on the million-triangle facade).
 inline void start_at_boundary(Mesh& mesh, VH v) {
   for (HH h : mesh.voh_range(v))
     if (mesh.is_boundary(h)) {
