@@ -65,6 +65,28 @@ TEST(LabelsFile, FilesWithoutTheModelLineAreStillRead) {
   EXPECT_EQ(g.labels[1], Label::Undisplayable);
 }
 
+// Words are split at any white space, as before the reader stopped using a
+// stream per line: tabs, runs of spaces and CRLF line ends (a file saved on
+// Windows) read the same.
+TEST(LabelsFile, TabsSpacesAndCrlfLineEndsSeparateWords) {
+  test::TempDir dir("labels-space");
+  LabelFile g = read_labels(dir.file(
+      "crlf.txt", "perclod-labels 1\r\ntriangles\t2\r\nviews 1\r\n view  +x\t56.5 \r\nI\t12   5\r\nP 3\v0\f\r\n\r\n"));
+  ASSERT_EQ(g.labels.size(), 2u);
+  EXPECT_EQ(g.labels[0], Label::Imperceptible);
+  EXPECT_EQ(g.traced[0], 12u);
+  EXPECT_EQ(g.imperceptible[0], 5u);
+  EXPECT_EQ(g.labels[1], Label::Perceptible);
+  EXPECT_EQ(g.traced[1], 3u);
+  ASSERT_EQ(g.views.size(), 1u);
+  EXPECT_EQ(g.views[0].first, "+x");
+  EXPECT_EQ(g.views[0].second, 56.5);
+  // A word is still one word: "P3 0" is not "P 3 0".
+  const std::string head = "perclod-labels 1\ntriangles 1\nviews 0\n";
+  expect_refused(dir, "glued.txt", head + "P3 0\n", "LABEL TRACED IMPERCEPTIBLE");
+  expect_refused(dir, "nbsp.txt", head + "P\xc2\xa0" "3 0\n", "LABEL TRACED IMPERCEPTIBLE");
+}
+
 // The samples line: counts of a grid of samples (9, 16) read back; other
 // counts are refused.
 TEST(LabelsFile, SamplesLineTakesEveryPattern) {
