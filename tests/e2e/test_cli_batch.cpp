@@ -267,7 +267,7 @@ TEST(CliBatch, ModelsInParallelGiveTheSameOutputsAndTheMemoryBudgetHoldsThemBack
       EXPECT_FALSE(sa.empty()) << name + file;
       EXPECT_EQ(sa, sp) << name + file;
     }
-  // A budget that fits one model's estimate (about 400 MiB) runs one at a time.
+  // A budget that fits one model's estimate (about 500 MiB) but not two runs one at a time.
   par = run_cli("run " + (b.root / "par.yaml").string() + " --force --memory-budget-mb 700");
   EXPECT_LT(par.err.find("[1/3 alpha] done"), par.err.find("[2/3 broken] start")) << par.err;
 }
