@@ -77,9 +77,9 @@ bool is_perceptible(const Work& w, uint32_t src) {
 
 // ---- building the mesh --------------------------------------------------
 
-VH add_vertex(Model& m, const Work& w, uint32_t welded) {
+VH add_vertex(Model& m, MeshBuilder& make, const Work& w, uint32_t welded) {
   const float* p = &w.weld.positions[3 * size_t(welded)];
-  VH v = m.mesh.add_vertex(Mesh::Point(p[0], p[1], p[2]));
+  VH v = make.new_vertex(Mesh::Point(p[0], p[1], p[2]));
   m.vert_welded.push_back(welded);
   return v;
 }
@@ -90,6 +90,7 @@ VH add_vertex(Model& m, const Work& w, uint32_t welded) {
 void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, std::vector<int>& vh_of,
                 SimplifyStats& stats) {
   m.mesh.reserve(faces.size(), 3 * faces.size() / 2, faces.size());
+  MeshBuilder make(m.mesh);
   m.vert_welded.reserve(faces.size());
   m.face_source.reserve(faces.size());
   m.flipped.reserve(faces.size());
@@ -111,12 +112,12 @@ void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, std
     const uint32_t* c = &w.weld.corner[3 * size_t(src)];
     VH v[3];
     for (int k = 0; k < 3; ++k) {
-      if (vh_of[c[k]] < 0) vh_of[c[k]] = add_vertex(m, w, c[k]).idx();
+      if (vh_of[c[k]] < 0) vh_of[c[k]] = add_vertex(m, make, w, c[k]).idx();
       v[k] = VH(vh_of[c[k]]);
     }
     for (int flip = 0; flip < 2; ++flip) {
       const VH t[3] = {v[0], flip ? v[2] : v[1], flip ? v[1] : v[2]};
-      FH f = add_triangle(m.mesh, t);
+      FH f = add_triangle(m.mesh, t, make);
       if (!f.is_valid()) continue;
       record(f, src, uint8_t(flip));
       return true;
@@ -126,8 +127,8 @@ void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, std
   auto add_alone = [&](uint32_t src) {  // disconnected from its neighbours, but kept
     const uint32_t* c = &w.weld.corner[3 * size_t(src)];
     VH v[3];
-    for (int k = 0; k < 3; ++k) v[k] = add_vertex(m, w, c[k]);
-    record(add_triangle(m.mesh, v), src, 0);
+    for (int k = 0; k < 3; ++k) v[k] = add_vertex(m, make, w, c[k]);
+    record(add_triangle(m.mesh, v, make), src, 0);
   };
   for (uint32_t src : faces) {
     const uint32_t* c = &w.weld.corner[3 * size_t(src)];
@@ -143,6 +144,7 @@ void build_mesh(Model& m, const Work& w, const std::vector<uint32_t>& faces, std
       stats.nonmanifold_faces_duplicated++;
       add_alone(src);
     }
+  make.finish();
   m.faces_alive = m.face_source.size();
   m.merged_into.resize(m.mesh.n_vertices());
   std::iota(m.merged_into.begin(), m.merged_into.end(), 0u);

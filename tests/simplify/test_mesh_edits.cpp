@@ -53,22 +53,35 @@ using Tri = std::array<int, 3>;
   return ::testing::AssertionSuccess();
 }
 
-// Two meshes of n_vertices each, one built with OpenMesh's add_face, the
-// other with add_triangle; every face must be taken or refused by both.
+// Meshes of n_vertices each, one built with OpenMesh's add_face, the others
+// with add_triangle, one element at a time (`ours`) and in bulk (`bulk`,
+// through a MeshBuilder as the simplifier builds); every face must be taken
+// or refused by all three. Call finish() before comparing `bulk`.
 struct Twins {
-  Mesh om, ours;
+  Mesh om, ours, bulk;
+  MeshBuilder make{bulk};
   size_t refused = 0;
 
   explicit Twins(int n_vertices) {
-    for (int i = 0; i < n_vertices; ++i)
-      for (Mesh* m : {&om, &ours}) m->add_vertex(Mesh::Point(float(i), float(i * i % 7), 0.0f));
+    for (int i = 0; i < n_vertices; ++i) {
+      const Mesh::Point p(float(i), float(i * i % 7), 0.0f);
+      for (Mesh* m : {&om, &ours}) m->add_vertex(p);
+      make.new_vertex(p);
+    }
   }
   void add(const Tri& t) {
     const VH v[3] = {VH(t[0]), VH(t[1]), VH(t[2])};
     const FH a = om.add_face(v[0], v[1], v[2]);
     const FH b = add_triangle(ours, v);
+    const FH c = add_triangle(bulk, v, make);
     ASSERT_EQ(a, b) << "face " << t[0] << " " << t[1] << " " << t[2];
+    ASSERT_EQ(a, c) << "face " << t[0] << " " << t[1] << " " << t[2] << ", in bulk";
     refused += !a.is_valid();
+  }
+  ::testing::AssertionResult finish() {
+    make.finish();
+    ::testing::AssertionResult r = same_connectivity(om, ours);
+    return r ? same_connectivity(om, bulk) << " (in bulk)" : r;
   }
 };
 
@@ -117,7 +130,9 @@ void collapse_both(Twins& t, int steps, std::mt19937& rng) {
     const HH h = legal[std::uniform_int_distribution<size_t>(0, legal.size() - 1)(rng)];
     t.om.collapse(h);
     collapse_halfedge(t.ours, h);
+    collapse_halfedge(t.bulk, h);
     ASSERT_TRUE(same_connectivity(t.om, t.ours)) << "after collapse " << s << " (half-edge " << h.idx() << ")";
+    ASSERT_TRUE(same_connectivity(t.om, t.bulk)) << "in bulk, after collapse " << s << " (half-edge " << h.idx() << ")";
   }
 }
 
@@ -131,7 +146,7 @@ TEST(MeshEdits, GridsInAnyOrderBuildAndCollapseAsOpenMeshDoes) {
       t.add(tri);
       ASSERT_FALSE(::testing::Test::HasFatalFailure()) << "seed " << seed;
     }
-    ASSERT_TRUE(same_connectivity(t.om, t.ours)) << "seed " << seed;
+    ASSERT_TRUE(t.finish()) << "seed " << seed;
     collapse_both(t, 2 * n * n, rng);
     ASSERT_FALSE(::testing::Test::HasFatalFailure()) << "seed " << seed;
   }
@@ -148,7 +163,7 @@ TEST(MeshEdits, NonManifoldSoupsRefuseAndCollapseAsOpenMeshDoes) {
       t.add(tri);
       ASSERT_FALSE(::testing::Test::HasFatalFailure()) << "seed " << seed;
     }
-    ASSERT_TRUE(same_connectivity(t.om, t.ours)) << "seed " << seed;
+    ASSERT_TRUE(t.finish()) << "seed " << seed;
     refused += t.refused;
     taken += t.om.n_faces();
     collapse_both(t, nv, rng);
@@ -157,6 +172,24 @@ TEST(MeshEdits, NonManifoldSoupsRefuseAndCollapseAsOpenMeshDoes) {
   // The soups must exercise both outcomes, or the comparison says little.
   EXPECT_GT(refused, 100u);
   EXPECT_GT(taken, 100u);
+}
+
+// A grid big enough that the bulk mesh grows by several batches of
+// vertices, edges and faces, and is trimmed after.
+TEST(MeshEdits, BulkBuildsOverManyBatchesMatchOpenMesh) {
+  Quiet quiet;
+  std::mt19937 rng(7);
+  const int n = 64;  // 4,225 vertices, up to 12,416 edges and 8,192 faces
+  Twins t((n + 1) * (n + 1));
+  for (const Tri& tri : shuffled_grid(n, 5, rng)) {
+    t.add(tri);
+    ASSERT_FALSE(::testing::Test::HasFatalFailure());
+  }
+  ASSERT_TRUE(t.finish());  // the same element counts too
+  EXPECT_GT(t.bulk.n_vertices(), 4096u);
+  EXPECT_GT(t.bulk.n_edges(), 2 * 4096u);
+  EXPECT_GT(t.bulk.n_faces(), 4096u);
+  collapse_both(t, 50, rng);
 }
 
 TEST(MeshEdits, HalfedgeLookupAndValence) {
