@@ -3,11 +3,13 @@
 // wrote before view sets, framing and samples existed (committed fixture,
 // written by perclod label at commit d15d02b).
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <fstream>
 #include <sstream>
 
 #include "../pipeline/test_util.h"
+#include "cli_util.h"
 #include "perclod/load.h"
 #include "perclod/pipeline.h"
 
@@ -41,6 +43,23 @@ TEST(PaperLabels, FacadesAtOneSamplePerPixelMatchTheFixtureBitForBit) {
   const std::string got = slurp(job.out.labels(56)), want = slurp(fixture);
   ASSERT_FALSE(want.empty()) << fixture;
   EXPECT_TRUE(got == want) << "labels differ from " << fixture;
+}
+
+// And the paper's simplification of those labels keeps what it kept when
+// the fidelity work began (2026-12-02, README "The demo, measured": 3,039
+// of 12,456 triangles at 56 m): `paper` stays the paper's method.
+TEST(PaperLabels, PaperModeOnTheFixtureKeepsItsCount) {
+  const std::string model = std::string(PERCLOD_SOURCE_DIR) + "/data/ingolstadt/bldg_4018215.obj";
+  const std::string fixture =
+      std::string(PERCLOD_SOURCE_DIR) + "/tests/e2e/fixtures/bldg_4018215_labels_56m_facades_1spp.txt";
+  test::TempDir dir("paper-lod");
+  test::CliResult r = test::run_cli("simplify " + model + " --up z --labels " + fixture +
+                                    " -d 56 --mode paper --json -o " + dir.path.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["total_before"], 12456);
+  EXPECT_EQ(j["total_after"], 3039);
+  EXPECT_EQ(j["undisplayable_faces_deleted"], 8918);
 }
 
 }  // namespace
