@@ -53,20 +53,13 @@ inline void start_at_boundary(Mesh& mesh, VH v) {
     }
 }
 
-// New elements one at a time, as OpenMesh makes them: each new_edge and
-// new_face resizes every property of its kind by one element.
-struct OneByOne {
-  Mesh& mesh;
-  HH new_edge(VH from, VH to) { return mesh.new_edge(from, to); }
-  FH new_face() { return mesh.new_face(); }
-};
-
 // New elements for a mesh built in bulk: the element arrays and their
 // properties grow kBatch elements at a time, and finish() trims them to the
-// elements made. The handles, links and (zero) flags are those OneByOne
-// makes. The per-element resizes were nearly two fifths of the
-// instructions of building the meshes (callgrind, the 1M facade at 427 m:
-// 1.28 G with them, 0.79 G without).
+// elements made. The handles, links and (zero) flags are those OpenMesh's
+// add_vertex, new_edge and new_face make, which resize every property by one
+// element each time: nearly two fifths of the instructions of building the
+// meshes (callgrind, the 1M facade at 427 m: 1.28 G with them, 0.79 G
+// without).
 class MeshBuilder {
  public:
   explicit MeshBuilder(Mesh& mesh) : mesh_(mesh), v_(mesh.n_vertices()), e_(mesh.n_edges()), f_(mesh.n_faces()) {}
@@ -101,9 +94,8 @@ class MeshBuilder {
 // invalid handle, changing nothing, where it would refuse: a corner with no
 // free gap in its fan, a side already bounded on this side, or two old sides
 // whose fans cannot be relinked to meet. New edges and the face come from
-// `make` (OneByOne, or a MeshBuilder for a mesh built in bulk).
-template <class Make>
-FH add_triangle(Mesh& mesh, const VH v[3], Make&& make) {
+// `make`, the builder of `mesh`.
+inline FH add_triangle(Mesh& mesh, const VH v[3], MeshBuilder& make) {
   HH side[3];  // v[i] -> v[i+1]
   bool fresh[3];
   for (int i = 0; i < 3; ++i) {
@@ -167,8 +159,6 @@ FH add_triangle(Mesh& mesh, const VH v[3], Make&& make) {
     if (restart[i]) start_at_boundary(mesh, v[i]);
   return f;
 }
-
-inline FH add_triangle(Mesh& mesh, const VH v[3]) { return add_triangle(mesh, v, OneByOne{mesh}); }
 
 // Removes the two-edge loop that starts at `h` (left where a collapsed face
 // was): h's edge goes, the next half-edge takes the face on h's far side.
