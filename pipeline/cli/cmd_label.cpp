@@ -3,7 +3,7 @@
 
 #include "commands.h"
 #include "common.h"
-#include "perclod/pipeline.h"
+#include "perclod/label.h"
 
 namespace perclod::cli {
 

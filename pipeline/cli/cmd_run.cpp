@@ -10,7 +10,7 @@
 #include "common.h"
 #include "perclod/batch.h"
 #include "perclod/config.h"
-#include "perclod/pipeline.h"
+#include "perclod/lods.h"
 
 namespace perclod::cli {
 namespace {

@@ -7,7 +7,7 @@
 #include "commands.h"
 #include "common.h"
 #include "perclod/labels_io.h"
-#include "perclod/pipeline.h"
+#include "perclod/simplify_model.h"
 
 namespace perclod::cli {
 namespace {

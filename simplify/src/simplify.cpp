@@ -184,4 +184,13 @@ Scene simplify(const Scene& scene, const std::vector<Label>& labels, const Simpl
   return out;
 }
 
+std::string refused_text(const SimplifyStats::Refused& why) {
+  std::string s = std::to_string(why.total()) + " half-edges left: " + std::to_string(why.bound_or_locked) +
+                  " locked or over their bound, " + std::to_string(why.shape) +
+                  " refused by shape (normal change, sliver, area), " + std::to_string(why.topology) +
+                  " by topology, " + std::to_string(why.valence) + " by the valence cap";
+  if (why.legal) s += ", " + std::to_string(why.legal) + " legal only after the last pass";
+  return s;
+}
+
 }  // namespace perclod

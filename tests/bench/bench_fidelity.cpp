@@ -75,7 +75,10 @@
 #include "perclod/facade.h"
 #include "perclod/image_io.h"
 #include "perclod/load.h"
-#include "perclod/pipeline.h"
+#include "perclod/fidelity_search.h"
+#include "perclod/judge.h"
+#include "perclod/label.h"
+#include "perclod/undisplayable.h"
 #include "perclod/simplify.h"
 
 using namespace perclod;

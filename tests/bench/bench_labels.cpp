@@ -53,7 +53,8 @@
 #include "bench_common.h"
 #include "perclod/facade.h"
 #include "perclod/load.h"
-#include "perclod/pipeline.h"
+#include "perclod/label.h"
+#include "perclod/undisplayable.h"
 
 using namespace perclod;
 

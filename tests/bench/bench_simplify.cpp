@@ -75,7 +75,9 @@
 #include "perclod/display.h"
 #include "perclod/facade.h"
 #include "perclod/load.h"
-#include "perclod/pipeline.h"
+#include "perclod/fidelity_search.h"
+#include "perclod/label.h"
+#include "perclod/undisplayable.h"
 #include "perclod/simplify.h"
 
 using namespace perclod;

@@ -11,7 +11,9 @@
 #include "cli_util.h"
 #include "perclod/labels_io.h"
 #include "perclod/load.h"
-#include "perclod/pipeline.h"
+#include "perclod/fidelity_search.h"
+#include "perclod/judge.h"
+#include "perclod/undisplayable.h"
 
 using perclod::test::run_cli;
 namespace fs = std::filesystem;

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "cli_util.h"
-#include "perclod/pipeline.h"
+#include "perclod/undisplayable.h"
 
 namespace {
 

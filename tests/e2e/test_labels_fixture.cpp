@@ -11,7 +11,7 @@
 #include "../pipeline/test_util.h"
 #include "cli_util.h"
 #include "perclod/load.h"
-#include "perclod/pipeline.h"
+#include "perclod/label.h"
 
 namespace perclod {
 namespace {

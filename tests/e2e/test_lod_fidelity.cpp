@@ -9,7 +9,8 @@
 #include <vector>
 
 #include "perclod/load.h"
-#include "perclod/pipeline.h"
+#include "perclod/judge.h"
+#include "perclod/label.h"
 #include "cli_util.h"
 
 namespace perclod {

@@ -10,7 +10,7 @@
 #include <map>
 
 #include "perclod/load.h"
-#include "perclod/pipeline.h"
+#include "perclod/label.h"
 
 namespace perclod {
 namespace {

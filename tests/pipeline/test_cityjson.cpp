@@ -12,7 +12,7 @@
 #include <string>
 
 #include "perclod/load.h"
-#include "perclod/pipeline.h"
+#include "perclod/label.h"
 #include "test_util.h"
 
 using namespace perclod;

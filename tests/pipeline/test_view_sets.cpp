@@ -8,7 +8,10 @@
 
 #include <cmath>
 
-#include "perclod/pipeline.h"
+#include "perclod/fidelity_search.h"
+#include "perclod/judge.h"
+#include "perclod/label.h"
+#include "perclod/undisplayable.h"
 #include "test_util.h"
 
 namespace perclod {

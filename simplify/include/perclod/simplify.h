@@ -193,6 +193,11 @@ struct SimplifyStats {
   size_t total_after() const { return triangles_after[0] + triangles_after[1] + triangles_after[2]; }
 };
 
+// Why a LOD stopped (SimplifyStats::refused), in words: "N half-edges left:
+// X locked or over their bound, ...", as `simplify --explain` and `run`
+// with explain print it.
+std::string refused_text(const SimplifyStats::Refused& why);
+
 // Simplify `scene` given one label per triangle. When `out_source` is given it
 // receives, per output triangle, the index of the input triangle it came from
 // (its label, component and material are that triangle's). Throws

@@ -2,6 +2,8 @@
 // built here, inline CSS and SVG, no script.
 #include "perclod/report_html.h"
 
+#include "perclod/simplify.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -14,7 +16,6 @@
 #include <string_view>
 #include <vector>
 
-#include "perclod/pipeline.h"
 
 namespace perclod {
 namespace {

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "perclod/config.h"
-#include "perclod/pipeline.h"
+#include "perclod/lods.h"
 
 namespace perclod {
 

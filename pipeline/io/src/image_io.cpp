@@ -13,7 +13,7 @@
 
 #include "image_codec.h"
 #include "perclod/outputs.h"
-#include "worker.h"
+#include "perclod/worker.h"
 
 namespace perclod {
 namespace detail {

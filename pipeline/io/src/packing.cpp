@@ -1,5 +1,5 @@
 // zlib behind pack_bytes / unpack_bytes (packing.h).
-#include "packing.h"
+#include "perclod/packing.h"
 
 #include <zlib.h>
 

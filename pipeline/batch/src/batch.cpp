@@ -25,7 +25,8 @@
 #include "perclod/load.h"
 #include "perclod/outputs.h"
 #include "perclod/report_html.h"
-#include "pipeline_internal.h"
+#include "perclod/lods.h"
+#include "perclod/runtime.h"
 
 #ifndef PERCLOD_VERSION
 #define PERCLOD_VERSION "unknown"

@@ -14,7 +14,9 @@
 
 #include "perclod/image_io.h"
 #include "perclod/labels_io.h"
-#include "pipeline_internal.h"
+#include "perclod/label.h"
+#include "perclod/packing.h"
+#include "perclod/worker.h"
 
 namespace perclod {
 using namespace detail;
@@ -817,7 +819,20 @@ nlohmann::json label_model(const Scene& scene, const LabelJob& job, TracerKind k
   return r.report;
 }
 
-std::string detail::tracer_summary(const Tracer& tracer) {
+PerceptionSettings perception_for(const LabelJob& job) {
+  PerceptionSettings ps = job.perception;
+  ps.ppd = job.display.pixels_per_degree();
+  return ps;
+}
+
+void check_framing(const Scene& scene, const LabelJob& job, const std::vector<std::string>& views,
+                   const std::vector<double>& distances) {
+  const Bounds b = scene_bounds(scene);
+  for (double d : distances)
+    for (const auto& v : views) frame_view(b, job.up, v, d, job.display);
+}
+
+std::string tracer_summary(const Tracer& tracer) {
   char line[160];
   std::snprintf(line, sizeof line, "%s built in %.0f ms, %zu KiB", tracer.name(), tracer.build_seconds() * 1e3,
                 tracer.memory_bytes() / 1024);

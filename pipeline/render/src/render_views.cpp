@@ -1,7 +1,7 @@
 // perclod render: every requested view (framed, tiled when needed) at every
 // distance, written as images.
 #include "perclod/image_io.h"
-#include "perclod/pipeline.h"
+#include "perclod/render_views.h"
 
 namespace perclod {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "perclod/display.h"
-#include "perclod/pipeline.h"
+#include "perclod/lods.h"
 #include "perclod/views.h"
 
 namespace perclod {

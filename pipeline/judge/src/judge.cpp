@@ -1,0 +1,221 @@
+// A LOD judged against the original from recorded views: the LOD's render
+// of each view perceived beside the original's, and the worst figures
+// against the limits.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <future>
+#include <iomanip>
+#include <iterator>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+
+#include "perclod/judge.h"
+
+#include "perclod/worker.h"
+
+namespace perclod {
+using namespace detail;
+
+std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
+                                     const LabelJob& job, const std::string& set) {
+  const Bounds bounds = scene_bounds(scene);
+  renderer.set_scene(scene);
+  std::vector<ViewRecord> records;
+  std::vector<uint8_t> background;
+  RenderOutput img;  // one set of buffers for every view
+  for (const auto& view : views)
+    for (const ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) {
+      renderer.render(tile.camera, img);
+      background_of(img, background);
+      records.push_back(view_record(tile.name, tile.camera, img.rgb, background, set));
+    }
+  return records;
+}
+
+
+namespace {
+
+// One picture of a judged view: the original's luminance | the LOD's | the
+// LOD's with perceptibly changed pixels red and pixels drawn by only one of
+// the two blue. Each panel is the region either render draws (8 px margin),
+// shrunk by a whole factor (box filter; a block is red or blue if any pixel
+// in it is) to at most 400 px, or enlarged by one (nearest) to about 240 px,
+// so a building far away is as readable as one close by.
+Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& original_luminance,
+                       const std::vector<float>& lod_luminance, const std::vector<uint8_t>& lod_background,
+                       const std::vector<uint8_t>& changed, int w, int h) {
+  int x0 = w, y0 = h, x1 = -1, y1 = -1;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      if (v.background_at(x, y) && lod_background[i]) continue;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  if (x1 < 0) x0 = 0, y0 = 0, x1 = w - 1, y1 = h - 1;  // nothing drawn: the whole view
+  constexpr int kMargin = 8;
+  x0 = std::max(0, x0 - kMargin), y0 = std::max(0, y0 - kMargin);
+  x1 = std::min(w - 1, x1 + kMargin), y1 = std::min(h - 1, y1 + kMargin);
+  const int cw = x1 - x0 + 1, ch = y1 - y0 + 1, side = std::max(cw, ch);
+  const int shrink = std::max(1, (side + 399) / 400), grow = shrink > 1 ? 1 : std::clamp(240 / side, 1, 8);
+  const int pw = std::max(1, cw * grow / shrink), ph = std::max(1, ch * grow / shrink);
+  constexpr int kGap = 4;
+  Rgb8Image img;
+  img.width = 3 * pw + 2 * kGap, img.height = ph;
+  img.pixels.assign(size_t(img.width) * size_t(ph) * 3, 255);
+  for (int y = 0; y < ph; ++y)
+    for (int x = 0; x < pw; ++x) {
+      // Source block of this output pixel.
+      const int sx0 = x0 + x * shrink / grow, sy0 = y0 + y * shrink / grow;
+      const int sx1 = std::min(x1 + 1, sx0 + std::max(1, shrink)), sy1 = std::min(y1 + 1, sy0 + std::max(1, shrink));
+      double a = 0, b = 0;
+      bool red = false, blue = false;
+      int n = 0;
+      for (int yy = sy0; yy < sy1; ++yy)
+        for (int xx = sx0; xx < sx1; ++xx, ++n) {
+          const size_t i = size_t(yy) * size_t(w) + size_t(xx);
+          a += original_luminance[i], b += lod_luminance[i];
+          red |= changed[i] != 0;
+          blue |= (lod_background[i] != 0) != v.background_at(xx, yy);
+        }
+      n = std::max(n, 1);
+      const auto put = [&](int panel, double l, uint8_t r, uint8_t g, uint8_t bl) {
+        uint8_t* p = &img.pixels[(size_t(y) * size_t(img.width) + size_t(panel * (pw + kGap) + x)) * 3];
+        const double k = l / n / 255.0;
+        p[0] = uint8_t(std::lround(r * k)), p[1] = uint8_t(std::lround(g * k)), p[2] = uint8_t(std::lround(bl * k));
+      };
+      put(0, a, 255, 255, 255);
+      put(1, b, 255, 255, 255);
+      if (blue) put(2, std::max(b, 96.0 * n), 64, 96, 255);
+      else if (red) put(2, std::max(b, 96.0 * n), 255, 48, 48);
+      else put(2, b, 255, 255, 255);
+    }
+  for (int y = 0; y < ph; ++y)  // grey gaps between the panels
+    for (int g = 0; g < kGap; ++g)
+      for (int panel : {1, 2}) {
+        uint8_t* p = &img.pixels[(size_t(y) * size_t(img.width) + size_t(panel * (pw + kGap) - kGap + g)) * 3];
+        p[0] = p[1] = p[2] = 160;
+      }
+  return img;
+}
+
+// One judged view's figures from the LOD's render of it (and its picture).
+struct ViewComparer {
+  PerceptionSettings ps;
+  PerceptionResult pr, original;
+  std::vector<uint8_t> background, drawn_mask, changed_mask, original_rgb;
+  SsimScratch ssim_scratch;
+
+  nlohmann::json operator()(const ViewRecord& v, RenderOutput& img, Rgb8Image* picture) {
+    const size_t kept = size_t(v.w) * size_t(v.h);
+    if (img.width != v.camera.width || img.height != v.camera.height || v.background.size() != kept)
+      throw std::logic_error("compare_lod_views: view size changed between recording and comparison");
+    background_of(img, background);
+    perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
+    // The original's render rebuilt from its record and perceived as it was
+    // when recorded (same pixels, same settings: the same floats).
+    v.render_into(original_rgb);
+    perceive_into(original_rgb.data(), img.width, img.height, ps, nullptr, original);
+    const size_t n = background.size();
+    size_t drawn = 0, changed = 0, coverage_changed = 0, covered_original = 0;
+    drawn_mask.assign(n, 0);
+    changed_mask.assign(picture ? n : 0, 0);
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const size_t i = size_t(y) * size_t(img.width) + size_t(x);
+        const long k = v.kept(x, y);
+        const bool original_background = k < 0 || v.background[size_t(k)];
+        covered_original += !original_background;
+        if (background[i] && original_background) continue;
+        drawn_mask[i] = 1;
+        ++drawn;
+        // Beyond the kept rectangle the original drew nothing within
+        // kRecordMargin pixels: a LOD drawing there changes what is seen.
+        const bool c = k < 0 || std::abs(pr.simulated[i] - original.simulated[i]) > ps.threshold;
+        changed += c;
+        if (picture) changed_mask[i] = c;
+        coverage_changed += (background[i] != 0) != original_background;
+      }
+    // Both luminances on the same 8-bit grid, so an unchanged LOD scores 1.
+    for (auto* lum : {&original.luminance, &pr.luminance})
+      for (float& l : *lum) l = std::round(std::clamp(l, 0.f, 255.f));
+    const double ssim = ssim_mean(original.luminance.data(), pr.luminance.data(), img.width, img.height,
+                                  drawn_mask.data(), &ssim_scratch);
+    if (picture)
+      *picture = side_by_side(v, original.luminance, pr.luminance, background, changed_mask, img.width, img.height);
+    return {{"view", v.view},
+            {"set", v.set},
+            {"drawn_pixels", drawn},
+            {"changed_pixels", changed},
+            {"changed_fraction", drawn ? double(changed) / double(drawn) : 0.0},
+            {"ssim_covered", ssim},
+            {"covered_pixels_original", covered_original},
+            {"coverage_changed_pixels", coverage_changed},
+            {"silhouette_mismatch", covered_original ? double(coverage_changed) / double(covered_original)
+                                                     : (coverage_changed ? 1.0 : 0.0)}};
+  }
+};
+
+}  // namespace
+
+// The LOD's render of view k+1 (on this thread, which owns the OpenGL
+// context) overlaps the comparison of view k on a worker; the figures are
+// those of one view after another.
+nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
+                                 const LabelJob& job, std::vector<Rgb8Image>* pictures) {
+  renderer.set_scene(lod);
+  nlohmann::json views = nlohmann::json::array();
+  std::vector<Rgb8Image> shots(pictures ? original.size() : 0);
+  ViewComparer compare{perception_for(job), {}, {}, {}, {}, {}, {}, {}};
+  RenderOutput img[2];
+  // Declared after the buffers it works on: an exception ends the worker
+  // (finishing the comparison in flight) before they are freed.
+  std::optional<Worker> worker;
+  if (job.overlap) worker.emplace();
+  std::future<nlohmann::json> pending;
+  for (size_t k = 0; k < original.size(); ++k) {
+    renderer.render(original[k].camera, img[k % 2]);  // reuses the buffers of view k-2, compared by now
+    if (pending.valid()) views.push_back(pending.get());
+    auto work = [&, k] { return compare(original[k], img[k % 2], pictures ? &shots[k] : nullptr); };
+    if (worker) pending = worker->submit(work);
+    else views.push_back(work());
+  }
+  if (pending.valid()) views.push_back(pending.get());
+  if (pictures)
+    for (auto& p : shots) pictures->push_back(std::move(p));
+  return views;
+}
+
+nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
+                                 const LabelJob& job) {
+  return compare_lod_views(renderer, lod, original.views, job);
+}
+
+nlohmann::json judge_views(const nlohmann::json& views, const FidelityLimits& limits) {
+  double changed = 0, silhouette = 0, ssim = 1;
+  nlohmann::json over = nlohmann::json::array();
+  for (const auto& v : views) {
+    const double c = v.at("changed_fraction").get<double>(), s = v.at("silhouette_mismatch").get<double>();
+    const double q = v.at("ssim_covered").get<double>();
+    changed = std::max(changed, c);
+    silhouette = std::max(silhouette, s);
+    ssim = std::min(ssim, q);
+    auto flag = [&](const char* measure, double value, double limit, bool over_limit) {
+      if (over_limit)
+        over.push_back({{"view", v.at("view")}, {"set", v.at("set")}, {"measure", measure}, {"value", value},
+                        {"limit", limit}});
+    };
+    flag("changed_fraction", c, limits.max_changed, c > limits.max_changed);
+    flag("ssim_covered", q, limits.min_ssim, q < limits.min_ssim);
+    flag("silhouette_mismatch", s, limits.max_silhouette, s > limits.max_silhouette);
+  }
+  return {{"worst", {{"changed_fraction", changed}, {"ssim_covered", ssim}, {"silhouette_mismatch", silhouette}}},
+          {"limits",
+           {{"max_changed", limits.max_changed}, {"max_silhouette", limits.max_silhouette}, {"min_ssim", limits.min_ssim}}},
+          {"over_limits", over}};
+}
+
+}  // namespace perclod

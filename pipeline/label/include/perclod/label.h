@@ -1,0 +1,212 @@
+// perclod/label.h - `perclod label`: every triangle of a model labelled
+// perceptible, imperceptible or undisplayable from its views at one distance
+// (render -> perceive -> ray-cast; docs/method.md section 4), and the label
+// settings that choose how.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "perclod/display.h"
+#include "perclod/image_io.h"
+#include "perclod/outputs.h"
+#include "perclod/perception.h"
+#include "perclod/raycast.h"
+#include "perclod/render.h"
+#include "perclod/runtime.h"
+#include "perclod/view_record.h"
+#include "perclod/views.h"
+
+namespace perclod {
+
+enum class TracerKind { Octree, Embree };
+TracerKind parse_tracer(const std::string& s);  // "octree" | "embree"
+// The production tracer of that kind (Embree in its fast packet mode).
+std::unique_ptr<Tracer> make_tracer(const Scene& scene, TracerKind kind);
+
+// How a model is split into buildings for per-building labelling.
+// Auto: on when component names give two or more buildings by their
+// "<building>/" prefix (CityGML-derived OBJ and CityJSON files).
+enum class PerBuilding { Off, On, Auto };
+PerBuilding parse_per_building(const std::string& s);  // "false" | "true" | "auto"
+
+// How the views of one distance combine perceptible and imperceptible
+// (undisplayable is the same in both: no sample of any view hit it).
+//   AnyView  perceptible in any view wins (the paper)
+//   Pooled   imperceptible / traced >= ratio over the samples of every view
+//            together (LabelResult::totals)
+enum class CombineViews { AnyView, Pooled };
+CombineViews parse_combine_views(const std::string& s);  // "any" | "pooled"
+
+// Buildings of a scene: component names "<building>/<part>/..." (CityGML-
+// derived OBJ groups) share a building when their text before the first '/'
+// is the same; a component without '/' is a building of its own. Returns the
+// building of each component and the buildings' names.
+struct Buildings {
+  std::vector<uint32_t> of_component;
+  std::vector<std::string> names;
+  size_t named = 0;  // buildings named by a "<building>/" prefix (PerBuilding::Auto needs two)
+};
+Buildings find_buildings(const Scene& scene);
+
+// LabelJob::samples for "auto": each view picks how it is sampled
+// (choose_sampling).
+constexpr int kAutoSamples = 0;
+// Samples per pixel `perclod run` and `label` take unless told otherwise
+// (README, "Stable labels", says how it was chosen): auto.
+constexpr int kDefaultSamples = kAutoSamples;
+// "auto" -> kAutoSamples, or one of 1, 2, 4, 8, 9, 16; throws
+// std::invalid_argument naming the text otherwise.
+int parse_samples(const std::string& s);
+std::string samples_name(int samples);  // "auto" or the number
+// In reports and settings: "auto", or the number (as it always was).
+nlohmann::json samples_json(int samples);
+// The samples a job labels with: its own, but 4 for auto with
+// mask_per_sample or keep_unsampled_surface (each fixes how a view is
+// sampled, as they did with 4 samples before auto).
+struct LabelJob;
+int effective_samples(const LabelJob& job);
+
+// How one view is sampled: `samples` per pixel, with a render and mask of
+// its own per sample (mask_per_sample, or a grid: samples 9 and 16) or one
+// render that every sample reads.
+struct ViewSampling {
+  int samples = 1;
+  bool mask_per_sample = false;
+  bool operator==(const ViewSampling& o) const { return samples == o.samples && mask_per_sample == o.mask_per_sample; }
+};
+// What samples: auto gives a view, from what labelling it would cost, with
+// no clock involved (the same model, views and display always give the same
+// labels): `window_pixels` is the size of the view's window on the model
+// (perception_window), `frame_pixels` the whole frame's, `triangles` the
+// scene's. The steadiest setting whose estimated work stays within that of
+// one render of the frame (README, "Choosing the samples per view"):
+//  * triangles > frame / 16: the renders and the traced samples cost in
+//    proportion to the triangles, and one render with 4 samples is taken;
+//  * else 16 x window <= frame: the 16-sample grid (one render at 4x of the
+//    window, no more pixels than the frame);
+//  * else 4 x window <= 2 x frame: 4 samples with a mask per sample (four
+//    renders of the window);
+//  * else one render of the frame with 4 samples.
+ViewSampling choose_sampling(size_t window_pixels, size_t frame_pixels, size_t triangles);
+// How `perclod run` and `label` combine views unless told otherwise
+// (README, "Combining views", says how it was chosen): "pooled".
+constexpr const char* kDefaultCombineViews = "pooled";
+
+struct LabelJob {
+  UpAxis up = UpAxis::Y;
+  DisplayProfile display;
+  PerceptionSettings perception;      // ppd is taken from `display`
+  std::vector<std::string> views;     // view names, e.g. parse_views("facades", up)
+  // Samples per pixel (1, 2, 4, 8; see sample_offsets), or kAutoSamples:
+  // per view, choose_sampling (mask_per_sample is then the choice's). 9 and 16 are the
+  // ordered 3 x 3 and 4 x 4 grids, a mask per sample from one render: the
+  // view's window (perception_window) drawn at 3 or 4 times its resolution
+  // per axis, whose fine pixels are the samples, split into one picture per
+  // sample offset, each perceived on its own (README, Grids of samples).
+  int samples = 1;
+  // With samples > 1: a triangle smaller than a pixel that no sample and no
+  // pixel centre hit, lying on the drawn surface at its centroid's pixel
+  // (within half a pixel footprint of the depth drawn there) and not under
+  // the triangle drawn at that pixel's centre, is not undisplayable when
+  // such triangles would leave at least half of that pixel open: it takes
+  // the pixel's decision with one sample's weight (README, "Unsampled
+  // surface"). false: the paper's rule, unsampled = undisplayable.
+  bool keep_unsampled_surface = false;
+  // false: one render and perception mask per view, read by all of its
+  // samples. true: each sample offset gets a render and mask of its own
+  // (the camera shifted by that offset, one ray per pixel), so a sample reads
+  // the mask of the picture drawn at its own position: `samples` renders per
+  // view, and labels that a sub-pixel move of the model hardly changes
+  // (README, "Stable labels").
+  bool mask_per_sample = false;
+  // Also label each building from views framed on it (its neighbours drawn
+  // and occluding); Auto = when find_buildings finds two or more.
+  PerBuilding per_building = PerBuilding::Off;
+  double distance = 56;
+  double ratio = 0.5;                 // imperceptible / traced >= ratio -> imperceptible
+  CombineViews combine = CombineViews::AnyView;  // the paper's; run and label take kDefaultCombineViews
+  bool verify = false;                // also trace with Embree (tie-rule mode) and compare
+  double closer_factor = 0.25;        // marking render from d * closer_factor too
+  OutputNames out;                    // out.dir "" = write no files
+  // With out.dir set: per view its render and its marking (coloured from the
+  // labelling render's ID buffer), and the simulated/difference/mask images.
+  bool write_view_images = true;
+  bool write_perception_images = true;
+  bool marking_near = true;           // also the marking from d * closer_factor (a full render per view)
+  ImageWriter* images = nullptr;      // encodes the PNGs on its own thread (else each is written at once)
+  // Render view k+1 while view k is traced (labelling) or compared (judging),
+  // on a second thread; false runs them one after another (same results).
+  bool overlap = true;
+};
+
+struct LabelResult {
+  std::vector<Label> labels;               // combined over views
+  std::vector<IdBuffer> id_buffers;        // per labelling view and tile, when view images are written
+  TriangleCounts totals;                   // summed over views, in samples (samples auto: in 1/16 px)
+  std::vector<ViewRecord> views;           // whole-model views (and tiles), in job.views order
+  size_t outside_views = 0;                // triangles in no view's frustum (labelled imperceptible)
+  nlohmann::json report;                   // per view: pixels, fractions, agreement, timings
+};
+
+// The part of `cam`'s frame a mask-per-sample pass renders: where `box`
+// projects, widened by 12 x 2^L pixels (more than the reach of the L-level
+// DWT of `ps`, its CSF filters and its inverse) and with its corner on the
+// DWT's 2^L grid, so its perception equals the whole frame's over the box.
+// The whole camera when a box corner is behind the eye.
+Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps);
+
+// Labels every triangle of `scene` from the job's views at one distance
+// (docs/method.md section 4):
+//  * each view is framed (frame_view: tiled when the model overfills it),
+//    rendered, perceived and traced at job.samples samples per pixel (auto:
+//    as choose_sampling picks for that view); a
+//    sample counts for the triangle it hits, and is imperceptible when its
+//    pixel is in the perception mask (with a mask per sample each sample
+//    offset is a render, mask and trace of its own, cropped to the model);
+//  * traced == 0 over every view -> undisplayable; else job.combine decides:
+//    pooled (the default) sums every view's samples and calls a triangle
+//    imperceptible when imperceptible / traced >= ratio; any (the paper)
+//    applies that rule per view and perceptible in any view wins;
+//  * a triangle no view's frustum contains is never undisplayable: it is
+//    labelled imperceptible and counted in outside_views;
+//  * per building (job.per_building): each building is also labelled from
+//    its own framed views, counting only its own triangles.
+// Uploads `scene` to `renderer`, where it stays for write_label_outputs.
+// Writes the renders and perception images of each whole-model view when
+// job.out.dir is set.
+// `verify_tracer` (job.verify only): an Embree tracer of `scene` in Verify
+// mode kept by the caller for several distances; else one is built per call.
+LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& job,
+                        const Progress& progress = {}, const EmbreeTracer* verify_tracer = nullptr);
+
+// Writes out.labels(d) and, with job.write_view_images, the marking colours of
+// the combined labels: per labelling view and tile from its own render's ID
+// buffer (out.view(tile, d, "_marking.png"), no second render), and with
+// job.marking_near a render of each view from d * closer_factor
+// ("_marking_near.png"); records their paths in result.report ("labels_file",
+// "marking_renders") and releases result.id_buffers. `renderer` must hold
+// `scene` (as label_scene leaves it).
+void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job);
+
+// label_scene + write_label_outputs with a tracer of `tracer` kind, and the
+// report written to out.label_report(d). Returns that report.
+nlohmann::json label_model(const Scene& scene, const LabelJob& job, TracerKind tracer,
+                           const Progress& progress = {});
+
+// The job's perception settings at its display's pixel density.
+PerceptionSettings perception_for(const LabelJob& job);
+
+// Frames each of `views` at every distance (frame_view) on job's display and
+// up axis, so a view that cannot be framed (too many tiles) fails before any
+// rendering starts.
+void check_framing(const Scene& scene, const LabelJob& job, const std::vector<std::string>& views,
+                   const std::vector<double>& distances);
+
+// "octree built in 120 ms, 4096 KiB": the progress line after a tracer build.
+std::string tracer_summary(const Tracer& tracer);
+
+}  // namespace perclod

@@ -1,0 +1,111 @@
+// perclod/fidelity_search.h - the bounds `perclod run` tries for a LOD: the
+// fidelity_target search and tighten_to_limits.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <utility>
+#include <vector>
+
+#include "perclod/judge.h"
+#include "perclod/simplify.h"
+#include "perclod/undisplayable.h"
+
+namespace perclod {
+
+// One try of a fidelity_target search (or of tighten_to_limits):
+// e_imperceptible = e pixels, the perceptible bound tightened to e where e is
+// the tighter, and undisplayable triangles treated as asked or, with
+// keep_undisplayable, collapsed within e_undisplayable (e when not given; the
+// asked e_undisplayable where tighter) instead of deleted.
+struct FidelitySearchStep {
+  double e;
+  bool keep_undisplayable;
+  double e_undisplayable = -1;  // with keep_undisplayable: their bound, px (< 0: e)
+};
+
+// The tries, in order. Tightening e_I alone cannot help where e_P or the
+// deleted undisplayable triangles hold a LOD over the target: on the
+// million-triangle facade at 56 m (perclod run, 2026-12-03) every e_I from
+// 16 down to 0.5 px at e_P = 0.5 px leaves 2.8-3.0% of the worst judged view
+// changed, 0.25 px for both 2.1%; 0.125 px with undisplayable triangles kept
+// within it meets 2% (0.98%). The last try moves nothing and deletes nothing:
+// only collapses of zero error remain.
+constexpr FidelitySearchStep kFidelitySearch[] = {
+    {16, false}, {8, false}, {4, false}, {2, false}, {1, false}, {0.5, false},  // undisplayable deleted
+    {0.25, false}, {0.25, true}, {0.125, true}, {0, true}};                     // then kept
+// When the first try already meets the target, looser bounds may too: e_I
+// then doubles, up to this, while the target holds and each try removes
+// triangles, and the loosest LOD that met it is kept (han at 56 m: 16 and
+// 32 px meet a 2% target, 64 px does not). 1024 px is more than a whole
+// display at the paper's profile (1280 x 1024).
+constexpr double kFidelitySearchLoosestPx = 1024;
+
+// The looser half of a fidelity_target search, for `run` and its tests: the
+// first step (kFidelitySearch[0]) met the target, leaving `triangles`.
+// `try_step(step)` makes and judges the LOD at each looser step in turn (e
+// doubled, up to kFidelitySearchLoosestPx) and returns whether it met the
+// target and its triangle count. A try that meets it with fewer triangles is
+// kept and the next tried; one with as many is kept and ends the search;
+// one that fails, or keeps more, ends it with the last kept step, whose LOD
+// the caller makes again (the simplifier and judge are deterministic).
+struct LooserSearch {
+  FidelitySearchStep step;  // the bounds of the LOD to write
+  int tries = 0;            // looser tries made
+  int kept = -1;            // which of them is `step` (from 0); -1: kFidelitySearch[0]
+  bool remake = false;      // the last try is not `step`: make its LOD again
+};
+LooserSearch search_looser(size_t triangles,
+                           const std::function<std::pair<bool, size_t>(const FidelitySearchStep&)>& try_step);
+
+SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& step);
+
+// ---- tightening a LOD that misses its limits (`tighten_to_limits`) ----------
+
+// Fidelity mode without a fidelity_target: when the LOD at the asked bounds
+// is over job.limits in a judged view, but by no more than kTightenReach
+// times each limit (worth_tightening), `run` tries tighten_steps in order and
+// keeps the first LOD within the limits in every judged view; when none is,
+// the LOD at the asked bounds stays, flagged as before. Tightening from 0.5
+// to 0.125 px cut the changed pixels by about 3x where it was tried (the
+// million-triangle facade at 56 m: 2.97% -> 0.98%, perclod run 2026-12-03),
+// so a LOD further over than that is left alone rather than tried at every
+// step for nothing: the default LODs at 427 m are within the limits (the
+// block) or 3.8-19x over 2% (README, Fidelity), where moving the original
+// by a quarter pixel changes 19-65% of a view.
+constexpr double kTightenReach = 3;
+
+// The tries, in order: e_imperceptible 0.25 px (undisplayable triangles as
+// asked), then undisplayable triangles kept within kAutoUndisplayableBoundPx
+// at 0.25 and 0.125 px, then within 0.125 px too. Kept within 4 px they
+// cost far fewer triangles than within the step's own bound, for nearly the
+// same figures (bench_fidelity, 2026-12-04: Sponza at 132 m 21,810 triangles
+// and 2.02% of the worst held-out view changed, against 34,036 and 1.84%;
+// the million-triangle facade at 56 m 186,397 and 1.60% against 194,765
+// and 1.55%).
+constexpr FidelitySearchStep kTightenSteps[] = {{0.25, false},
+                                                {0.25, true, kAutoUndisplayableBoundPx},
+                                                {0.125, true, kAutoUndisplayableBoundPx},
+                                                {0.125, true}};
+
+// The steps of kTightenSteps that tighten `so` (fidelity mode): e at most
+// its e_imperceptible, and fidelity_bounds changes some bound (a step that
+// would change nothing, or only what the step before changed, is left out).
+std::vector<FidelitySearchStep> tighten_steps(const SimplifyOptions& so);
+
+// Whether `judged` (judge_views' result) is over `limits` and no worst
+// figure is beyond kTightenReach times its limit (an SSIM's shortfall from 1
+// against min_ssim's).
+bool worth_tightening(const nlohmann::json& judged, const FidelityLimits& limits);
+
+// tighten_to_limits itself, for `run` and for the benchmarks that must do as
+// it does. `judged` is judge_views' result (against `limits`) for the LOD
+// at `asked`. When worth_tightening says so and tighten_steps has steps,
+// `try_step(bounds)` makes and judges the LOD at each step's bounds in order
+// and returns whether it is within `limits`, until one is.
+enum class Tightening { NotTried, Met, NoneWithin };
+Tightening tighten_to_limits(const SimplifyOptions& asked, const nlohmann::json& judged, const FidelityLimits& limits,
+                             const std::function<bool(const SimplifyOptions&)>& try_step);
+
+}  // namespace perclod

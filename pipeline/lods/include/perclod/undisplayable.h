@@ -1,0 +1,62 @@
+// perclod/undisplayable.h - `keep_undisplayable: auto`: whether the triangles
+// no labelling view sees are deleted or kept (collapsed within a bound).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "perclod/label.h"
+#include "perclod/raycast.h"
+#include "perclod/simplify.h"
+
+namespace perclod {
+
+// The views undisplayable_exposure looks from: az22.5el30, az67.5el30, ...,
+// az337.5el30, between the default labelling azimuths at the labelling
+// ring's elevation. None is a view of the default labelling set, of the
+// `held_out` preset or of the benchmarks' 17 held-out views.
+std::vector<std::string> exposure_views();
+
+// How much of what a viewer sees from between the labelling views the
+// triangles labelled undisplayable are: over exposure_views() framed at
+// job.distance (tiles included), the nearest hits on undisplayable triangles
+// over all hits, each pixel traced once at its centre. What deleting them
+// would open from those views.
+double undisplayable_exposure(const Scene& scene, const Tracer& tracer, const std::vector<Label>& labels,
+                              const LabelJob& job);
+
+// keep_undisplayable: auto (fidelity mode) deletes undisplayable triangles
+// when their exposure is at most kKeepUndisplayableExposure, and otherwise
+// keeps them, collapsed within kAutoUndisplayableBoundPx (an asked
+// e_undisplayable keeps them anyway: auto has nothing to decide). README,
+// "Keeping undisplayable triangles", has the measurements that chose both.
+constexpr double kKeepUndisplayableExposure = 0.004;
+constexpr double kAutoUndisplayableBoundPx = 4;
+
+// Whether keep_undisplayable: auto has anything to decide for `so`: the
+// fidelity mode, undisplayable triangles not already kept.
+inline bool undisplayable_auto_applies(const SimplifyOptions& so) {
+  return so.mode == SimplifyMode::Fidelity && so.delete_undisplayable;
+}
+// What keep_undisplayable: auto makes of `so` for an exposure (above): `so`
+// unchanged unless the rule applies and the exposure is over
+// kKeepUndisplayableExposure; then undisplayable triangles are kept and
+// collapsed within kAutoUndisplayableBoundPx.
+SimplifyOptions choose_undisplayable(SimplifyOptions so, double exposure);
+// The same from the labels: measures undisplayable_exposure (framed by
+// `framing`'s up, display and distance), applies it to `so`, returns it.
+double choose_undisplayable(SimplifyOptions& so, const Scene& scene, const Tracer& tracer,
+                            const std::vector<Label>& labels, const LabelJob& framing);
+
+// How `so` treats undisplayable triangles, as reports give it:
+// "undisplayable": "deleted" | "collapsed", "e_undisplayable" (a finite
+// bound of kept ones) and, when auto measured it (exposure >= 0),
+// "undisplayable_exposure".
+void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so, double exposure = -1);
+
+// The same in words, for progress lines and warnings: "deleted",
+// "collapsed, unbounded" or "collapsed within E px".
+std::string undisplayable_rule_text(const SimplifyOptions& so);
+
+}  // namespace perclod

@@ -1,0 +1,85 @@
+// The bounds `perclod run` tries for a LOD: the fidelity_target search and
+// tighten_to_limits, as rules a caller drives with its own make-and-judge step.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <future>
+#include <iomanip>
+#include <iterator>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+
+#include "perclod/fidelity_search.h"
+
+namespace perclod {
+
+SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& step) {
+  so.bound_imperceptible_px = step.e;
+  so.bound_perceptible_px = std::min(so.bound_perceptible_px, step.e);
+  if (step.keep_undisplayable) {
+    const double e_u = step.e_undisplayable >= 0 ? step.e_undisplayable : step.e;
+    so.bound_undisplayable_px = so.delete_undisplayable ? e_u : std::min(so.bound_undisplayable_px, e_u);
+    so.delete_undisplayable = false;
+  }
+  return so;
+}
+
+std::vector<FidelitySearchStep> tighten_steps(const SimplifyOptions& so) {
+  std::vector<FidelitySearchStep> steps;
+  if (so.mode != SimplifyMode::Fidelity) return steps;
+  auto same = [](const SimplifyOptions& a, const SimplifyOptions& b) {
+    return a.bound_imperceptible_px == b.bound_imperceptible_px && a.bound_perceptible_px == b.bound_perceptible_px &&
+           a.delete_undisplayable == b.delete_undisplayable &&
+           (a.delete_undisplayable || a.bound_undisplayable_px == b.bound_undisplayable_px);
+  };
+  SimplifyOptions last = so;
+  for (const FidelitySearchStep& step : kTightenSteps) {
+    if (step.e > so.bound_imperceptible_px) continue;
+    const SimplifyOptions t = fidelity_bounds(so, step);
+    if (same(t, last)) continue;
+    steps.push_back(step);
+    last = t;
+  }
+  return steps;
+}
+
+bool worth_tightening(const nlohmann::json& judged, const FidelityLimits& limits) {
+  if (judged.at("over_limits").empty()) return false;
+  const nlohmann::json& w = judged.at("worst");
+  const bool ssim_within =
+      limits.min_ssim <= 0 || 1 - w.at("ssim_covered").get<double>() <= kTightenReach * (1 - limits.min_ssim);
+  return w.at("changed_fraction").get<double>() <= kTightenReach * limits.max_changed &&
+         w.at("silhouette_mismatch").get<double>() <= kTightenReach * limits.max_silhouette && ssim_within;
+}
+
+Tightening tighten_to_limits(const SimplifyOptions& asked, const nlohmann::json& judged, const FidelityLimits& limits,
+                             const std::function<bool(const SimplifyOptions&)>& try_step) {
+  const std::vector<FidelitySearchStep> steps = tighten_steps(asked);
+  if (steps.empty() || !worth_tightening(judged, limits)) return Tightening::NotTried;
+  for (const FidelitySearchStep& step : steps)
+    if (try_step(fidelity_bounds(asked, step))) return Tightening::Met;
+  return Tightening::NoneWithin;
+}
+
+LooserSearch search_looser(size_t triangles,
+                           const std::function<std::pair<bool, size_t>(const FidelitySearchStep&)>& try_step) {
+  LooserSearch r{kFidelitySearch[0]};
+  for (FidelitySearchStep looser{2 * r.step.e, false}; looser.e <= kFidelitySearchLoosestPx; looser.e *= 2) {
+    const auto [met, left] = try_step(looser);
+    ++r.tries;
+    if (!met || left > triangles) {
+      r.remake = true;
+      break;
+    }
+    r.step = looser;
+    r.kept = r.tries - 1;
+    if (left == triangles) break;  // looser bounds removed nothing more
+    triangles = left;
+  }
+  return r;
+}
+
+}  // namespace perclod
