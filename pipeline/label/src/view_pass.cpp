@@ -1,0 +1,369 @@
+// One view labelled: rendered and perceived (see_view), traced and counted
+// (count_view), and split into passes by its sampling.
+#include "view_pass.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+
+namespace perclod::detail {
+namespace {
+
+nlohmann::json to_json(const Agreement& a) {
+  return {{"covered", a.covered},
+          {"identical", a.identical},
+          {"ties", a.ties},
+          {"edge_grazes", a.edge_grazes},
+          {"real_disagreements", a.real_disagreements},
+          {"identical_rate", a.identical_rate()}};
+}
+
+// The samples of a pixel sit off its centre (sample_offsets), where the
+// rasteriser decides what it draws: a sliver can cover a centre and no
+// sample. Such a triangle is drawn, so it is not undisplayable: it takes the
+// decision of each pixel it was drawn on (imperceptible where the mask is set)
+// with one sample's weight there. ids: the render's ID buffer (triangle + 1).
+void add_drawn_but_missed(const uint32_t* ids, const uint8_t* mask, size_t pixels, const std::vector<uint32_t>* owner,
+                          uint32_t building, TriangleCounts& counts) {
+  // Which triangles (of this building) were drawn but missed, decided before
+  // any is counted.
+  std::vector<uint8_t> missed(counts.traced.size(), 0);
+  for (size_t i = 0; i < pixels; ++i) {
+    const uint32_t id = ids[i];
+    if (id && counts.traced[id - 1] == 0 && (!owner || (*owner)[id - 1] == building)) missed[id - 1] = 1;
+  }
+  for (size_t i = 0; i < pixels; ++i) {
+    if (!ids[i] || !missed[ids[i] - 1]) continue;
+    counts.traced[ids[i] - 1] += 1;
+    counts.imperceptible[ids[i] - 1] += mask[i] != 0;
+  }
+}
+
+// A triangle that no sample and no pixel centre hit is not necessarily out
+// of sight: on a finely tessellated surface (a turned column at 132 m) most
+// triangles are a fraction of a pixel, and deleting them as undisplayable
+// perforates what the eye sees. With job.keep_unsampled_surface such a
+// triangle counts as drawn when
+//  * it is smaller than a pixel (a larger one on the surface would hold a
+//    sample);
+//  * its centroid lies on the drawn surface: the depth drawn at the
+//    centroid's pixel is within kSurfaceDepthPx pixel footprints of the
+//    centroid's;
+//  * the triangle drawn at that pixel's centre does not cover the centroid:
+//    if it did, the two overlap there (a window polygon lying in its wall's
+//    plane, a coplanar copy) and the unsampled one is the hidden one;
+//  * the triangles found so for that pixel cover at least kOpenPixelArea of
+//    it (deleting them would open that much of the pixel).
+// Each takes its pixel's decision with one sample's weight, as
+// add_drawn_but_missed does. Returns how many it counted. depth: the
+// render's eye depth (0 = background); ids: its ID buffer (triangle + 1).
+constexpr double kSurfaceDepthPx = 0.5;
+constexpr double kOpenPixelArea = 0.5;
+
+
+
+size_t add_unsampled_surface(const Scene& scene, const Camera& cam, const float* depth, const uint32_t* ids,
+                             const uint8_t* mask, const std::vector<uint32_t>* owner, uint32_t building,
+                             TriangleCounts& counts) {
+  const size_t nt = scene.triangle_count();
+  const float* P = scene.positions.data();
+  // Triangle t's corners in image coordinates and eye depth; false when a
+  // corner is behind the eye.
+  auto project = [&](size_t t, double px[3], double py[3], double z[3]) {
+    for (int k = 0; k < 3; ++k) {
+      const float* v = P + 3 * size_t(scene.indices[3 * t + k]);
+      if (!cam.project(Eigen::Vector3d(v[0], v[1], v[2]), px[k], py[k], z[k])) return false;
+    }
+    return true;
+  };
+  std::vector<std::pair<uint32_t, uint32_t>> found;  // triangle, pixel
+  std::vector<float> open(size_t(cam.width) * cam.height, 0.f);  // their area per pixel, pixels^2
+  for (size_t t = 0; t < nt; ++t) {
+    if (counts.traced[t] || (owner && (*owner)[t] != building)) continue;
+    double px[3], py[3], z[3];
+    if (!project(t, px, py, z)) continue;
+    const double area = 0.5 * std::fabs((px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]));
+    if (!(area < 1.0)) continue;
+    const double cx = (px[0] + px[1] + px[2]) / 3, cy = (py[0] + py[1] + py[2]) / 3;
+    const double cz = (z[0] + z[1] + z[2]) / 3;
+    if (!(cx >= 0 && cy >= 0 && cx < cam.width && cy < cam.height)) continue;
+    const size_t i = size_t(cy) * cam.width + size_t(cx);
+    if (depth[i] <= 0 || !ids[i] || std::fabs(double(depth[i]) - cz) > kSurfaceDepthPx * cam.pixel_footprint(cz))
+      continue;
+    double qx[3], qy[3], qz[3];
+    if (project(ids[i] - 1, qx, qy, qz)) {  // does the drawn triangle cover the centroid?
+      double e[3];
+      for (int k = 0; k < 3; ++k) {
+        const int l = (k + 1) % 3;
+        e[k] = (qx[l] - qx[k]) * (cy - qy[k]) - (qy[l] - qy[k]) * (cx - qx[k]);
+      }
+      if ((e[0] >= 0 && e[1] >= 0 && e[2] >= 0) || (e[0] <= 0 && e[1] <= 0 && e[2] <= 0)) continue;
+    }
+    found.push_back({uint32_t(t), uint32_t(i)});
+    open[i] += float(area);
+  }
+  size_t added = 0;
+  for (auto [t, i] : found) {
+    if (open[i] < kOpenPixelArea) continue;
+    counts.traced[t] += 1;
+    counts.imperceptible[t] += mask[i] != 0;
+    ++added;
+  }
+  return added;
+}
+
+
+// Sample (a, b) of a render at `s` times the resolution: its pixel (x, y) is
+// fine pixel (s x + a, s y + b).
+void decimate(const RenderOutput& fine, int s, int a, int b, RenderOutput& out) {
+  out.width = fine.width / s;
+  out.height = fine.height / s;
+  const size_t n = size_t(out.width) * out.height;
+  out.rgb.resize(3 * n);
+  out.ids.resize(fine.ids.empty() ? 0 : n);
+  out.depth.resize(fine.depth.empty() ? 0 : n);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) {
+      const size_t i = size_t(y) * out.width + x, f = size_t(s * y + b) * fine.width + size_t(s * x + a);
+      for (int c = 0; c < 3; ++c) out.rgb[3 * i + c] = fine.rgb[3 * f + c];
+      if (!out.ids.empty()) out.ids[i] = fine.ids[f];
+      if (!out.depth.empty()) out.depth[i] = fine.depth[f];
+    }
+}
+
+}  // namespace
+
+nlohmann::json to_json(const LabelCounts& c) {
+  return {{"perceptible", c.perceptible}, {"imperceptible", c.imperceptible}, {"undisplayable", c.undisplayable}};
+}
+
+// The camera of the picture a view keeps (its image, record, ID buffer):
+// `cam` itself, or with a grid of samples sample 0's picture of the refined
+// render, `cam` shifted by grid_offsets(grid)[0].
+Camera kept_picture_camera(Camera cam, int grid) {
+  if (grid) {
+    const auto o = grid_offsets(grid)[0];
+    cam.shift_x += o[0], cam.shift_y += o[1];
+  }
+  return cam;
+}
+
+// The first half of labelling a view, on the thread that owns the OpenGL
+// context: render and perceive one camera. grid >= 2: render it at grid
+// times the resolution and perceive each of the grid x grid sample pictures.
+void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& cam, bool want_depth, ViewOutcome& out,
+              int grid) {
+  auto t0 = Clock::now();
+  RenderOptions ro;
+  ro.want_depth = want_depth;  // add_unsampled_surface reads it
+  if (grid >= 2) {
+    renderer.render(refined(cam, grid), out.fine, ro);
+    out.t_render = since(t0);
+    t0 = Clock::now();
+    const size_t n = size_t(grid) * grid;
+    out.more_ids.resize(n - 1);
+    out.more_masks.resize(n - 1);
+    for (size_t k = 0; k < n; ++k) {  // sample 0 into out.image / out.perception, the others via the scratch
+      RenderOutput& im = k ? out.scratch : out.image;
+      PerceptionResult& pr = k ? out.scratch_perception : out.perception;
+      std::vector<uint8_t>& bg = k ? out.scratch_background : out.background;
+      decimate(out.fine, grid, int(k % grid), int(k / grid), im);
+      background_of(im, bg);
+      perceive_into(im.rgb.data(), im.width, im.height, ps, bg.data(), pr);
+      if (k) {  // swapped, not copied: the scratch takes the old buffers back for the next picture
+        out.more_ids[k - 1].swap(im.ids);
+        out.more_masks[k - 1].swap(pr.mask);
+      }
+    }
+    out.t_perceive = since(t0);  // splitting included
+    return;
+  }
+  renderer.render(cam, out.image, ro);
+  out.t_render = since(t0);
+  background_of(out.image, out.background);
+  t0 = Clock::now();
+  perceive_into(out.image.rgb.data(), out.image.width, out.image.height, ps, out.background.data(), out.perception);
+  out.t_perceive = since(t0);
+}
+
+// The second half, on any thread: trace the view seen by see_view at
+// vs.samples samples per pixel (with vs.mask_per_sample, `cam` is one
+// sample pass, traced at its pixel centres); adds its counts and labels for
+// the triangles of `owner[t] == building` (all when `owner` is null).
+void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
+                const ViewSampling& vs, const std::string& name, const Camera& cam,
+                const std::vector<uint32_t>* owner, uint32_t building, LabelResult& res, Accumulator& acc,
+                ViewOutcome& out) {
+  const size_t nt = scene.triangle_count();
+  const double t_render = out.t_render, t_perceive = out.t_perceive;
+  auto t0 = Clock::now();
+
+  const size_t pixels = size_t(out.image.width) * out.image.height;
+  TriangleCounts counts;
+  counts.traced.assign(nt, 0);
+  counts.imperceptible.assign(nt, 0);
+  t0 = Clock::now();
+  // Every sample of the view in one call: the octree walks its structure
+  // once for every eight of them. With a mask per sample this render is one sample
+  // pass, its camera shifted by the pass's offset: one ray per pixel centre.
+  const int grid = sample_grid(vs.samples);
+  const int samples = grid ? grid * grid : vs.mask_per_sample ? 1 : vs.samples;
+  std::vector<std::array<double, 2>> offsets =
+      grid                 ? grid_offsets(grid)
+      : vs.mask_per_sample ? std::vector<std::array<double, 2>>{{0.0, 0.0}}
+                           : sample_offsets(vs.samples);
+  // verify compares the octree with Embree and with the ID buffer at the
+  // pixel centres: with several samples the centre rides along in the same
+  // walk, as one more sample, when the walk has room for it.
+  const bool centre_in_walk = !grid && reference && !owner && samples > 1 && samples < OctreeTracer::kMaxSamples;
+  if (centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `base`
+  std::vector<std::vector<uint32_t>>& traced = out.samples;
+  traced.resize(offsets.size());
+  std::vector<uint32_t*> buffers;
+  for (auto& t : traced) {
+    t.resize(pixels);  // every pixel is written by the trace
+    buffers.push_back(t.data());
+  }
+  // The offsets are from base's pixel centres: the view's camera unshifted,
+  // or a mask-per-sample pass's own camera (shifted, one offset of zero).
+  Camera base = cam;
+  if (!vs.mask_per_sample && !grid) base.shift_x = base.shift_y = 0;
+  tracer.trace_samples(base, offsets, buffers.data());
+  auto mask_of = [&](size_t k) -> const uint8_t* {
+    return grid && k ? out.more_masks[k - 1].data() : out.perception.mask.data();
+  };
+  for (size_t k = 0; k < size_t(samples); ++k) {
+    std::vector<uint32_t>& rays = traced[k];
+    if (owner)
+      for (uint32_t& id : rays)
+        if (id && (*owner)[id - 1] != building) id = 0;
+    add_counts(counts, rays.data(), mask_of(k), pixels);
+  }
+  const std::vector<uint32_t>& rays = traced[0];
+  if (grid) {
+    for (size_t k = 0; k < size_t(samples); ++k)
+      add_drawn_but_missed(k ? out.more_ids[k - 1].data() : out.image.ids.data(), mask_of(k), pixels, owner, building,
+                           counts);
+  } else if (samples > 1) {
+    add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
+  }
+  size_t unsampled_surface = 0;
+  if (finds_unsampled_surface(job))
+    unsampled_surface = add_unsampled_surface(scene, cam, out.image.depth.data(), out.image.ids.data(),
+                                              out.perception.mask.data(), owner, building, counts);
+  const double t_trace = since(t0);
+
+  const std::vector<Label> labels = label_triangles(counts, job.ratio);
+  // The frustum marks a building's view may set are its own triangles'.
+  std::vector<uint8_t> seen;
+  if (owner) {
+    seen.assign(nt, 0);
+    mark_in_frustum(scene, cam, seen);
+  } else {
+    mark_in_frustum(scene, cam, acc.in_frustum);
+  }
+  // With samples auto the views' sample counts differ (4 or 16 a pixel):
+  // the totals count sixteenths of a pixel, so every view weighs by area.
+  const uint32_t weight = job.samples == kAutoSamples ? uint32_t(kAutoCountUnit / vs.samples) : 1;
+  for (size_t t = 0; t < nt; ++t) {
+    if (owner && (*owner)[t] != building) continue;
+    res.totals.traced[t] += weight * counts.traced[t];
+    res.totals.imperceptible[t] += weight * counts.imperceptible[t];
+    acc.combined[t] = combine_labels(acc.combined[t], labels[t]);
+    if (owner) acc.in_frustum[t] |= seen[t];
+  }
+  out.report = {{"view", name},
+                {"rendered_pixels", grid ? pixels * size_t(samples) : pixels},
+                {"covered_pixels", out.perception.counted_pixels},
+                {"imperceptible_fraction", out.perception.imperceptible_fraction},
+                {"levels", out.perception.levels},
+                {"labels", to_json(count_labels(labels))},
+                {"unsampled_surface", unsampled_surface},
+                {"seconds", {{"render", t_render}, {"perceive", t_perceive}, {"trace", t_trace}}}};
+  if (!owner) {
+    // Rays against the renderer's ID buffer and, with verify, octree against
+    // Embree: both at the pixel centres, where the rasteriser samples. With
+    // one sample per pixel that is the trace above; otherwise verify traces
+    // the centres once more, and without verify the comparison is left out.
+    std::vector<uint32_t> traced_centre;
+    const uint32_t* centre = nullptr;
+    const Camera drawn = kept_picture_camera(cam, grid);  // the camera of out.image
+    if (samples == 1 || grid) {
+      centre = rays.data();  // the one sample is the centre (of this pass's camera; with grid, sample 0's image)
+    } else if (centre_in_walk) {
+      centre = traced.back().data();
+    } else if (reference) {
+      traced_centre.resize(pixels);
+      tracer.trace(cam, traced_centre.data());
+      centre = traced_centre.data();
+    }
+    if (centre)
+      out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, drawn, centre, out.image.ids.data()));
+    if (reference) {
+      std::vector<uint32_t> ref(pixels);
+      t0 = Clock::now();
+      reference->trace(drawn, ref.data());
+      out.report["seconds"]["trace_embree_verify"] = since(t0);
+      out.report["octree_vs_embree"] = to_json(compare_traced(scene, drawn, centre, ref.data()));
+    }
+  }
+}
+
+// How a view of camera `cam` is sampled: the job's samples, or with
+// kAutoSamples the choice for its window on the model (`window`,
+// perception_window).
+ViewSampling sampling_of(const LabelJob& job, const Camera& cam, const Camera& window, size_t triangles) {
+  if (job.samples != kAutoSamples) return {job.samples, job.mask_per_sample};
+  return choose_sampling(size_t(window.width) * window.height, size_t(cam.width) * cam.height, triangles);
+}
+
+// The renders of one view of camera `cam`, whose window on the model is
+// `window`: one that every sample reads (the whole frame; a grid's is the
+// window at grid times the resolution), or with a mask per sample one
+// render of the window per sample offset, its camera shifted by it.
+// Appended to `out`.
+void add_view_passes(size_t tile, const Camera& cam, const Camera& window, const ViewSampling& vs,
+                     std::vector<ViewPass>& out) {
+  const int grid = sample_grid(vs.samples);
+  if (grid || !vs.mask_per_sample || vs.samples == 1) {
+    out.push_back({tile, 0, 1, grid ? window : cam, vs});
+    return;
+  }
+  const auto offsets = sample_offsets(vs.samples);
+  for (size_t p = 0; p < offsets.size(); ++p) {
+    Camera c = window;
+    c.shift_x += offsets[p][0];
+    c.shift_y += offsets[p][1];
+    out.push_back({tile, p, offsets.size(), c, vs});
+  }
+}
+
+std::string sampling_name(const ViewSampling& vs) {
+  if (sample_grid(vs.samples)) return std::to_string(vs.samples) + " (grid)";
+  return std::to_string(vs.samples) + (vs.mask_per_sample && vs.samples > 1 ? " (mask per sample)" : "");
+}
+
+// Adds a later pass's timings to the report of the view's first pass.
+void add_pass_report(nlohmann::json& first, const nlohmann::json& pass, size_t passes) {
+  for (const auto& [k, v] : pass["seconds"].items()) first["seconds"][k] = first["seconds"][k].get<double>() + v.get<double>();
+  first["rendered_pixels"] = first["rendered_pixels"].get<size_t>() + pass["rendered_pixels"].get<size_t>();
+  first["passes"] = passes;
+}
+
+std::string progress_line(const std::string& name, double d, const nlohmann::json& report) {
+  std::ostringstream ss;
+  ss.precision(3);
+  const auto& s = report["seconds"];
+  ss << "  " << name << " at " << d << " m: " << report["covered_pixels"].get<size_t>() << " px, "
+     << 100 * report["imperceptible_fraction"].get<double>() << "% imperceptible";
+  if (report.contains("passes")) ss << " in the first of " << report["passes"].get<size_t>() << " passes; all passes:";
+  else ss << ";";
+  ss << " render " << 1e3 * s["render"].get<double>()
+     << " ms, perceive " << 1e3 * s["perceive"].get<double>() << " ms, trace " << 1e3 * s["trace"].get<double>()
+     << " ms";
+  if (report.contains("sampling")) ss << " (samples " << report["sampling"].get<std::string>() << ")";  // auto's choice
+  return ss.str();
+}
+
+}  // namespace perclod::detail
