@@ -9,6 +9,7 @@
 #include "commands.h"
 #include "common.h"
 #include "perclod/batch.h"
+#include "perclod/run_model.h"
 #include "perclod/config.h"
 #include "perclod/lods.h"
 

@@ -6,7 +6,7 @@
 #include <exception>
 
 #include "commands.h"
-#include "perclod/batch.h"
+#include "perclod/run_model.h"
 #include "perclod/outputs.h"
 #include "common.h"
 

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "perclod/batch.h"
+#include "perclod/model_exports.h"
+#include "perclod/run_model.h"
 #include "perclod/config.h"
 #include "perclod/export.h"
 #include "perclod/load.h"

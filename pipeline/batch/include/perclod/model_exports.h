@@ -1,0 +1,40 @@
+// perclod/model_exports.h - the files a viewer loads for one model: the
+// manifest (which distances each LOD serves), a GLB per LOD, the all-LOD GLB
+// (MSFT_lod) and a 3D Tiles 1.1 tileset placed by an ENU frame.
+#pragma once
+
+#include <array>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "perclod/config.h"
+#include "perclod/lods.h"
+#include "perclod/run_model.h"
+
+namespace perclod {
+
+// The serving range of each LOD (sorted by distance; README, "Manifest"):
+// vd = its largest vertex displacement (metres), its switch distance
+// d_th = vd / (pixel angle) (Belblidia's d_th = f * vd / ps), serving from
+// min(d, d_th) (never before the previous LOD's start) up to the next LOD's
+// start (the last: no end, to = infinity).
+struct LodRange {
+  double distance = 0, displacement = 0, switch_distance = 0, from = 0, to = 0;
+  double screen_coverage = 0;  // model diagonal / screen height at `to` (0 for the last)
+  double geometric_error = 0;  // tileset: largest displacement of this LOD and every finer one (finest: 0)
+};
+std::vector<LodRange> lod_ranges(const std::vector<double>& distances, const std::vector<double>& displacements,
+                                 double pixel_angle, double fov_y, double diagonal);
+
+// The local east-north-up frame at a WGS84 point, as the column-major 4x4
+// transform (ENU metres -> ECEF metres) 3D Tiles takes.
+std::array<double, 16> enu_to_ecef(double lat_deg, double lon_deg, double height);
+
+// Writes beside the report in job.label.out: a GLB per LOD (when the LODs are
+// OBJ), <stem>_lods.glb (MSFT_lod), <stem>_tileset.json (3D Tiles 1.1) when
+// config.tileset, and always <stem>_manifest.json (last: its presence marks
+// the outputs complete). File names in them are relative to the folder.
+nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>& lods, const LodJob& job,
+                                   const BatchConfig& config, const ModelRun& run, const nlohmann::json& report);
+
+}  // namespace perclod

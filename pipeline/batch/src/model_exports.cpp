@@ -1,0 +1,224 @@
+// The viewer-facing exports of one model: its manifest (which distances each
+// LOD serves), the all-LOD GLB (MSFT_lod) and a 3D Tiles tileset.
+#include "perclod/model_exports.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <stdio.h>
+#include <unistd.h>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include "batch_util.h"
+#include "perclod/export.h"
+#include "perclod/run_model.h"
+
+namespace perclod {
+using detail::leaf;
+namespace fs = std::filesystem;
+namespace {
+
+// Source point -> the 3D Tiles frame (+Z up). The GLB holds Y-up glTF (a Z-up
+// source turned by export), which 3D Tiles turns back to +Z up; so a Z-up
+// source keeps its axes and a Y-up source goes (x, y, z) -> (x, -z, y).
+std::array<double, 3> to_tiles_frame(const std::array<double, 3>& p, UpAxis up) {
+  return up == UpAxis::Z ? p : std::array<double, 3>{p[0], -p[2], p[1]};
+}
+
+nlohmann::json box_volume(const Bounds& b, const std::array<double, 3>& offset, UpAxis up) {
+  std::array<double, 3> lo, hi;
+  for (int a = 0; a < 3; ++a) lo[a] = b.lo[a] + offset[a], hi[a] = b.hi[a] + offset[a];
+  const auto l = to_tiles_frame(lo, up), h = to_tiles_frame(hi, up);
+  std::array<double, 3> c, half;
+  for (int a = 0; a < 3; ++a) c[a] = 0.5 * (l[a] + h[a]), half[a] = std::max(0.5 * std::abs(h[a] - l[a]), 1e-3);
+  return {{"box", {c[0], c[1], c[2], half[0], 0, 0, 0, half[1], 0, 0, 0, half[2]}}};
+}
+
+nlohmann::json label_counts(const nlohmann::json& per_label) {
+  return {{"perceptible", per_label.at("perceptible")},
+          {"imperceptible", per_label.at("imperceptible")},
+          {"undisplayable", per_label.at("undisplayable")},
+          {"total", per_label.at("total")}};
+}
+
+}  // namespace
+
+std::vector<LodRange> lod_ranges(const std::vector<double>& distances, const std::vector<double>& displacements,
+                                 double pixel_angle, double fov_y, double diagonal) {
+  if (distances.size() != displacements.size()) throw std::invalid_argument("one displacement per distance");
+  std::vector<size_t> order(distances.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return distances[a] < distances[b]; });
+  std::vector<LodRange> r;
+  for (size_t i : order) {
+    LodRange x;
+    x.distance = distances[i];
+    x.displacement = displacements[i];
+    x.switch_distance = pixel_angle > 0 ? displacements[i] / pixel_angle : 0;
+    x.from = std::min(x.distance, x.switch_distance);
+    if (!r.empty()) x.from = std::max(x.from, r.back().from);
+    r.push_back(x);
+  }
+  const double view_height_per_metre = 2 * std::tan(fov_y / 2);
+  double finer_error = 0;
+  for (size_t i = 0; i < r.size(); ++i) {
+    r[i].to = i + 1 < r.size() ? r[i + 1].from : INFINITY;
+    r[i].screen_coverage =
+        std::isfinite(r[i].to) && r[i].to > 0 ? std::min(1.0, diagonal / (r[i].to * view_height_per_metre)) : 0.0;
+    finer_error = std::max(finer_error, r[i].displacement);
+    r[i].geometric_error = i == 0 ? 0.0 : finer_error;
+  }
+  return r;
+}
+
+std::array<double, 16> enu_to_ecef(double lat_deg, double lon_deg, double height) {
+  constexpr double kA = 6378137.0, kF = 1 / 298.257223563;  // WGS84
+  const double e2 = kF * (2 - kF);
+  const double lat = lat_deg * M_PI / 180, lon = lon_deg * M_PI / 180;
+  const double sl = std::sin(lat), cl = std::cos(lat), so = std::sin(lon), co = std::cos(lon);
+  const double n = kA / std::sqrt(1 - e2 * sl * sl);
+  const double x = (n + height) * cl * co, y = (n + height) * cl * so, z = (n * (1 - e2) + height) * sl;
+  return {-so,      co,       0,  0,   // east
+          -sl * co, -sl * so, cl, 0,   // north
+          cl * co,  cl * so,  sl, 0,   // up
+          x,        y,        z,  1};
+}
+
+nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>& lods, const LodJob& job,
+                                   const BatchConfig& config, const ModelRun& run, const nlohmann::json& report) {
+  const OutputNames& out = job.label.out;
+  const auto t0 = Clock::now();
+  const ExportOptions eo{job.label.up == UpAxis::Z};
+  const Bounds bounds = scene_bounds(scene);
+  double diagonal = 0;
+  for (int a = 0; a < 3; ++a) diagonal += double(bounds.hi[a] - bounds.lo[a]) * double(bounds.hi[a] - bounds.lo[a]);
+  diagonal = std::sqrt(diagonal);
+  const DisplayProfile& display = job.label.display;
+  const double pixel_angle = display_pixel_footprint(display, 1.0);  // metres per pixel at 1 m
+
+  const nlohmann::json& entries = report.at("lods");
+  std::vector<double> displacements;
+  for (const auto& e : entries) {
+    const auto& s = e.at("simplify");
+    displacements.push_back(s.at("max_displacement_rel").get<double>() * s.at("bbox_diagonal").get<double>());
+  }
+  const std::vector<LodRange> ranges = lod_ranges(job.distances, displacements, pixel_angle, display.fov_y(), diagonal);
+  auto index_of = [&](double d) {
+    return size_t(std::find(job.distances.begin(), job.distances.end(), d) - job.distances.begin());
+  };
+
+  nlohmann::json files = {{"report", leaf(out.report())}};
+  std::vector<std::string> glb(job.distances.size());
+  if (config.tileset) {
+    for (size_t i = 0; i < job.distances.size(); ++i) {
+      glb[i] = out.lod(job.distances[i], "glb");
+      if (job.lod_format != "glb") export_scene(lods.at(i), glb[i], eo);
+    }
+    std::vector<const Scene*> ordered;
+    std::vector<std::string> names;
+    std::vector<double> coverage;
+    for (const LodRange& r : ranges) {
+      ordered.push_back(&lods.at(index_of(r.distance)));
+      names.push_back("lod_" + distance_tag(r.distance));
+      coverage.push_back(r.screen_coverage);
+    }
+    const std::string all = out.file("_lods.glb");
+    export_lods_glb(ordered, names, coverage, all, eo);
+    files["lods_glb"] = leaf(all);
+
+    // 3D Tiles 1.1: the coarsest LOD is the root, each finer one its only
+    // child (REPLACE refinement); the finest is the leaf (geometricError 0).
+    nlohmann::json tile;
+    for (size_t i = 0; i < ranges.size(); ++i) {
+      const size_t k = index_of(ranges[i].distance);
+      nlohmann::json t = {{"boundingVolume", box_volume(scene_bounds(lods[k].triangle_count() ? lods[k] : scene),
+                                                        lods[k].offset, job.label.up)},
+                          {"geometricError", ranges[i].geometric_error},
+                          {"refine", "REPLACE"},
+                          {"content", {{"uri", leaf(glb[k])}}}};
+      if (i > 0) t["children"] = nlohmann::json::array({tile});
+      tile = t;
+    }
+    // The root's volume must hold every descendant: the original's bounds.
+    tile["boundingVolume"] = box_volume(bounds, scene.offset, job.label.up);
+    if (config.crs_origin) {
+      const auto m = enu_to_ecef(config.origin_lat, config.origin_lon, config.origin_height);
+      tile["transform"] = std::vector<double>(m.begin(), m.end());
+    }
+    nlohmann::json tileset = {{"asset", {{"version", "1.1"}, {"generator", std::string("perclod ") + perclod_version()}}},
+                              {"geometricError", std::max(diagonal, tile["geometricError"].get<double>())},
+                              {"root", tile}};
+    write_text_atomic(out.file("_tileset.json"), tileset.dump(2) + "\n");
+    files["tileset"] = leaf(out.file("_tileset.json"));
+  }
+  if (fs::exists(out.report_html())) files["report_html"] = leaf(out.report_html());
+
+  nlohmann::json lod_list = nlohmann::json::array();
+  for (const LodRange& r : ranges) {
+    const size_t k = index_of(r.distance);
+    const nlohmann::json& e = entries.at(k);
+    nlohmann::json views = nlohmann::json::array();
+    for (const auto& v : e.at("lod_vs_original"))
+      views.push_back({{"view", v.at("view")}, {"set", v.at("set")}, {"changed_fraction", v.at("changed_fraction")},
+                       {"ssim_covered", v.at("ssim_covered")}, {"silhouette_mismatch", v.at("silhouette_mismatch")}});
+    nlohmann::json l = {
+        {"distance", r.distance},
+        {"serves", {{"from", r.from}, {"to", std::isfinite(r.to) ? nlohmann::json(r.to) : nlohmann::json(nullptr)}}},
+        {"switch_distance", r.switch_distance},
+        {"max_displacement_m", r.displacement},
+        {"screen_coverage", r.screen_coverage},
+        {"geometric_error", r.geometric_error},
+        {"pixel_footprint", e.at("pixel_footprint")},
+        {"file", leaf(e.at("lod_file").get<std::string>())},
+        {"triangles", label_counts(e.at("simplify").at("triangles_after"))},
+        {"triangles_before", label_counts(e.at("simplify").at("triangles_before"))},
+        {"fidelity", {{"worst", e.at("fidelity").at("worst")},
+                      {"limits", e.at("fidelity").at("limits")},
+                      {"over_limits", e.at("fidelity").at("over_limits").size()},
+                      {"views", views}}},
+        {"seconds", {{"total", e.value("seconds", 0.0)},
+                     {"simplify", e.at("simplify").value("seconds", 0.0)},
+                     {"compare", e.value("seconds_compare", 0.0)}}}};
+    if (config.tileset) l["glb"] = leaf(glb[k]);
+    lod_list.push_back(l);
+  }
+  std::array<double, 3> lo, hi;
+  for (int a = 0; a < 3; ++a) lo[a] = bounds.lo[a] + scene.offset[a], hi[a] = bounds.hi[a] + scene.offset[a];
+  nlohmann::json manifest = {
+      {"schema", "perclod-manifest/1"},
+      {"perclod_version", perclod_version()},
+      {"complete", true},
+      {"model", {{"name", run.name},
+                 {"file", config.model},
+                 {"hash", run.input_hash},
+                 {"up", config.up == UpAxis::Z ? "z" : "y"},
+                 {"triangles", scene.triangle_count()},
+                 {"components", scene.component_count()},
+                 {"offset", scene.offset},
+                 {"bounds", {{"min", lo}, {"max", hi}}}}},
+      {"config", {{"file", run.config_file}, {"hash", run.settings_hash}, {"settings", settings_json(config)}}},
+      {"display", {{"name", display.name}, {"width", display.width}, {"height", display.height},
+                   {"fov_y_deg", display.fov_y() * 180 / M_PI}, {"pixel_angle", pixel_angle}}},
+      {"lods", lod_list},
+      {"files", files},
+      {"timings", {{"load", report.contains("load") ? report["load"].value("seconds", 0.0) : 0.0},
+                   {"lods", report.value("seconds", 0.0)},
+                   {"exports", since(t0)}}}};
+  if (config.crs_origin)
+    manifest["crs_origin"] = {{"lat", config.origin_lat}, {"lon", config.origin_lon}, {"height", config.origin_height}};
+  write_text_atomic(out.file("_manifest.json"), manifest.dump(2) + "\n");
+  return manifest;
+}
+
+}  // namespace perclod
