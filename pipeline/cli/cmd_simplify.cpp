@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "common.h"
 #include "perclod/labels_io.h"
+#include "perclod/report_json.h"
 #include "perclod/simplify_model.h"
 
 namespace perclod::cli {
@@ -107,7 +108,7 @@ void run_simplify(SimplifyArgs a) {
                       {"seconds_write", r.write_seconds}};
   if (empty) j["empty"] = true;
   if (r.options.mode == SimplifyMode::Fidelity || r.options.mode == SimplifyMode::Paper)
-    add_undisplayable_rule(j, r.options, r.undisplayable_exposure);
+    add_undisplayable_rule(j, undisplayable_rule_of(r.options, r.undisplayable_exposure));
   j.update(simplify_stats_json(r.stats));
   print_json(j);
 }

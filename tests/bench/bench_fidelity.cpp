@@ -250,28 +250,29 @@ Crop pair_crop(const RenderOutput& r) {
 
 // `views_out` (may be null) receives compare_lod_views' figures per view.
 Judged judge(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& records, const LabelJob& job,
-             const Scene* original = nullptr, const std::string& dump_name = "", nlohmann::json* views_out = nullptr) {
+             const Scene* original = nullptr, const std::string& dump_name = "",
+             std::vector<ViewFigures>* views_out = nullptr) {
   Judged j;
   j.triangles = lod.triangle_count();
   if (g_hausdorff) j.hausdorff = g_hausdorff->relative(lod);
-  const nlohmann::json views = compare_lod_views(renderer, lod, records, job);
+  const std::vector<ViewFigures> views = compare_lod_views(renderer, lod, records, judge_settings_of(job));
   if (views_out) *views_out = views;
   if (g_pair.camera && !dump_name.empty()) write_pair(renderer, lod, *g_pair.camera, g_pair.crop, dump_name);
   if (!g_dump.empty() && original) {
     size_t worst = 0;
     double worst_changed = -1;
     for (size_t i = 0; i < views.size(); ++i)
-      if (views[i]["set"] == "held_out" && views[i]["changed_fraction"].get<double>() > worst_changed)
-        worst = i, worst_changed = views[i]["changed_fraction"].get<double>();
+      if (views[i].set == "held_out" && views[i].changed_fraction > worst_changed)
+        worst = i, worst_changed = views[i].changed_fraction;
     for (size_t i = 0; i < views.size(); ++i)
       if (records[i].view == g_dump_view) worst = i;
     dump(renderer, *original, lod, records[worst].camera, dump_name + "_" + records[worst].view);
   }
   for (const auto& v : views) {
-    Worst& w = v["set"] == "labelling" ? j.labelling : j.held_out;
-    w.changed = std::max(w.changed, v["changed_fraction"].get<double>());
-    w.ssim = std::min(w.ssim, v["ssim_covered"].get<double>());
-    w.silhouette = std::max(w.silhouette, v["silhouette_mismatch"].get<double>());
+    Worst& w = v.set == "labelling" ? j.labelling : j.held_out;
+    w.changed = std::max(w.changed, v.changed_fraction);
+    w.ssim = std::min(w.ssim, v.ssim_covered);
+    w.silhouette = std::max(w.silhouette, v.silhouette_mismatch);
   }
   return j;
 }
@@ -389,14 +390,14 @@ Scene decimater_lod(const Scene& s, const MeshoptInput& in, size_t target, doubl
 // judge_views over what `perclod run` judges a LOD from by default: the
 // labelling views and the `held_out` preset (tiles named <view>_t<i>), the
 // run's default limits. What tighten_to_limits decides from.
-nlohmann::json run_judged(const nlohmann::json& views) {
+Judgement run_judged(const std::vector<ViewFigures>& views) {
   const std::vector<std::string> preset = parse_views(kDefaultJudgeViews, UpAxis::Z);  // names only
-  nlohmann::json judged = nlohmann::json::array();
-  for (const auto& v : views) {
-    std::string name = v["view"].get<std::string>();
+  std::vector<ViewFigures> judged;
+  for (const ViewFigures& v : views) {
+    std::string name = v.view;
     const size_t tile = name.rfind("_t");
     if (tile != std::string::npos) name.resize(tile);
-    if (v["set"] == "labelling" || std::find(preset.begin(), preset.end(), name) != preset.end()) judged.push_back(v);
+    if (v.set == "labelling" || std::find(preset.begin(), preset.end(), name) != preset.end()) judged.push_back(v);
   }
   return judge_views(judged, FidelityLimits{});
 }
@@ -469,7 +470,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     LabelResult lr = label_scene(renderer, scene, tracer, job);
     g_label_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - label_start).count();
     std::vector<ViewRecord> records = std::move(lr.views);
-    for (auto& r : record_views(renderer, scene, held_out_views(), job, "held_out")) records.push_back(std::move(r));
+    for (auto& r : record_views(renderer, scene, held_out_views(), framing_of(job), "held_out")) records.push_back(std::move(r));
     const double p = display_pixel_footprint(job.display, d);
     g_pair = PairView{};
     std::ostringstream tag_ss;
@@ -485,7 +486,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
         }
     LabelCounts lc = count_labels(lr.labels);
     g_dump_labels = &lr.labels;
-    g_exposure = undisplayable_exposure(scene, tracer, lr.labels, job);
+    g_exposure = undisplayable_exposure(scene, tracer, lr.labels, framing_of(job));
     std::printf("\n%s at %.0f m: %zu triangles (P %zu, I %zu, U %zu), p(d) = %.4f m, %zu labelling + %zu held-out "
                 "views; undisplayable exposure %.3f%%: fidelity %s them\n",
                 m.key.c_str(), d, scene.triangle_count(), lc.perceptible, lc.imperceptible, lc.undisplayable, p,
@@ -494,7 +495,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     std::printf("%-6s %4s  %-26s %8s  %7s  | %-23s | %-23s | %s\n", "model", "d", "method", "tris", "simp s",
                 "labelling: chg  SSIM  sil", "held-out: chg  SSIM  sil", "Hausdorff/diag");
 
-    auto simplified = [&](SimplifyOptions so, const std::string& suffix = "", nlohmann::json* views = nullptr) {
+    auto simplified = [&](SimplifyOptions so, const std::string& suffix = "", std::vector<ViewFigures>* views = nullptr) {
       so.pixel_footprint = p;
       SimplifyStats st;
       Scene lod = simplify(scene, lr.labels, so, &st);
@@ -511,7 +512,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     for (double ei : e_i) {
       // As `perclod run` makes it: the asked bounds, then tighten_to_limits.
       const SimplifyOptions asked = fidelity_options(e_p, ei);
-      nlohmann::json views;
+      std::vector<ViewFigures> views;
       Judged j = simplified(asked, "", &views);
       std::string note;
       const Judged at_asked = j;
@@ -526,7 +527,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
         ss << "; asked: " << at_asked.triangles << " tris " << 100 * at_asked.held_out.changed << "% "
            << at_asked.held_out.ssim;
         note = ss.str();
-        return run_judged(views)["over_limits"].empty();
+        return run_judged(views).met();
       };
       Tightening t = Tightening::NotTried;
       if (g_tighten) t = tighten_to_limits(asked, run_judged(views), FidelityLimits{}, try_step);

@@ -151,7 +151,7 @@ void coverage(const Model& m, const Scene& scene, const std::vector<double>& dis
           if (f >= worst) worst = f, worst_view = t.name;
         }
       const auto t_exp = std::chrono::steady_clock::now();
-      const double exposure = undisplayable_exposure(scene, tracer, r.labels, job);
+      const double exposure = undisplayable_exposure(scene, tracer, r.labels, framing_of(job));
       std::printf("%-6s %5.0f  undisplayable exposure %.3f%% (%.2f s; labelling %.1f s)\n", m.key.c_str(), d,
                   100 * exposure, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_exp).count(), sec);
       LabelCounts c = count_labels(r.labels);

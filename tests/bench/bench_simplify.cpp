@@ -245,7 +245,7 @@ std::vector<Label> pipeline_labels(const Scene& scene, double distance, double& 
   std::vector<Label> labels = label_scene(renderer, scene, tracer, job).labels;
   std::fprintf(stderr, "  labelled in %.2f s (render, perceive, trace %zu views)\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), job.views.size());
-  exposure = undisplayable_exposure(scene, tracer, labels, job);
+  exposure = undisplayable_exposure(scene, tracer, labels, framing_of(job));
   return labels;
 }
 

@@ -36,9 +36,9 @@ Labelled label_building(Renderer& renderer) {
   return l;
 }
 
-size_t total(const nlohmann::json& views, const char* key) {
+size_t total(const std::vector<ViewFigures>& views, size_t ViewFigures::*field) {
   size_t n = 0;
-  for (const auto& v : views) n += v[key].get<size_t>();
+  for (const ViewFigures& v : views) n += v.*field;
   return n;
 }
 
@@ -46,32 +46,37 @@ size_t total(const nlohmann::json& views, const char* key) {
 // SSIMs below it, and the worst figures are the same either way.
 TEST(LodFidelity, JudgeViewsFlagsEachMeasureAgainstItsLimit) {
   auto view = [](const char* name, double changed, double ssim, double silhouette) {
-    return nlohmann::json{{"view", name},
-                          {"set", "held_out"},
-                          {"changed_fraction", changed},
-                          {"ssim_covered", ssim},
-                          {"silhouette_mismatch", silhouette}};
+    ViewFigures v;
+    v.view = name, v.set = "held_out";
+    v.changed_fraction = changed, v.ssim_covered = ssim, v.silhouette_mismatch = silhouette;
+    return v;
   };
-  const nlohmann::json views = {view("a", 0.01, 0.99, 0.0), view("b", 0.03, 0.96, 0.0), view("c", 0.0, 0.94, 0.02)};
-  const nlohmann::json by_default = judge_views(views, FidelityLimits{});
-  ASSERT_EQ(by_default["over_limits"].size(), 2u);
-  EXPECT_EQ(by_default["over_limits"][0]["view"], "b");
-  EXPECT_EQ(by_default["over_limits"][0]["measure"], "changed_fraction");
-  EXPECT_EQ(by_default["over_limits"][1]["view"], "c");
-  EXPECT_EQ(by_default["over_limits"][1]["measure"], "silhouette_mismatch");
-  EXPECT_EQ(by_default["worst"]["ssim_covered"], 0.94);
-  EXPECT_EQ(by_default["limits"]["min_ssim"], 0.0);
+  const std::vector<ViewFigures> views = {view("a", 0.01, 0.99, 0.0), view("b", 0.03, 0.96, 0.0),
+                                          view("c", 0.0, 0.94, 0.02)};
+  const Judgement by_default = judge_views(views, FidelityLimits{});
+  ASSERT_EQ(by_default.over_limits.size(), 2u);
+  EXPECT_FALSE(by_default.met());
+  EXPECT_EQ(by_default.over_limits[0].view, "b");
+  EXPECT_EQ(by_default.over_limits[0].measure, "changed_fraction");
+  EXPECT_EQ(by_default.over_limits[1].view, "c");
+  EXPECT_EQ(by_default.over_limits[1].measure, "silhouette_mismatch");
+  EXPECT_EQ(by_default.worst.ssim_covered, 0.94);
+  EXPECT_EQ(by_default.worst.changed_fraction, 0.03);
+  EXPECT_EQ(by_default.worst.silhouette_mismatch, 0.02);
+  EXPECT_EQ(by_default.limits.min_ssim, 0.0);
 
   FidelityLimits ssim;
   ssim.min_ssim = 0.95;
-  const nlohmann::json judged = judge_views(views, ssim);
-  EXPECT_EQ(judged["worst"], by_default["worst"]);
-  const nlohmann::json& over = judged["over_limits"];
+  const Judgement judged = judge_views(views, ssim);
+  EXPECT_EQ(judged.worst.ssim_covered, by_default.worst.ssim_covered);
+  EXPECT_EQ(judged.worst.changed_fraction, by_default.worst.changed_fraction);
+  const std::vector<OverLimit>& over = judged.over_limits;
   ASSERT_EQ(over.size(), 3u);
-  EXPECT_EQ(over[1]["view"], "c");  // b's 0.96 is within it
-  EXPECT_EQ(over[1]["measure"], "ssim_covered");
-  EXPECT_EQ(over[1]["value"], 0.94);
-  EXPECT_EQ(over[1]["limit"], 0.95);
+  EXPECT_EQ(over[1].view, "c");  // b's 0.96 is within it
+  EXPECT_EQ(over[1].measure, "ssim_covered");
+  EXPECT_EQ(over[1].value, 0.94);
+  EXPECT_EQ(over[1].limit, 0.95);
+  EXPECT_TRUE(judge_views({view("d", 0.0, 1.0, 0.0)}, ssim).met());
 }
 
 TEST(LodFidelity, SeesNoChangeInTheOriginalAndSeesARemovedPart) {
@@ -79,11 +84,11 @@ TEST(LodFidelity, SeesNoChangeInTheOriginalAndSeesARemovedPart) {
   Labelled l = label_building(renderer);
   ASSERT_EQ(l.result.views.size(), 4u);
 
-  nlohmann::json same = compare_lod_views(renderer, l.scene, l.result, l.job);
+  std::vector<ViewFigures> same = compare_lod_views(renderer, l.scene, l.result.views, judge_settings_of(l.job));
   ASSERT_EQ(same.size(), 4u);
-  EXPECT_GT(total(same, "drawn_pixels"), 100000u);
-  EXPECT_EQ(total(same, "changed_pixels"), 0u);
-  EXPECT_EQ(total(same, "coverage_changed_pixels"), 0u);
+  EXPECT_GT(total(same, &ViewFigures::drawn_pixels), 100000u);
+  EXPECT_EQ(total(same, &ViewFigures::changed_pixels), 0u);
+  EXPECT_EQ(total(same, &ViewFigures::coverage_changed_pixels), 0u);
 
   // Drop every perceptible triangle: the views must notice.
   Scene cut = l.scene;
@@ -96,9 +101,9 @@ TEST(LodFidelity, SeesNoChangeInTheOriginalAndSeesARemovedPart) {
     if (!l.scene.component.empty()) cut.component.push_back(l.scene.component[t]);
     if (!l.scene.material.empty()) cut.material.push_back(l.scene.material[t]);
   }
-  nlohmann::json missing = compare_lod_views(renderer, cut, l.result, l.job);
-  EXPECT_GT(total(missing, "changed_pixels"), total(missing, "drawn_pixels") / 4);
-  EXPECT_GT(total(missing, "coverage_changed_pixels"), 10000u);
+  std::vector<ViewFigures> missing = compare_lod_views(renderer, cut, l.result.views, judge_settings_of(l.job));
+  EXPECT_GT(total(missing, &ViewFigures::changed_pixels), total(missing, &ViewFigures::drawn_pixels) / 4);
+  EXPECT_GT(total(missing, &ViewFigures::coverage_changed_pixels), 10000u);
 }
 
 TEST(LodFidelity, PaperLodAt56mHoldsAFractionOfTheInputAndLooksAlike) {
@@ -115,14 +120,14 @@ TEST(LodFidelity, PaperLodAt56mHoldsAFractionOfTheInputAndLooksAlike) {
   // the imperceptible ones collapses cannot reach.
   EXPECT_LT(lod.triangle_count(), l.scene.triangle_count() / 3);
 
-  nlohmann::json views = compare_lod_views(renderer, lod, l.result, l.job);
+  std::vector<ViewFigures> views = compare_lod_views(renderer, lod, l.result.views, judge_settings_of(l.job));
   for (const auto& v : views) {
     std::printf("  %s: %zu drawn, %zu changed after vision simulation, %zu coverage\n",
-                v["view"].get<std::string>().c_str(), v["drawn_pixels"].get<size_t>(),
-                v["changed_pixels"].get<size_t>(), v["coverage_changed_pixels"].get<size_t>());
+                v.view.c_str(), v.drawn_pixels,
+                v.changed_pixels, v.coverage_changed_pixels);
     // Measured 0-2.8% per view; coverage changes under 0.2% of drawn pixels.
-    EXPECT_LT(v["changed_fraction"].get<double>(), 0.05) << v["view"];
-    EXPECT_LT(v["coverage_changed_pixels"].get<double>(), 0.003 * v["drawn_pixels"].get<double>()) << v["view"];
+    EXPECT_LT(v.changed_fraction, 0.05) << v.view;
+    EXPECT_LT(v.coverage_changed_pixels, 0.003 * v.drawn_pixels) << v.view;
   }
 
   // Plain quadric simplification aimed at the same count, labels ignored,
@@ -133,11 +138,11 @@ TEST(LodFidelity, PaperLodAt56mHoldsAFractionOfTheInputAndLooksAlike) {
   qem.target_triangles = lod.triangle_count();
   SimplifyStats qst;
   Scene plain = simplify(l.scene, l.result.labels, qem, &qst);
-  nlohmann::json plain_views = compare_lod_views(renderer, plain, l.result, l.job);
+  std::vector<ViewFigures> plain_views = compare_lod_views(renderer, plain, l.result.views, judge_settings_of(l.job));
   std::printf("  changed pixels, all views: paper %zu (%zu triangles), qem %zu (%zu triangles)\n",
-              total(views, "changed_pixels"), lod.triangle_count(), total(plain_views, "changed_pixels"),
+              total(views, &ViewFigures::changed_pixels), lod.triangle_count(), total(plain_views, &ViewFigures::changed_pixels),
               plain.triangle_count());
-  EXPECT_LT(total(views, "changed_pixels"), total(plain_views, "changed_pixels"));
+  EXPECT_LT(total(views, &ViewFigures::changed_pixels), total(plain_views, &ViewFigures::changed_pixels));
 }
 
 // The default job at 56 m: labels from the default view set (the view from
@@ -154,7 +159,7 @@ TEST(LodFidelity, DefaultLodAt56mMeetsTheLimitsFromEveryViewIncludingAbove) {
   OctreeTracer tracer(scene);
   LabelResult lr = label_scene(renderer, scene, tracer, job);
   std::vector<ViewRecord> judged = lr.views;
-  for (auto& r : record_views(renderer, scene, parse_views(kDefaultJudgeViews, UpAxis::Z), job))
+  for (auto& r : record_views(renderer, scene, parse_views(kDefaultJudgeViews, UpAxis::Z), framing_of(job)))
     judged.push_back(std::move(r));
   ASSERT_EQ(judged.size(), 21u + 9u);
 
@@ -165,16 +170,16 @@ TEST(LodFidelity, DefaultLodAt56mMeetsTheLimitsFromEveryViewIncludingAbove) {
   Scene lod = simplify(scene, lr.labels, opt, &st);
   // Measured 4,831 of 12,456 triangles.
   EXPECT_LT(lod.triangle_count(), scene.triangle_count() / 2);
-  const nlohmann::json views = compare_lod_views(renderer, lod, judged, job);
+  const std::vector<ViewFigures> views = compare_lod_views(renderer, lod, judged, judge_settings_of(job));
   for (const auto& v : views) {
-    std::printf("  %-12s %-9s changed %.3f%%, SSIM %.4f, silhouette %.3f%%\n", v["view"].get<std::string>().c_str(),
-                v["set"].get<std::string>().c_str(), 100 * v["changed_fraction"].get<double>(),
-                v["ssim_covered"].get<double>(), 100 * v["silhouette_mismatch"].get<double>());
-    EXPECT_LE(v["changed_fraction"].get<double>(), 0.02) << v["view"];
-    EXPECT_GE(v["ssim_covered"].get<double>(), 0.97) << v["view"];
-    EXPECT_LE(v["silhouette_mismatch"].get<double>(), 0.01) << v["view"];
+    std::printf("  %-12s %-9s changed %.3f%%, SSIM %.4f, silhouette %.3f%%\n", v.view.c_str(),
+                v.set.c_str(), 100 * v.changed_fraction,
+                v.ssim_covered, 100 * v.silhouette_mismatch);
+    EXPECT_LE(v.changed_fraction, 0.02) << v.view;
+    EXPECT_GE(v.ssim_covered, 0.97) << v.view;
+    EXPECT_LE(v.silhouette_mismatch, 0.01) << v.view;
   }
-  EXPECT_TRUE(judge_views(views, FidelityLimits{})["over_limits"].empty());
+  EXPECT_TRUE(judge_views(views, FidelityLimits{}).met());
 
   // The paper's setting (four facades, one sample, paper mode) leaves holes
   // in the roof: seen from above, its silhouette differs far more.
@@ -188,8 +193,9 @@ TEST(LodFidelity, DefaultLodAt56mMeetsTheLimitsFromEveryViewIncludingAbove) {
   const auto above = std::find_if(judged.begin(), judged.end(), [](const ViewRecord& r) { return r.view == "top"; });
   ASSERT_NE(above, judged.end());
   std::vector<ViewRecord> top(above, above + 1);
-  const double default_top = views[size_t(above - judged.begin())]["silhouette_mismatch"].get<double>();
-  const double paper_top = compare_lod_views(renderer, paper_lod, top, job)[0]["silhouette_mismatch"].get<double>();
+  const double default_top = views[size_t(above - judged.begin())].silhouette_mismatch;
+  const double paper_top =
+      compare_lod_views(renderer, paper_lod, top, judge_settings_of(job))[0].silhouette_mismatch;
   std::printf("  from above: silhouette mismatch %.3f%% (default) vs %.3f%% (paper)\n", 100 * default_top,
               100 * paper_top);
   EXPECT_GT(paper_top, 0.05);
@@ -227,15 +233,15 @@ TEST(LodFidelity, FlatPerceptibleWallLosesTrianglesNotPixels) {
   opt.pixel_footprint = display_pixel_footprint(job.display, job.distance);
   Scene lod = simplify(wall, lr.labels, opt);
   EXPECT_LT(lod.triangle_count(), wall.triangle_count() / 20);
-  for (const auto& v : compare_lod_views(renderer, lod, lr, job)) {
-    EXPECT_GT(v["drawn_pixels"].get<size_t>(), 10000u) << v["view"];
-    const size_t drawn = v["drawn_pixels"].get<size_t>();
-    if (v["view"] == "-y") {
-      EXPECT_EQ(v["changed_pixels"].get<size_t>(), 0u);
-      EXPECT_EQ(v["coverage_changed_pixels"].get<size_t>(), 0u);
+  for (const auto& v : compare_lod_views(renderer, lod, lr.views, judge_settings_of(job))) {
+    EXPECT_GT(v.drawn_pixels, 10000u) << v.view;
+    const size_t drawn = v.drawn_pixels;
+    if (v.view == "-y") {
+      EXPECT_EQ(v.changed_pixels, 0u);
+      EXPECT_EQ(v.coverage_changed_pixels, 0u);
     }
-    EXPECT_LE(v["coverage_changed_pixels"].get<size_t>(), drawn / 10000) << v["view"];
-    EXPECT_LE(v["changed_pixels"].get<size_t>(), drawn / 1000) << v["view"];
+    EXPECT_LE(v.coverage_changed_pixels, drawn / 10000) << v.view;
+    EXPECT_LE(v.changed_pixels, drawn / 1000) << v.view;
   }
 }
 
@@ -249,7 +255,7 @@ TEST(LodFidelity, ALodDrawingBeyondTheKeptRectangleIsChangedThere) {
   LabelJob job;
   job.up = UpAxis::Z;
   job.distance = 427;
-  const std::vector<ViewRecord> rec = record_views(renderer, scene, {"-y"}, job);
+  const std::vector<ViewRecord> rec = record_views(renderer, scene, {"-y"}, framing_of(job));
   ASSERT_EQ(rec.size(), 1u);
   EXPECT_LT(size_t(rec[0].w) * size_t(rec[0].h), size_t(rec[0].camera.width) * size_t(rec[0].camera.height) / 20);
   // The record rebuilds the render it was made from, every byte (the judge
@@ -264,10 +270,10 @@ TEST(LodFidelity, ALodDrawingBeyondTheKeptRectangleIsChangedThere) {
   rec[0].rgb_into(kept);
   EXPECT_EQ(kept.size(), 3 * size_t(rec[0].w) * size_t(rec[0].h));
   EXPECT_LT(rec[0].packed_rgb.size(), kept.size() / 4);  // packed: a flat-shaded building is mostly runs
-  const nlohmann::json same = compare_lod_views(renderer, scene, rec, job);
-  EXPECT_EQ(same[0]["changed_pixels"], 0u);
-  EXPECT_EQ(same[0]["coverage_changed_pixels"], 0u);
-  EXPECT_EQ(same[0]["ssim_covered"].get<double>(), 1.0);
+  const std::vector<ViewFigures> same = compare_lod_views(renderer, scene, rec, judge_settings_of(job));
+  EXPECT_EQ(same[0].changed_pixels, 0u);
+  EXPECT_EQ(same[0].coverage_changed_pixels, 0u);
+  EXPECT_EQ(same[0].ssim_covered, 1.0);
 
   Scene more = scene;
   const Bounds b = scene_bounds(scene);
@@ -277,11 +283,11 @@ TEST(LodFidelity, ALodDrawingBeyondTheKeptRectangleIsChangedThere) {
   more.indices.insert(more.indices.end(), {v, v + 1, v + 2, v, v + 2, v + 3});
   if (!more.component.empty()) more.component.insert(more.component.end(), 2, more.component.back());
   if (!more.material.empty()) more.material.insert(more.material.end(), 2, more.material.back());
-  const nlohmann::json moved = compare_lod_views(renderer, more, rec, job);
-  const size_t quad = moved[0]["coverage_changed_pixels"].get<size_t>();
+  const std::vector<ViewFigures> moved = compare_lod_views(renderer, more, rec, judge_settings_of(job));
+  const size_t quad = moved[0].coverage_changed_pixels;
   EXPECT_GT(quad, 40u);  // about 8 x 12 px
-  EXPECT_GE(moved[0]["changed_pixels"].get<size_t>(), quad);
-  EXPECT_EQ(moved[0]["drawn_pixels"].get<size_t>(), same[0]["drawn_pixels"].get<size_t>() + quad);
+  EXPECT_GE(moved[0].changed_pixels, quad);
+  EXPECT_EQ(moved[0].drawn_pixels, same[0].drawn_pixels + quad);
 }
 
 // The overlapped paths (view k+1 rendered while view k is traced, or
@@ -323,8 +329,8 @@ TEST(LodFidelity, OverlappedViewsGiveTheSequentialResults) {
   opt.pixel_footprint = display_pixel_footprint(job.display, job.distance);
   const Scene lod = simplify(scene, a.labels, opt);
   std::vector<Rgb8Image> pa, pb;
-  const nlohmann::json ja = compare_lod_views(renderer, lod, a.views, job, &pa);
-  const nlohmann::json jb = compare_lod_views(renderer, lod, a.views, sequential, &pb);
+  const std::vector<ViewFigures> ja = compare_lod_views(renderer, lod, a.views, judge_settings_of(job), &pa);
+  const std::vector<ViewFigures> jb = compare_lod_views(renderer, lod, a.views, judge_settings_of(sequential), &pb);
   EXPECT_EQ(ja, jb);
   ASSERT_EQ(pa.size(), pb.size());
   for (size_t k = 0; k < pa.size(); ++k) EXPECT_EQ(pa[k].pixels, pb[k].pixels);

@@ -631,9 +631,10 @@ TEST(TightenToLimits, StepsAreTheTighterOnesAndReachIsBounded) {
 
   const FidelityLimits limits;  // 2% changed, 1% silhouette, no SSIM limit
   auto judged = [](double changed, double silhouette, double ssim, const FidelityLimits& against = {}) {
-    nlohmann::json v = {{"view", "v"}, {"set", "held_out"}, {"changed_fraction", changed},
-                        {"silhouette_mismatch", silhouette}, {"ssim_covered", ssim}};
-    return judge_views(nlohmann::json::array({v}), against);
+    ViewFigures v;
+    v.view = "v", v.set = "held_out";
+    v.changed_fraction = changed, v.silhouette_mismatch = silhouette, v.ssim_covered = ssim;
+    return judge_views({v}, against);
   };
   EXPECT_FALSE(worth_tightening(judged(0.02, 0.01, 0.9), limits));  // within: nothing to do
   EXPECT_TRUE(worth_tightening(judged(0.0329, 0.0001, 0.99), limits));
@@ -654,9 +655,10 @@ TEST(TightenToLimits, TriesTheStepsInOrderUntilOneIsWithin) {
   so.mode = SimplifyMode::Fidelity;
   const FidelityLimits limits;
   auto judged = [&](double changed) {
-    nlohmann::json v = {{"view", "v"}, {"set", "held_out"}, {"changed_fraction", changed},
-                        {"silhouette_mismatch", 0.0}, {"ssim_covered", 0.99}};
-    return judge_views(nlohmann::json::array({v}), limits);
+    ViewFigures v;
+    v.view = "v", v.set = "held_out";
+    v.changed_fraction = changed, v.silhouette_mismatch = 0.0, v.ssim_covered = 0.99;
+    return judge_views({v}, limits);
   };
   std::vector<double> tried;  // e_imperceptible of each try
   auto within_at = [&](size_t n) {  // the n-th try (from 1) is within; 0: none is
@@ -748,7 +750,7 @@ TEST(UndisplayableAuto, ExposureIsTheShareOfHitsOnUndisplayableTriangles) {
       s.component.insert(s.component.end(), {0, 0});
     }
   OctreeTracer tracer(s);
-  LabelJob job = job_for("top", 20);
+  const Framing job = framing_of(job_for("top", 20));
   std::vector<Label> labels(s.triangle_count(), Label::Perceptible);
   EXPECT_EQ(undisplayable_exposure(s, tracer, labels, job), 0);
   std::fill(labels.begin(), labels.end(), Label::Undisplayable);

@@ -25,6 +25,7 @@
 #include "perclod/load.h"
 #include "perclod/model_exports.h"
 #include "perclod/report_html.h"
+#include "perclod/report_json.h"
 
 #ifndef PERCLOD_VERSION
 #define PERCLOD_VERSION "unknown"
@@ -108,7 +109,8 @@ nlohmann::json run_model(const BatchConfig& config, const ModelRun& run, const s
     progress(ss.str());
   }
   std::vector<Scene> lods;
-  nlohmann::json report = make_lods(scene, job, progress, &lods);
+  nlohmann::json report = lod_set_json(make_lods(scene, job, progress, &lods));
+  write_text_atomic(job.label.out.report(), report.dump(2) + "\n");
   report["model"] = c.model;
   report["load"] = load_report_json(rep);
   report["manifest"] = leaf(job.label.out.file("_manifest.json"));

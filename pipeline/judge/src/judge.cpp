@@ -20,15 +20,17 @@
 namespace perclod {
 using namespace detail;
 
+JudgeSettings judge_settings_of(const LabelJob& job) { return {perception_for(job), job.overlap}; }
+
 std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
-                                     const LabelJob& job, const std::string& set) {
+                                     const Framing& framing, const std::string& set) {
   const Bounds bounds = scene_bounds(scene);
   renderer.set_scene(scene);
   std::vector<ViewRecord> records;
   std::vector<uint8_t> background;
   RenderOutput img;  // one set of buffers for every view
   for (const auto& view : views)
-    for (const ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) {
+    for (const ViewTile& tile : frame_view(bounds, framing.up, view, framing.distance, framing.display)) {
       renderer.render(tile.camera, img);
       background_of(img, background);
       records.push_back(view_record(tile.name, tile.camera, img.rgb, background, set));
@@ -109,7 +111,7 @@ struct ViewComparer {
   std::vector<uint8_t> background, drawn_mask, changed_mask, original_rgb;
   SsimScratch ssim_scratch;
 
-  nlohmann::json operator()(const ViewRecord& v, RenderOutput& img, Rgb8Image* picture) {
+  ViewFigures operator()(const ViewRecord& v, RenderOutput& img, Rgb8Image* picture) {
     const size_t kept = size_t(v.w) * size_t(v.h);
     if (img.width != v.camera.width || img.height != v.camera.height || v.background.size() != kept)
       throw std::logic_error("compare_lod_views: view size changed between recording and comparison");
@@ -146,16 +148,18 @@ struct ViewComparer {
                                   drawn_mask.data(), &ssim_scratch);
     if (picture)
       *picture = side_by_side(v, original.luminance, pr.luminance, background, changed_mask, img.width, img.height);
-    return {{"view", v.view},
-            {"set", v.set},
-            {"drawn_pixels", drawn},
-            {"changed_pixels", changed},
-            {"changed_fraction", drawn ? double(changed) / double(drawn) : 0.0},
-            {"ssim_covered", ssim},
-            {"covered_pixels_original", covered_original},
-            {"coverage_changed_pixels", coverage_changed},
-            {"silhouette_mismatch", covered_original ? double(coverage_changed) / double(covered_original)
-                                                     : (coverage_changed ? 1.0 : 0.0)}};
+    ViewFigures f;
+    f.view = v.view;
+    f.set = v.set;
+    f.drawn_pixels = drawn;
+    f.changed_pixels = changed;
+    f.changed_fraction = drawn ? double(changed) / double(drawn) : 0.0;
+    f.ssim_covered = ssim;
+    f.covered_pixels_original = covered_original;
+    f.coverage_changed_pixels = coverage_changed;
+    f.silhouette_mismatch = covered_original ? double(coverage_changed) / double(covered_original)
+                                             : (coverage_changed ? 1.0 : 0.0);
+    return f;
   }
 };
 
@@ -164,18 +168,19 @@ struct ViewComparer {
 // The LOD's render of view k+1 (on this thread, which owns the OpenGL
 // context) overlaps the comparison of view k on a worker; the figures are
 // those of one view after another.
-nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
-                                 const LabelJob& job, std::vector<Rgb8Image>* pictures) {
+std::vector<ViewFigures> compare_lod_views(Renderer& renderer, const Scene& lod,
+                                           const std::vector<ViewRecord>& original, const JudgeSettings& how,
+                                           std::vector<Rgb8Image>* pictures) {
   renderer.set_scene(lod);
-  nlohmann::json views = nlohmann::json::array();
+  std::vector<ViewFigures> views;
   std::vector<Rgb8Image> shots(pictures ? original.size() : 0);
-  ViewComparer compare{perception_for(job), {}, {}, {}, {}, {}, {}, {}};
+  ViewComparer compare{how.perception, {}, {}, {}, {}, {}, {}, {}};
   RenderOutput img[2];
   // Declared after the buffers it works on: an exception ends the worker
   // (finishing the comparison in flight) before they are freed.
   std::optional<Worker> worker;
-  if (job.overlap) worker.emplace();
-  std::future<nlohmann::json> pending;
+  if (how.overlap) worker.emplace();
+  std::future<ViewFigures> pending;
   for (size_t k = 0; k < original.size(); ++k) {
     renderer.render(original[k].camera, img[k % 2]);  // reuses the buffers of view k-2, compared by now
     if (pending.valid()) views.push_back(pending.get());
@@ -189,33 +194,23 @@ nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std
   return views;
 }
 
-nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
-                                 const LabelJob& job) {
-  return compare_lod_views(renderer, lod, original.views, job);
-}
-
-nlohmann::json judge_views(const nlohmann::json& views, const FidelityLimits& limits) {
-  double changed = 0, silhouette = 0, ssim = 1;
-  nlohmann::json over = nlohmann::json::array();
-  for (const auto& v : views) {
-    const double c = v.at("changed_fraction").get<double>(), s = v.at("silhouette_mismatch").get<double>();
-    const double q = v.at("ssim_covered").get<double>();
-    changed = std::max(changed, c);
-    silhouette = std::max(silhouette, s);
-    ssim = std::min(ssim, q);
+Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimits& limits) {
+  Judgement j;
+  j.limits = limits;
+  WorstFigures& w = j.worst;
+  for (const ViewFigures& v : views) {
+    w.changed_fraction = std::max(w.changed_fraction, v.changed_fraction);
+    w.silhouette_mismatch = std::max(w.silhouette_mismatch, v.silhouette_mismatch);
+    w.ssim_covered = std::min(w.ssim_covered, v.ssim_covered);
     auto flag = [&](const char* measure, double value, double limit, bool over_limit) {
-      if (over_limit)
-        over.push_back({{"view", v.at("view")}, {"set", v.at("set")}, {"measure", measure}, {"value", value},
-                        {"limit", limit}});
+      if (over_limit) j.over_limits.push_back({v.view, v.set, measure, value, limit});
     };
-    flag("changed_fraction", c, limits.max_changed, c > limits.max_changed);
-    flag("ssim_covered", q, limits.min_ssim, q < limits.min_ssim);
-    flag("silhouette_mismatch", s, limits.max_silhouette, s > limits.max_silhouette);
+    flag("changed_fraction", v.changed_fraction, limits.max_changed, v.changed_fraction > limits.max_changed);
+    flag("ssim_covered", v.ssim_covered, limits.min_ssim, v.ssim_covered < limits.min_ssim);
+    flag("silhouette_mismatch", v.silhouette_mismatch, limits.max_silhouette,
+         v.silhouette_mismatch > limits.max_silhouette);
   }
-  return {{"worst", {{"changed_fraction", changed}, {"ssim_covered", ssim}, {"silhouette_mismatch", silhouette}}},
-          {"limits",
-           {{"max_changed", limits.max_changed}, {"max_silhouette", limits.max_silhouette}, {"min_ssim", limits.min_ssim}}},
-          {"over_limits", over}};
+  return j;
 }
 
 }  // namespace perclod

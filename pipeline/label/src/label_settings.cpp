@@ -84,6 +84,8 @@ Buildings find_buildings(const Scene& scene) {
   return b;
 }
 
+Framing framing_of(const LabelJob& job) { return {job.up, job.display, job.distance}; }
+
 PerceptionSettings perception_for(const LabelJob& job) {
   PerceptionSettings ps = job.perception;
   ps.ppd = job.display.pixels_per_degree();

@@ -46,16 +46,15 @@ std::vector<FidelitySearchStep> tighten_steps(const SimplifyOptions& so) {
   return steps;
 }
 
-bool worth_tightening(const nlohmann::json& judged, const FidelityLimits& limits) {
-  if (judged.at("over_limits").empty()) return false;
-  const nlohmann::json& w = judged.at("worst");
-  const bool ssim_within =
-      limits.min_ssim <= 0 || 1 - w.at("ssim_covered").get<double>() <= kTightenReach * (1 - limits.min_ssim);
-  return w.at("changed_fraction").get<double>() <= kTightenReach * limits.max_changed &&
-         w.at("silhouette_mismatch").get<double>() <= kTightenReach * limits.max_silhouette && ssim_within;
+bool worth_tightening(const Judgement& judged, const FidelityLimits& limits) {
+  if (judged.met()) return false;
+  const WorstFigures& w = judged.worst;
+  const bool ssim_within = limits.min_ssim <= 0 || 1 - w.ssim_covered <= kTightenReach * (1 - limits.min_ssim);
+  return w.changed_fraction <= kTightenReach * limits.max_changed &&
+         w.silhouette_mismatch <= kTightenReach * limits.max_silhouette && ssim_within;
 }
 
-Tightening tighten_to_limits(const SimplifyOptions& asked, const nlohmann::json& judged, const FidelityLimits& limits,
+Tightening tighten_to_limits(const SimplifyOptions& asked, const Judgement& judged, const FidelityLimits& limits,
                              const std::function<bool(const SimplifyOptions&)>& try_step) {
   const std::vector<FidelitySearchStep> steps = tighten_steps(asked);
   if (steps.empty() || !worth_tightening(judged, limits)) return Tightening::NotTried;

@@ -22,44 +22,6 @@
 namespace perclod {
 using namespace detail;
 
-nlohmann::json simplify_stats_json(const SimplifyStats& s) {
-  auto per_label = [](const std::array<size_t, 3>& n) {
-    return nlohmann::json{{"perceptible", n[0]}, {"imperceptible", n[1]}, {"undisplayable", n[2]},
-                          {"total", n[0] + n[1] + n[2]}};
-  };
-  nlohmann::json j = {{"triangles_before", per_label(s.triangles_before)},
-                      {"triangles_after", per_label(s.triangles_after)},
-                      {"total_before", s.total_before()},
-                      {"total_after", s.total_after()},
-                      {"vertices_before", s.vertices_before},
-                      {"vertices_after", s.vertices_after},
-                      {"components_removed", s.components_removed},
-                      {"pieces_removed", s.pieces_removed},
-                      {"pieces_triangles_removed", s.pieces_triangles_removed},
-                      {"undisplayable_faces_deleted", s.undisplayable_faces_deleted},
-                      {"nonmanifold_faces_duplicated", s.nonmanifold_faces_duplicated},
-                      {"degenerate_faces", s.degenerate_faces},
-                      {"collapses", s.collapses},
-                      {"chunks", s.chunks},
-                      {"tolerance", s.tolerance},
-                      {"tolerance_perceptible", s.tolerance_perceptible},
-                      {"target_reached", s.target_reached},
-                      {"stop_reason", s.stop_reason},
-                      {"max_error", s.max_error},
-                      {"cluster_dangling_edges", s.cluster_dangling_edges},
-                      {"cluster_isolated_points", s.cluster_isolated_points},
-                      {"max_displacement_rel", s.max_displacement_rel},
-                      {"mean_displacement_rel", s.mean_displacement_rel},
-                      {"bbox_diagonal", s.bbox_diagonal},
-                      {"seconds", s.seconds}};
-  if (s.refused_counted) {
-    const SimplifyStats::Refused& r = s.refused;
-    j["refused"] = {{"bound_or_locked", r.bound_or_locked}, {"valence", r.valence}, {"topology", r.topology},
-                    {"shape", r.shape}, {"legal", r.legal}, {"total", r.total()}};
-  }
-  return j;
-}
-
 SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
   const SimplifyMode mode = job.options.mode;
   if (simplify_mode_uses_labels(mode) && job.labels_file.empty())
@@ -90,10 +52,7 @@ SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job) {
   SimplifyOptions so = job.options;
   so.pixel_footprint = run.pixel_footprint = display_pixel_footprint(job.display, job.distance);
   if (job.undisplayable_auto && undisplayable_auto_applies(so)) {
-    LabelJob framing;
-    framing.up = job.up;
-    framing.display = job.display;
-    framing.distance = job.distance;
+    const Framing framing{job.up, job.display, job.distance};
     run.undisplayable_exposure = choose_undisplayable(so, scene, OctreeTracer(scene), labels, framing);
   }
   run.options = so;

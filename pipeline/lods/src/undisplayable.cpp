@@ -27,7 +27,7 @@ std::vector<std::string> exposure_views() {
 }
 
 double undisplayable_exposure(const Scene& scene, const Tracer& tracer, const std::vector<Label>& labels,
-                              const LabelJob& job) {
+                              const Framing& job) {
   if (labels.size() != scene.triangle_count())
     throw std::invalid_argument("undisplayable_exposure: labels and scene differ in size");
   const Bounds b = scene_bounds(scene);
@@ -55,17 +55,14 @@ SimplifyOptions choose_undisplayable(SimplifyOptions so, double exposure) {
 }
 
 double choose_undisplayable(SimplifyOptions& so, const Scene& scene, const Tracer& tracer,
-                            const std::vector<Label>& labels, const LabelJob& framing) {
+                            const std::vector<Label>& labels, const Framing& framing) {
   const double exposure = undisplayable_exposure(scene, tracer, labels, framing);
   so = choose_undisplayable(so, exposure);
   return exposure;
 }
 
-void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so, double exposure) {
-  j["undisplayable"] = so.delete_undisplayable ? "deleted" : "collapsed";
-  if (!so.delete_undisplayable && std::isfinite(so.bound_undisplayable_px))
-    j["e_undisplayable"] = so.bound_undisplayable_px;
-  if (exposure >= 0) j["undisplayable_exposure"] = exposure;  // keep_undisplayable: auto decided
+UndisplayableRule undisplayable_rule_of(const SimplifyOptions& so, double exposure) {
+  return {so.delete_undisplayable, so.bound_undisplayable_px, exposure};
 }
 
 

@@ -3,14 +3,17 @@
 // per view, and the worst of them against the limits.
 #pragma once
 
-#include <nlohmann/json.hpp>
+#include <cstddef>
 #include <string>
 #include <vector>
 
+#include "perclod/display.h"
 #include "perclod/image_io.h"
+#include "perclod/perception.h"
 #include "perclod/label.h"
 #include "perclod/render.h"
 #include "perclod/view_record.h"
+#include "perclod/views.h"
 
 namespace perclod {
 
@@ -19,11 +22,35 @@ namespace perclod {
 // of the default set).
 constexpr const char* kDefaultJudgeViews = "held_out";
 
+// How a LOD's render is compared with the original's: the perception
+// settings at the display's pixel density (perception_for), and whether the
+// LOD's render of view k+1 overlaps the comparison of view k (same figures).
+struct JudgeSettings {
+  PerceptionSettings perception;
+  bool overlap = true;
+};
+JudgeSettings judge_settings_of(const LabelJob& job);
+
 // Renders `scene` from `views` (framed like labelling views, cameras from the
-// scene's own bounding box, at job.distance) and records each for
-// compare_lod_views, marked with `set`. Uploads `scene` to `renderer`.
+// scene's own bounding box) and records each for compare_lod_views, marked
+// with `set`. Uploads `scene` to `renderer`.
 std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
-                                     const LabelJob& job, const std::string& set = "held_out");
+                                     const Framing& framing, const std::string& set = "held_out");
+
+// One judged view: how the LOD's render differs from the original's.
+struct ViewFigures {
+  std::string view;                 // view name (with "_t<i>" for a tile)
+  std::string set;                  // "labelling" or "held_out"
+  size_t drawn_pixels = 0;          // drawn in either render
+  size_t changed_pixels = 0;        // of those, perceptibly changed
+  double changed_fraction = 0;      // changed_pixels / drawn_pixels
+  double ssim_covered = 1;          // mean SSIM of the luminances over the drawn pixels
+  size_t covered_pixels_original = 0;
+  size_t coverage_changed_pixels = 0;  // drawn in exactly one of the two
+  double silhouette_mismatch = 0;   // coverage_changed_pixels / covered_pixels_original
+  std::string comparison_image;     // the picture's file, when make_lods writes one
+  bool operator==(const ViewFigures&) const = default;
+};
 
 // How a LOD looks from recorded views of the original: each view is rendered
 // from `lod`. Per view:
@@ -33,29 +60,46 @@ std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, con
 //  * ssim_covered: mean SSIM (ssim_mean) of the two renders' luminance over
 //    the pixels drawn in either;
 //  * silhouette_mismatch: pixels drawn in exactly one of the two, over the
-//    pixels the original draws (coverage_changed_pixels counts them).
+//    pixels the original draws (1 when the original draws none and the LOD
+//    some).
 // Uploads `lod` to `renderer`.
 // `pictures`, when given, receives per view a picture of the region either
 // render draws (scaled to 240-400 px): the original's luminance | the LOD's |
 // the LOD's with changed pixels red and silhouette changes blue (make_lods
 // writes them as _lod_vs_original.png).
-nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
-                                 const LabelJob& job, std::vector<Rgb8Image>* pictures = nullptr);
-// The same from the labelling views of a LabelResult.
-nlohmann::json compare_lod_views(Renderer& renderer, const Scene& lod, const LabelResult& original,
-                                 const LabelJob& job);
+std::vector<ViewFigures> compare_lod_views(Renderer& renderer, const Scene& lod,
+                                           const std::vector<ViewRecord>& original, const JudgeSettings& how,
+                                           std::vector<Rgb8Image>* pictures = nullptr);
 
-// Limits a LOD is held to in every judged view (README, "Judging a LOD").
+// Limits a LOD is held to in every judged view (docs/usage.md#judging-a-lod).
 struct FidelityLimits {
   double max_changed = 0.02;      // changed_fraction
   double max_silhouette = 0.01;   // silhouette_mismatch
   double min_ssim = 0;            // ssim_covered (0: no limit)
 };
 
-// The worst figures of compare_lod_views' views and the views over a limit:
-// {"worst": {"changed_fraction", "ssim_covered" (lowest), "silhouette_mismatch"},
-//  "over_limits": [{"view", "set", "measure", "value", "limit"}, ...]} (an
-// SSIM is over its limit when it is below min_ssim).
-nlohmann::json judge_views(const nlohmann::json& views, const FidelityLimits& limits);
+// The worst of each figure over the judged views.
+struct WorstFigures {
+  double changed_fraction = 0;
+  double ssim_covered = 1;        // the lowest
+  double silhouette_mismatch = 0;
+};
+
+// A view's figure over its limit (an SSIM is over when below min_ssim).
+struct OverLimit {
+  std::string view, set;
+  std::string measure;  // "changed_fraction", "ssim_covered" or "silhouette_mismatch"
+  double value = 0, limit = 0;
+};
+
+// The views of a LOD judged against limits.
+struct Judgement {
+  WorstFigures worst;
+  FidelityLimits limits;
+  std::vector<OverLimit> over_limits;  // in view order, each view's measures in the order above
+  bool met() const { return over_limits.empty(); }
+};
+
+Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimits& limits);
 
 }  // namespace perclod

@@ -197,6 +197,9 @@ void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& re
 nlohmann::json label_model(const Scene& scene, const LabelJob& job, TracerKind tracer,
                            const Progress& progress = {});
 
+// Where the job's eye stands: its up axis, display and distance.
+Framing framing_of(const LabelJob& job);
+
 // The job's perception settings at its display's pixel density.
 PerceptionSettings perception_for(const LabelJob& job);
 

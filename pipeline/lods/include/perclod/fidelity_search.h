@@ -97,7 +97,7 @@ std::vector<FidelitySearchStep> tighten_steps(const SimplifyOptions& so);
 // Whether `judged` (judge_views' result) is over `limits` and no worst
 // figure is beyond kTightenReach times its limit (an SSIM's shortfall from 1
 // against min_ssim's).
-bool worth_tightening(const nlohmann::json& judged, const FidelityLimits& limits);
+bool worth_tightening(const Judgement& judged, const FidelityLimits& limits);
 
 // tighten_to_limits itself, for `run` and for the benchmarks that must do as
 // it does. `judged` is judge_views' result (against `limits`) for the LOD
@@ -105,7 +105,7 @@ bool worth_tightening(const nlohmann::json& judged, const FidelityLimits& limits
 // `try_step(bounds)` makes and judges the LOD at each step's bounds in order
 // and returns whether it is within `limits`, until one is.
 enum class Tightening { NotTried, Met, NoneWithin };
-Tightening tighten_to_limits(const SimplifyOptions& asked, const nlohmann::json& judged, const FidelityLimits& limits,
+Tightening tighten_to_limits(const SimplifyOptions& asked, const Judgement& judged, const FidelityLimits& limits,
                              const std::function<bool(const SimplifyOptions&)>& try_step);
 
 }  // namespace perclod

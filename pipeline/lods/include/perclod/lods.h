@@ -11,6 +11,7 @@
 #include "perclod/label.h"
 #include "perclod/runtime.h"
 #include "perclod/simplify.h"
+#include "perclod/undisplayable.h"
 
 namespace perclod {
 
@@ -37,18 +38,65 @@ struct LodJob {
   bool undisplayable_auto = true;
 };
 
+// One try of a fidelity_target search or of tighten_to_limits.
+struct LodTry {
+  double e_imperceptible = 0, e_perceptible = 0;  // the bounds tried, px
+  UndisplayableRule undisplayable;
+  size_t triangles = 0;
+  double seconds_simplify = 0;
+  WorstFigures worst;  // over every judged view
+  bool met = false;    // within the search's target (or tighten_to_limits' limits)
+  bool kept = false;   // this try's LOD is the one written
+};
+
+// What a LOD's tries were.
+enum class LodTries { None, TightenToLimits, FidelitySearch };
+
+// One LOD of make_lods: how it was labelled, simplified and judged.
+struct LodResult {
+  double distance = 0;
+  // label_scene's report for this distance (per view: pixels, fractions,
+  // agreement, timings; the labels file and marking renders).
+  nlohmann::json labelling;
+  double pixel_footprint = 0;  // metres a pixel covers at this distance
+  std::string lod_file;
+  SimplifyStats simplify;
+  bool fidelity_mode = false;  // the bounds below are the fidelity mode's
+  double bound_perceptible_px = 0, bound_imperceptible_px = 0;
+  UndisplayableRule undisplayable;  // as written, with auto's exposure
+  LodTries tries_kind = LodTries::None;
+  std::vector<LodTry> tries;
+  bool empty = false;               // no triangle of the model displayable here
+  std::vector<ViewFigures> views;   // labelling views, then held-out ones
+  Judgement fidelity;               // views against the job's limits
+  double seconds_compare = 0, seconds = 0;
+};
+
+// make_lods' result: the model, the job's tools, one LodResult per distance.
+struct LodSet {
+  size_t triangles = 0, components = 0;
+  std::string display_name;
+  double display_ppd = 0, display_f_max = 0;
+  std::string tracer_name;
+  double tracer_build_seconds = 0;
+  size_t tracer_memory_bytes = 0;
+  std::string simplify_mode;
+  std::vector<std::string> judge_views;
+  size_t over_limits = 0;  // (view, measure) pairs over a limit, over every LOD
+  std::vector<LodResult> lods;  // in job.distances order
+  std::vector<std::string> warnings;  // for the caller to print
+  double seconds = 0;
+};
+
 // One LOD per distance: out.lod(d), out.labels(d), renders and marking
-// renders, and out.report() (returned too) with its HTML page out.report_html()
-// (perclod/report_html.h). Each LOD is judged from its
-// labelling views and job.judge_views (entry "lod_vs_original", per view, and
-// "fidelity", judge_views' summary against job.limits).
+// renders. Each LOD is judged from its labelling views and job.judge_views
+// (LodResult::views, and LodResult::fidelity against job.limits).
 // A LOD without triangles (nothing displayable at its distance) is still
-// written; its entry gets "empty": true and the report a "warnings" list
-// (absent when there is nothing to warn about) for the caller to print; a
-// LOD over a limit in some view adds a warning per view and measure, and
-// the report's "over_limits" counts them (0 when every LOD is within).
+// written, marked empty and warned about; a LOD over a limit in some view
+// adds a warning per view and measure, counted in LodSet::over_limits.
 // `lods`, when given, receives each LOD's scene in job.distances order.
-nlohmann::json make_lods(const Scene& scene, const LodJob& job, const Progress& progress = {},
-                         std::vector<Scene>* lods = nullptr);
+// The report (out.report(), perclod/report_json.h) is the caller's to write.
+LodSet make_lods(const Scene& scene, const LodJob& job, const Progress& progress = {},
+                 std::vector<Scene>* lods = nullptr);
 
 }  // namespace perclod

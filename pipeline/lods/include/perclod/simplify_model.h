@@ -40,7 +40,5 @@ struct SimplifyRun {
 // Reads and checks the labels against `scene`, simplifies, exports.
 SimplifyRun simplify_model(const Scene& scene, const SimplifyJob& job);
 
-// SimplifyStats as the reports print them (`run` and `simplify --json`).
-nlohmann::json simplify_stats_json(const SimplifyStats& stats);
 
 }  // namespace perclod

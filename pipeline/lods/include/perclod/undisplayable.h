@@ -2,7 +2,7 @@
 // no labelling view sees are deleted or kept (collapsed within a bound).
 #pragma once
 
-#include <nlohmann/json.hpp>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -24,7 +24,7 @@ std::vector<std::string> exposure_views();
 // over all hits, each pixel traced once at its centre. What deleting them
 // would open from those views.
 double undisplayable_exposure(const Scene& scene, const Tracer& tracer, const std::vector<Label>& labels,
-                              const LabelJob& job);
+                              const Framing& framing);
 
 // keep_undisplayable: auto (fidelity mode) deletes undisplayable triangles
 // when their exposure is at most kKeepUndisplayableExposure, and otherwise
@@ -47,13 +47,17 @@ SimplifyOptions choose_undisplayable(SimplifyOptions so, double exposure);
 // The same from the labels: measures undisplayable_exposure (framed by
 // `framing`'s up, display and distance), applies it to `so`, returns it.
 double choose_undisplayable(SimplifyOptions& so, const Scene& scene, const Tracer& tracer,
-                            const std::vector<Label>& labels, const LabelJob& framing);
+                            const std::vector<Label>& labels, const Framing& framing);
 
-// How `so` treats undisplayable triangles, as reports give it:
-// "undisplayable": "deleted" | "collapsed", "e_undisplayable" (a finite
-// bound of kept ones) and, when auto measured it (exposure >= 0),
-// "undisplayable_exposure".
-void add_undisplayable_rule(nlohmann::json& j, const SimplifyOptions& so, double exposure = -1);
+// How a LOD treats undisplayable triangles: deleted, or kept and collapsed
+// within bound_px (infinite: unbounded); exposure is what
+// keep_undisplayable: auto measured (< 0: not measured).
+struct UndisplayableRule {
+  bool deleted = true;
+  double bound_px = INFINITY;
+  double exposure = -1;
+};
+UndisplayableRule undisplayable_rule_of(const SimplifyOptions& so, double exposure = -1);
 
 // The same in words, for progress lines and warnings: "deleted",
 // "collapsed, unbounded" or "collapsed within E px".

@@ -61,6 +61,14 @@ Camera facade_camera(const Bounds& bounds, UpAxis up, const std::string& facade,
 Camera free_camera(const Bounds& bounds, UpAxis up, double azimuth_deg, double elevation_deg,
                    double distance, const DisplayProfile& display);
 
+// Where the eye stands for a view: the model's up axis, the display it is
+// seen on and the viewing distance (frame_view's arguments besides the view).
+struct Framing {
+  UpAxis up = UpAxis::Y;
+  DisplayProfile display;
+  double distance = 56;
+};
+
 // One tile of a framed view.
 struct ViewTile {
   std::string name;  // the view's name, with "_t<i>" appended when it was tiled

@@ -1,0 +1,32 @@
+// perclod/report_json.h - the stages' results as the JSON reports give them:
+// the run report (<stem>_report.json, `perclod run --json`) and the parts
+// `perclod simplify --json` prints. The one place a result becomes JSON.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "perclod/judge.h"
+#include "perclod/lods.h"
+#include "perclod/simplify.h"
+#include "perclod/undisplayable.h"
+
+namespace perclod {
+
+// SimplifyStats: triangles per label before and after, vertices, what was
+// removed, timings, and with explain the refused half-edges.
+nlohmann::json simplify_stats_json(const SimplifyStats& stats);
+
+// Adds "undisplayable": "deleted" | "collapsed", "e_undisplayable" (a finite
+// bound of kept ones) and, when auto measured it, "undisplayable_exposure".
+void add_undisplayable_rule(nlohmann::json& j, const UndisplayableRule& rule);
+
+// One judged view: its name, set and figures ("comparison_image" when written).
+nlohmann::json view_figures_json(const ViewFigures& v);
+// {"worst": {...}, "limits": {...}, "over_limits": [{"view", "set", "measure", "value", "limit"}]}
+nlohmann::json judgement_json(const Judgement& j);
+
+// The run report of make_lods: the model, display, tracer, and per LOD its
+// labelling report, bounds, tries, figures per view and judgement.
+nlohmann::json lod_set_json(const LodSet& set);
+
+}  // namespace perclod

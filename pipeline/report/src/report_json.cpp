@@ -1,0 +1,145 @@
+// The stages' results as JSON (perclod/report_json.h). Keys are written as
+// the reports have always named them; nlohmann::json keeps them sorted.
+#include "perclod/report_json.h"
+
+#include <array>
+#include <cmath>
+#include <string>
+
+namespace perclod {
+namespace {
+
+nlohmann::json worst_json(const WorstFigures& w) {
+  return {{"changed_fraction", w.changed_fraction},
+          {"ssim_covered", w.ssim_covered},
+          {"silhouette_mismatch", w.silhouette_mismatch}};
+}
+
+nlohmann::json try_json(const LodTry& t) {
+  nlohmann::json j = {{"e_imperceptible", t.e_imperceptible},
+                      {"e_perceptible", t.e_perceptible},
+                      {"triangles", t.triangles},
+                      {"seconds_simplify", t.seconds_simplify},
+                      {"worst", worst_json(t.worst)},
+                      {"met", t.met}};
+  add_undisplayable_rule(j, t.undisplayable);
+  if (t.kept) j["kept"] = true;
+  return j;
+}
+
+nlohmann::json lod_json(const LodResult& r) {
+  nlohmann::json entry = r.labelling;
+  entry["pixel_footprint"] = r.pixel_footprint;
+  entry["lod_file"] = r.lod_file;
+  entry["simplify"] = simplify_stats_json(r.simplify);
+  if (r.fidelity_mode) {
+    entry["bounds_px"] = {{"perceptible", r.bound_perceptible_px}, {"imperceptible", r.bound_imperceptible_px}};
+    add_undisplayable_rule(entry["bounds_px"], r.undisplayable);
+  }
+  if (r.tries_kind != LodTries::None) {
+    nlohmann::json tries = nlohmann::json::array();
+    for (const LodTry& t : r.tries) tries.push_back(try_json(t));
+    entry[r.tries_kind == LodTries::FidelitySearch ? "fidelity_search" : "tighten_to_limits"] = std::move(tries);
+  }
+  if (r.empty) entry["empty"] = true;
+  nlohmann::json views = nlohmann::json::array();
+  for (const ViewFigures& v : r.views) views.push_back(view_figures_json(v));
+  entry["lod_vs_original"] = std::move(views);
+  entry["fidelity"] = judgement_json(r.fidelity);
+  entry["seconds_compare"] = r.seconds_compare;
+  entry["seconds"] = r.seconds;
+  return entry;
+}
+
+}  // namespace
+
+nlohmann::json simplify_stats_json(const SimplifyStats& s) {
+  auto per_label = [](const std::array<size_t, 3>& n) {
+    return nlohmann::json{{"perceptible", n[0]}, {"imperceptible", n[1]}, {"undisplayable", n[2]},
+                          {"total", n[0] + n[1] + n[2]}};
+  };
+  nlohmann::json j = {{"triangles_before", per_label(s.triangles_before)},
+                      {"triangles_after", per_label(s.triangles_after)},
+                      {"total_before", s.total_before()},
+                      {"total_after", s.total_after()},
+                      {"vertices_before", s.vertices_before},
+                      {"vertices_after", s.vertices_after},
+                      {"components_removed", s.components_removed},
+                      {"pieces_removed", s.pieces_removed},
+                      {"pieces_triangles_removed", s.pieces_triangles_removed},
+                      {"undisplayable_faces_deleted", s.undisplayable_faces_deleted},
+                      {"nonmanifold_faces_duplicated", s.nonmanifold_faces_duplicated},
+                      {"degenerate_faces", s.degenerate_faces},
+                      {"collapses", s.collapses},
+                      {"chunks", s.chunks},
+                      {"tolerance", s.tolerance},
+                      {"tolerance_perceptible", s.tolerance_perceptible},
+                      {"target_reached", s.target_reached},
+                      {"stop_reason", s.stop_reason},
+                      {"max_error", s.max_error},
+                      {"cluster_dangling_edges", s.cluster_dangling_edges},
+                      {"cluster_isolated_points", s.cluster_isolated_points},
+                      {"max_displacement_rel", s.max_displacement_rel},
+                      {"mean_displacement_rel", s.mean_displacement_rel},
+                      {"bbox_diagonal", s.bbox_diagonal},
+                      {"seconds", s.seconds}};
+  if (s.refused_counted) {
+    const SimplifyStats::Refused& r = s.refused;
+    j["refused"] = {{"bound_or_locked", r.bound_or_locked}, {"valence", r.valence}, {"topology", r.topology},
+                    {"shape", r.shape}, {"legal", r.legal}, {"total", r.total()}};
+  }
+  return j;
+}
+
+void add_undisplayable_rule(nlohmann::json& j, const UndisplayableRule& rule) {
+  j["undisplayable"] = rule.deleted ? "deleted" : "collapsed";
+  if (!rule.deleted && std::isfinite(rule.bound_px)) j["e_undisplayable"] = rule.bound_px;
+  if (rule.exposure >= 0) j["undisplayable_exposure"] = rule.exposure;  // keep_undisplayable: auto decided
+}
+
+nlohmann::json view_figures_json(const ViewFigures& v) {
+  nlohmann::json j = {{"view", v.view},
+                      {"set", v.set},
+                      {"drawn_pixels", v.drawn_pixels},
+                      {"changed_pixels", v.changed_pixels},
+                      {"changed_fraction", v.changed_fraction},
+                      {"ssim_covered", v.ssim_covered},
+                      {"covered_pixels_original", v.covered_pixels_original},
+                      {"coverage_changed_pixels", v.coverage_changed_pixels},
+                      {"silhouette_mismatch", v.silhouette_mismatch}};
+  if (!v.comparison_image.empty()) j["comparison_image"] = v.comparison_image;
+  return j;
+}
+
+nlohmann::json judgement_json(const Judgement& j) {
+  nlohmann::json over = nlohmann::json::array();
+  for (const OverLimit& o : j.over_limits)
+    over.push_back({{"view", o.view}, {"set", o.set}, {"measure", o.measure}, {"value", o.value}, {"limit", o.limit}});
+  return {{"worst", worst_json(j.worst)},
+          {"limits",
+           {{"max_changed", j.limits.max_changed},
+            {"max_silhouette", j.limits.max_silhouette},
+            {"min_ssim", j.limits.min_ssim}}},
+          {"over_limits", std::move(over)}};
+}
+
+nlohmann::json lod_set_json(const LodSet& set) {
+  nlohmann::json report = {
+      {"triangles", set.triangles},
+      {"components", set.components},
+      {"display", {{"name", set.display_name}, {"ppd", set.display_ppd}, {"f_max", set.display_f_max}}},
+      {"tracer",
+       {{"name", set.tracer_name},
+        {"build_seconds", set.tracer_build_seconds},
+        {"memory_bytes", set.tracer_memory_bytes}}},
+      {"simplify_mode", set.simplify_mode},
+      {"judge_views", set.judge_views},
+      {"over_limits", set.over_limits},
+      {"lods", nlohmann::json::array()}};
+  for (const LodResult& r : set.lods) report["lods"].push_back(lod_json(r));
+  if (!set.warnings.empty()) report["warnings"] = set.warnings;
+  report["seconds"] = set.seconds;
+  return report;
+}
+
+}  // namespace perclod
