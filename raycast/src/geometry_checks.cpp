@@ -22,7 +22,7 @@ void check_camera(const Camera& c) {
                                 std::to_string(c.height) + " must be at least 1x1");
   if (!c.eye.allFinite() || !c.forward.allFinite() || !c.right.allFinite() || !c.up.allFinite())
     throw std::invalid_argument("camera: eye or axes are not finite");
-  if (!(c.fov_y > 0 && c.fov_y < M_PI))
+  if (!(c.fov_y > 0 && c.fov_y < kPi))
     throw std::invalid_argument("camera: fov_y " + std::to_string(c.fov_y) +
                                 " must lie in (0, pi)");
   if (!(std::isfinite(c.znear) && std::isfinite(c.zfar) && c.znear >= 0 && c.znear < c.zfar))

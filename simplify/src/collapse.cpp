@@ -191,7 +191,7 @@ void init_quadrics(Model& m, const SimplifyOptions& opt, bool with_distance) {
       if (with_distance) m.qd(x).add_plane(n[0], n[1], n[2], d, 1.0);
     }
   }
-  const double cos_feature = std::cos(opt.feature_angle_deg * M_PI / 180.0);
+  const double cos_feature = std::cos(opt.feature_angle_deg * kPi / 180.0);
   m.feature_edge.assign(mesh.n_edges(), 0);
   for (auto e : mesh.edges()) {
     HH h0 = mesh.halfedge_handle(e, 0), h1 = mesh.halfedge_handle(e, 1);
@@ -1015,7 +1015,7 @@ void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance,
   if (labelled && stats.nonmanifold_faces_duplicated + stats.degenerate_faces > 0)
     remove_pieces(m, w, opt.mode, tolerance, stats);
   Limits lim;
-  lim.cos_normal = std::cos(opt.max_normal_change_deg * M_PI / 180.0);
+  lim.cos_normal = std::cos(opt.max_normal_change_deg * kPi / 180.0);
   lim.min_quality = opt.min_triangle_quality;
   lim.max_valence = opt.max_valence;
   lim.tie = 1e-8;

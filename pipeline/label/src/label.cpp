@@ -56,203 +56,286 @@ std::vector<std::string> write_marking_images(Renderer& renderer, const Scene& s
 
 }  // namespace
 
-LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& asked,
-                        const Progress& progress, const EmbreeTracer* verify_tracer) {
+namespace {
+
+// The job as labelled (auto's effective samples) after checking that its
+// settings can be combined.
+LabelJob checked_job(const LabelJob& asked) {
   LabelJob job = asked;
   job.samples = effective_samples(asked);
   if (job.views.empty()) throw std::invalid_argument("no views to label from");
-  const bool automatic = job.samples == kAutoSamples;
-  if (!automatic) sample_offsets(job.samples);  // checks the count
+  if (job.samples != kAutoSamples) sample_offsets(job.samples);  // checks the count
   const int grid = sample_grid(job.samples);  // 0 unless an ordered grid of samples
   // (auto with keep_unsampled_surface is 4 samples by now: effective_samples.)
   if ((job.mask_per_sample || grid) && job.keep_unsampled_surface && job.samples > 1)
     throw std::invalid_argument(
         "keep_unsampled_surface cannot be combined with mask_per_sample or a grid of samples (9, 16): the "
         "unsampled-surface rule needs every sample of a pixel in one picture");
+  return job;
+}
+
+// Which building each triangle belongs to, and each building's box (empty
+// for a building without triangles).
+struct BuildingTriangles {
+  std::vector<uint32_t> owner;
+  std::vector<Bounds> box;
+};
+BuildingTriangles building_triangles(const Scene& scene, const Buildings& buildings) {
+  BuildingTriangles bt;
   const size_t nt = scene.triangle_count();
-  Bounds bounds = scene_bounds(scene);
-  const PerceptionSettings ps = perception_for(job);
-  const bool depth = finds_unsampled_surface(job);  // the renders' depth, for add_unsampled_surface
-  std::unique_ptr<EmbreeTracer> own;  // built here unless the caller keeps one for the job
-  if (job.verify && !verify_tracer) own = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);
-  const EmbreeTracer* reference = job.verify ? (verify_tracer ? verify_tracer : own.get()) : nullptr;
-  const bool write_files = !job.out.dir.empty();
-  if (write_files) ensure_directory(job.out.dir);
-  renderer.set_scene(scene);
+  bt.owner.resize(nt);
+  bt.box.assign(buildings.names.size(), Bounds::empty());
+  for (size_t t = 0; t < nt; ++t) {
+    bt.owner[t] = buildings.of_component[scene.component_of(t)];
+    for (int k = 0; k < 3; ++k) bt.box[bt.owner[t]].grow(&scene.positions[3 * size_t(scene.indices[3 * t + k])]);
+  }
+  return bt;
+}
 
-  LabelResult res;
-  res.totals.traced.assign(nt, 0);
-  res.totals.imperceptible.assign(nt, 0);
-  res.report = {{"distance", job.distance},
-                {"tracer", tracer.name()},
-                {"samples_per_pixel", samples_json(job.samples)},
-                {"combine_views", job.combine == CombineViews::Pooled ? "pooled" : "any"},
-                {"keep_unsampled_surface", depth},
-                {"views", nlohmann::json::array()}};
-  if (job.mask_per_sample || grid) res.report["mask_per_sample"] = true;
-  if (grid) res.report["sample_grid"] = grid;
-  Accumulator acc(nt);
-  std::vector<ViewTile> tiles;
-  for (const auto& view : job.views)
-    for (ViewTile& tile : frame_view(bounds, job.up, view, job.distance, job.display)) tiles.push_back(std::move(tile));
-  // Pipeline item k renders passes[k]; a view's first pass stands for it in
+// A view framed on one building may put its eye inside a neighbour's box (a
+// kiosk beside a hall): it sees that neighbour from inside, and the
+// building's labels come from its other views. Counted per building.
+bool eye_inside_other(const Camera& cam, const std::vector<Bounds>& box, uint32_t b) {
+  for (uint32_t k = 0; k < box.size(); ++k) {
+    if (k == b) continue;
+    bool in = true;
+    for (int a = 0; a < 3 && in; ++a) in = cam.eye[a] >= box[k].lo[a] && cam.eye[a] <= box[k].hi[a];
+    if (in) return true;
+  }
+  return false;
+}
+
+// label_scene's work: the whole-model views, then each building's own, then
+// the labels from what they counted.
+class SceneLabeller {
+ public:
+  SceneLabeller(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& asked,
+                const Progress& progress, const EmbreeTracer* verify_tracer)
+      : renderer_(renderer), scene_(scene), tracer_(tracer), job_(checked_job(asked)), progress_(progress),
+        nt_(scene.triangle_count()), bounds_(scene_bounds(scene)), ps_(perception_for(job_)),
+        depth_(finds_unsampled_surface(job_)), automatic_(job_.samples == kAutoSamples),
+        write_files_(!job_.out.dir.empty()), acc_(nt_) {
+    // One Embree reference is built here unless the caller keeps one for the job.
+    if (job_.verify && !verify_tracer) own_ = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);
+    reference_ = job_.verify ? (verify_tracer ? verify_tracer : own_.get()) : nullptr;
+  }
+
+  LabelResult run() {
+    if (write_files_) ensure_directory(job_.out.dir);
+    renderer_.set_scene(scene_);
+    begin_report();
+    label_model_views();
+    if (labels_per_building()) label_buildings();
+    return finish();
+  }
+
+ private:
+  void begin_report();
+  void plan_model_views();
+  void on_model_view_seen(const ViewPass& vp, ViewOutcome& o);
+  void on_model_view_counted(const ViewPass& vp, ViewOutcome& o);
+  void label_model_views();
+  bool labels_per_building();
+  void label_buildings();
+  nlohmann::json label_building(uint32_t b, const BuildingTriangles& bt, ViewPipeline& pipeline, size_t& first,
+                                std::vector<ViewPass>& own_passes, size_t& views, double& seconds);
+  LabelResult finish();
+
+  Renderer& renderer_;
+  const Scene& scene_;
+  const Tracer& tracer_;
+  const LabelJob job_;
+  const Progress& progress_;
+  const size_t nt_;
+  const Bounds bounds_;
+  const PerceptionSettings ps_;
+  const bool depth_;      // the renders' depth, for add_unsampled_surface
+  const bool automatic_;  // samples auto: each view picks its sampling
+  const bool write_files_;
+  std::unique_ptr<EmbreeTracer> own_;
+  const EmbreeTracer* reference_ = nullptr;
+  LabelResult res_;
+  Accumulator acc_;
+  std::vector<ViewTile> tiles_;
+  // Pipeline item k renders passes_[k]; a view's first pass stands for it in
   // the records, images and report.
-  std::vector<ViewPass> passes;
+  std::vector<ViewPass> passes_;
+  Buildings buildings_;
+};
+
+// The report's header: the distance, tracer and how views are sampled and combined.
+void SceneLabeller::begin_report() {
+  res_.totals.traced.assign(nt_, 0);
+  res_.totals.imperceptible.assign(nt_, 0);
+  const int grid = sample_grid(job_.samples);
+  res_.report = {{"distance", job_.distance},
+                 {"tracer", tracer_.name()},
+                 {"samples_per_pixel", samples_json(job_.samples)},
+                 {"combine_views", job_.combine == CombineViews::Pooled ? "pooled" : "any"},
+                 {"keep_unsampled_surface", depth_},
+                 {"views", nlohmann::json::array()}};
+  if (job_.mask_per_sample || grid) res_.report["mask_per_sample"] = true;
+  if (grid) res_.report["sample_grid"] = grid;
+}
+
+// The whole model's views framed into tiles, each tile's sampling and passes.
+void SceneLabeller::plan_model_views() {
+  for (const auto& view : job_.views)
+    for (ViewTile& tile : frame_view(bounds_, job_.up, view, job_.distance, job_.display))
+      tiles_.push_back(std::move(tile));
   std::map<std::string, size_t> chosen;  // with samples auto: views per setting
-  for (size_t i = 0; i < tiles.size(); ++i) {
-    const Camera window = perception_window(tiles[i].camera, bounds, ps);
-    const ViewSampling vs = sampling_of(job, tiles[i].camera, window, nt);
-    if (automatic) ++chosen[sampling_name(vs)];
-    add_view_passes(i, tiles[i].camera, window, vs, passes);
+  for (size_t i = 0; i < tiles_.size(); ++i) {
+    const Camera window = perception_window(tiles_[i].camera, bounds_, ps_);
+    const ViewSampling vs = sampling_of(job_, tiles_[i].camera, window, nt_);
+    if (automatic_) ++chosen[sampling_name(vs)];
+    add_view_passes(i, tiles_[i].camera, window, vs, passes_);
   }
-  if (automatic) res.report["sampling_chosen"] = chosen;
-  {
-    ViewPipeline pipeline(
-        job.overlap,
-        [&](size_t k, ViewOutcome& o) {  // rendered and perceived: record it, queue its images
-          const ViewPass& vp = passes[k];
-          if (vp.pass) return;
-          const ViewTile& tile = tiles[vp.tile];
-          res.views.push_back(
-              view_record(tile.name, kept_picture_camera(vp.camera, vp.grid()), o.image.rgb, o.background, "labelling"));
-          if (!write_files) return;
-          auto file = [&](const char* suffix) { return job.out.view(tile.name, job.distance, suffix); };
-          const int w = o.image.width, h = o.image.height;
-          if (job.write_view_images) write_png_via(job.images, file(".png"), w, h, 3, std::move(o.image.rgb));
-          if (job.write_perception_images) {
-            write_png_via(job.images, file("_simulated.png"), w, h, 1, simulated_view(o.perception));
-            write_png_via(job.images, file("_difference.png"), w, h, 1, difference_view(o.perception));
-            write_png_via(job.images, file("_mask.png"), w, h, 1, mask_view(o.perception));
-          }
-        },
-        [&](size_t k, ViewOutcome& o) {  // traced and counted
-          const ViewPass& vp = passes[k];
-          const ViewTile& tile = tiles[vp.tile];
-          if (vp.pass == 0) {
-            if (write_files && job.write_view_images)
-              res.id_buffers.push_back(
-                  IdBuffer{tile.name, kept_picture_camera(vp.camera, vp.grid()), std::move(o.packed_ids)});
-            res.report["views"].push_back(o.report);
-            if (automatic) res.report["views"].back()["sampling"] = sampling_name(vp.sampling);
-          } else {
-            add_pass_report(res.report["views"].back(), o.report, vp.passes);
-          }
-          if (progress && vp.pass + 1 == vp.passes)
-            progress(progress_line(tile.name, job.distance, res.report["views"].back()));
-        });
-    for (const ViewPass& vp : passes)
-      pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, vp.camera, depth, o, vp.grid()); },
-                   [&](ViewOutcome& o) {
-                     count_view(scene, tracer, reference, job, vp.sampling, tiles[vp.tile].name, vp.camera, nullptr,
-                                0, res, acc, o);
-                     if (vp.pass == 0 && write_files && job.write_view_images)  // packed here, on the worker
-                       o.packed_ids = pack_bytes(o.image.ids.data(), o.image.ids.size() * sizeof(uint32_t));
-                   });
-    pipeline.drain();
-  }
+  if (automatic_) res_.report["sampling_chosen"] = chosen;
+}
 
-  // Per building: views framed on each building, counting its own triangles.
-  Buildings buildings;
-  bool per_building = job.per_building == PerBuilding::On;
-  if (job.per_building != PerBuilding::Off) {
-    buildings = find_buildings(scene);
-    // Auto: only files whose names say they hold buildings; a model whose
-    // 1,000 groups are just parts (no '/') is one building, not 1,000.
-    if (job.per_building == PerBuilding::Auto) per_building = buildings.named >= 2;
+// A whole-model view rendered and perceived: record it, queue its images.
+void SceneLabeller::on_model_view_seen(const ViewPass& vp, ViewOutcome& o) {
+  if (vp.pass) return;
+  const ViewTile& tile = tiles_[vp.tile];
+  res_.views.push_back(
+      view_record(tile.name, kept_picture_camera(vp.camera, vp.grid()), o.image.rgb, o.background, "labelling"));
+  if (!write_files_) return;
+  auto file = [&](const char* suffix) { return job_.out.view(tile.name, job_.distance, suffix); };
+  const int w = o.image.width, h = o.image.height;
+  if (job_.write_view_images) write_png_via(job_.images, file(".png"), w, h, 3, std::move(o.image.rgb));
+  if (job_.write_perception_images) {
+    write_png_via(job_.images, file("_simulated.png"), w, h, 1, simulated_view(o.perception));
+    write_png_via(job_.images, file("_difference.png"), w, h, 1, difference_view(o.perception));
+    write_png_via(job_.images, file("_mask.png"), w, h, 1, mask_view(o.perception));
   }
-  if (per_building) {
-    std::vector<uint32_t> owner(nt);
-    Bounds none;
-    none.lo = {INFINITY, INFINITY, INFINITY};
-    none.hi = {-INFINITY, -INFINITY, -INFINITY};
-    std::vector<Bounds> box(buildings.names.size(), none);
-    for (size_t t = 0; t < nt; ++t) {
-      owner[t] = buildings.of_component[scene.component_of(t)];
-      Bounds& bb = box[owner[t]];
-      for (int k = 0; k < 3; ++k) {
-        const float* p = &scene.positions[3 * size_t(scene.indices[3 * t + k])];
-        for (int a = 0; a < 3; ++a) bb.lo[a] = std::min(bb.lo[a], p[a]), bb.hi[a] = std::max(bb.hi[a], p[a]);
-      }
-    }
-    // A view framed on one building may put its eye inside a neighbour's
-    // box (a kiosk beside a hall): it sees that neighbour from inside, and
-    // the building's labels come from its other views. Counted per building.
-    auto eye_inside_other = [&](const Camera& cam, uint32_t b) {
-      for (uint32_t k = 0; k < box.size(); ++k) {
-        if (k == b) continue;
-        bool in = true;
-        for (int a = 0; a < 3 && in; ++a) in = cam.eye[a] >= box[k].lo[a] && cam.eye[a] <= box[k].hi[a];
-        if (in) return true;
-      }
-      return false;
-    };
-    nlohmann::json per = nlohmann::json::array();
-    size_t views = 0;  // of the building being labelled
-    double seconds = 0;
-    size_t first = 0;  // the pipeline's item number of the building's first pass
-    std::vector<ViewPass> own_passes;  // of the building being labelled
-    std::vector<std::string> own_names;
-    ViewPipeline pipeline(job.overlap, [](size_t, ViewOutcome&) {},
-                          [&](size_t k, ViewOutcome& o) {
-                            views += own_passes[k - first].pass == 0;
-                            for (const auto& [key, v] : o.report["seconds"].items()) seconds += v.get<double>();
-                          });
-    for (uint32_t b = 0; b < buildings.names.size(); ++b) {
-      if (!(box[b].lo[0] <= box[b].hi[0])) continue;  // a building without triangles
-      views = 0;
-      seconds = 0;
-      size_t eyes_inside = 0;
-      own_passes.clear();
-      own_names.clear();
-      std::map<std::string, size_t> own_chosen;
-      for (const auto& view : job.views)
-        for (const ViewTile& tile : frame_view(box[b], job.up, view, job.distance, job.display)) {
-          eyes_inside += eye_inside_other(tile.camera, b);
-          const Camera window = perception_window(tile.camera, box[b], ps);
-          const ViewSampling vs = sampling_of(job, tile.camera, window, nt);
-          if (automatic) ++own_chosen[sampling_name(vs)];
-          add_view_passes(own_names.size(), tile.camera, window, vs, own_passes);
-          own_names.push_back(tile.name);
-        }
-      for (const ViewPass& vp : own_passes)
-        pipeline.add([&](ViewOutcome& o) { see_view(renderer, ps, vp.camera, depth, o, vp.grid()); },
-                     [&](ViewOutcome& o) {
-                       count_view(scene, tracer, nullptr, job, vp.sampling, own_names[vp.tile], vp.camera, &owner, b,
-                                  res, acc, o);
-                     });
-      pipeline.drain();
-      first += own_passes.size();
-      per.push_back({{"building", buildings.names[b]},
-                     {"views", views},
-                     {"eyes_inside_other_buildings", eyes_inside},
-                     {"seconds", seconds}});
-      if (automatic) per.back()["sampling_chosen"] = own_chosen;
-      if (progress) {
-        std::ostringstream ss;
-        ss.precision(3);
-        ss << "  building " << b + 1 << "/" << buildings.names.size() << " " << buildings.names[b] << ": " << views
-           << " views, " << seconds << " s";
-        if (eyes_inside) ss << "; " << eyes_inside << " with the eye inside another building's box";
-        progress(ss.str());
-      }
-    }
-    res.report["per_building"] = per;
-  }
+}
 
-  res.labels = std::move(acc.combined);
+// A whole-model view traced and counted: keep its IDs for the marking, report it.
+void SceneLabeller::on_model_view_counted(const ViewPass& vp, ViewOutcome& o) {
+  const ViewTile& tile = tiles_[vp.tile];
+  if (vp.pass == 0) {
+    if (write_files_ && job_.write_view_images)
+      res_.id_buffers.push_back(IdBuffer{tile.name, kept_picture_camera(vp.camera, vp.grid()), std::move(o.packed_ids)});
+    res_.report["views"].push_back(o.report);
+    if (automatic_) res_.report["views"].back()["sampling"] = sampling_name(vp.sampling);
+  } else {
+    add_pass_report(res_.report["views"].back(), o.report, vp.passes);
+  }
+  if (progress_ && vp.pass + 1 == vp.passes)
+    progress_(progress_line(tile.name, job_.distance, res_.report["views"].back()));
+}
+
+// Every pass of every whole-model view, rendering overlapped with tracing.
+void SceneLabeller::label_model_views() {
+  plan_model_views();
+  ViewPipeline pipeline(
+      job_.overlap, [&](size_t k, ViewOutcome& o) { on_model_view_seen(passes_[k], o); },
+      [&](size_t k, ViewOutcome& o) { on_model_view_counted(passes_[k], o); });
+  for (const ViewPass& vp : passes_)
+    pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
+                 [&](ViewOutcome& o) {
+                   count_view(scene_, tracer_, reference_, job_, vp.sampling, tiles_[vp.tile].name, vp.camera,
+                              nullptr, 0, res_, acc_, o);
+                   if (vp.pass == 0 && write_files_ && job_.write_view_images)  // packed here, on the worker
+                     o.packed_ids = pack_bytes(o.image.ids.data(), o.image.ids.size() * sizeof(uint32_t));
+                 });
+  pipeline.drain();
+}
+
+// Whether each building is also labelled from its own views.
+bool SceneLabeller::labels_per_building() {
+  if (job_.per_building == PerBuilding::Off) return false;
+  buildings_ = find_buildings(scene_);
+  // Auto: only files whose names say they hold buildings; a model whose
+  // 1,000 groups are just parts (no '/') is one building, not 1,000.
+  return job_.per_building == PerBuilding::On || buildings_.named >= 2;
+}
+
+// Per building: views framed on each building, counting its own triangles.
+void SceneLabeller::label_buildings() {
+  const BuildingTriangles bt = building_triangles(scene_, buildings_);
+  nlohmann::json per = nlohmann::json::array();
+  size_t views = 0;  // of the building being labelled
+  double seconds = 0;
+  size_t first = 0;  // the pipeline's item number of the building's first pass
+  std::vector<ViewPass> own_passes;  // of the building being labelled
+  ViewPipeline pipeline(job_.overlap, [](size_t, ViewOutcome&) {}, [&](size_t k, ViewOutcome& o) {
+    views += own_passes[k - first].pass == 0;
+    for (const auto& [key, v] : o.report["seconds"].items()) seconds += v.get<double>();
+  });
+  for (uint32_t b = 0; b < buildings_.names.size(); ++b) {
+    if (bt.box[b].is_empty()) continue;  // a building without triangles
+    per.push_back(label_building(b, bt, pipeline, first, own_passes, views, seconds));
+  }
+  res_.report["per_building"] = per;
+}
+
+// One building's own views through `pipeline`; returns its report entry.
+nlohmann::json SceneLabeller::label_building(uint32_t b, const BuildingTriangles& bt, ViewPipeline& pipeline,
+                                             size_t& first, std::vector<ViewPass>& own_passes, size_t& views,
+                                             double& seconds) {
+  views = 0;
+  seconds = 0;
+  size_t eyes_inside = 0;
+  own_passes.clear();
+  std::vector<std::string> own_names;
+  std::map<std::string, size_t> own_chosen;
+  for (const auto& view : job_.views)
+    for (const ViewTile& tile : frame_view(bt.box[b], job_.up, view, job_.distance, job_.display)) {
+      eyes_inside += eye_inside_other(tile.camera, bt.box, b);
+      const Camera window = perception_window(tile.camera, bt.box[b], ps_);
+      const ViewSampling vs = sampling_of(job_, tile.camera, window, nt_);
+      if (automatic_) ++own_chosen[sampling_name(vs)];
+      add_view_passes(own_names.size(), tile.camera, window, vs, own_passes);
+      own_names.push_back(tile.name);
+    }
+  for (const ViewPass& vp : own_passes)
+    pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
+                 [&](ViewOutcome& o) {
+                   count_view(scene_, tracer_, nullptr, job_, vp.sampling, own_names[vp.tile], vp.camera, &bt.owner,
+                              b, res_, acc_, o);
+                 });
+  pipeline.drain();
+  first += own_passes.size();
+  nlohmann::json entry = {{"building", buildings_.names[b]},
+                          {"views", views},
+                          {"eyes_inside_other_buildings", eyes_inside},
+                          {"seconds", seconds}};
+  if (automatic_) entry["sampling_chosen"] = own_chosen;
+  if (progress_) {
+    std::ostringstream ss;
+    ss.precision(3);
+    ss << "  building " << b + 1 << "/" << buildings_.names.size() << " " << buildings_.names[b] << ": " << views
+       << " views, " << seconds << " s";
+    if (eyes_inside) ss << "; " << eyes_inside << " with the eye inside another building's box";
+    progress_(ss.str());
+  }
+  return entry;
+}
+
+// The labels from what every view counted, and the report's totals.
+LabelResult SceneLabeller::finish() {
+  res_.labels = std::move(acc_.combined);
   // Pooled: the totals hold every view's samples of a triangle (a building's
   // own views count only its own triangles, as combined above), and traced
   // is 0 exactly where every view left it undisplayable.
-  if (job.combine == CombineViews::Pooled) res.labels = label_triangles(res.totals, job.ratio);
-  for (size_t t = 0; t < nt; ++t) {
-    if (res.labels[t] == Label::Undisplayable && !acc.in_frustum[t]) {
-      res.labels[t] = Label::Imperceptible;  // no view could have seen it: the view set was incomplete
-      ++res.outside_views;
+  if (job_.combine == CombineViews::Pooled) res_.labels = label_triangles(res_.totals, job_.ratio);
+  for (size_t t = 0; t < nt_; ++t) {
+    if (res_.labels[t] == Label::Undisplayable && !acc_.in_frustum[t]) {
+      res_.labels[t] = Label::Imperceptible;  // no view could have seen it: the view set was incomplete
+      ++res_.outside_views;
     }
   }
-  res.report["labels"] = to_json(count_labels(res.labels));
-  res.report["outside_views"] = res.outside_views;
-  return res;
+  res_.report["labels"] = to_json(count_labels(res_.labels));
+  res_.report["outside_views"] = res_.outside_views;
+  return std::move(res_);
+}
+
+}  // namespace
+
+LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& asked,
+                        const Progress& progress, const EmbreeTracer* verify_tracer) {
+  return SceneLabeller(renderer, scene, tracer, asked, progress, verify_tracer).run();
 }
 
 void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job) {

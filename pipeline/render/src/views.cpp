@@ -185,7 +185,7 @@ Camera free_camera(const Bounds& b, UpAxis up, double az, double el, double dist
                    const DisplayProfile& display) {
   if (!(distance > 0)) throw std::invalid_argument("viewing distance must be positive");
   if (std::fabs(el) >= 89.9) throw std::invalid_argument("elevation must be within (-89.9, 89.9) degrees");
-  const double deg = 3.14159265358979323846 / 180.0;
+  const double deg = kPi / 180.0;
   Eigen::Vector3d c = to_vec(b.center());
   double radius = 0.5 * b.diagonal();
   Eigen::Vector3d h1(1, 0, 0), h2 = up == UpAxis::Z ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(0, 0, -1);

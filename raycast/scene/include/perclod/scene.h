@@ -18,6 +18,9 @@
 
 namespace perclod {
 
+// pi, once for every module.
+constexpr double kPi = 3.14159265358979323846;
+
 struct Material {
   std::string name;
   std::array<float, 3> color{0.8f, 0.8f, 0.8f};  // linear-ish diffuse, 0..1
@@ -90,8 +93,20 @@ enum class Label : uint8_t {
 };
 
 // Axis-aligned box over the scene's positions (recentred coordinates).
+// An axis-aligned box. Default: the point box at the origin; empty(): the
+// box nothing is in yet (lo +inf, hi -inf), which grow() widens to each point.
 struct Bounds {
   std::array<float, 3> lo{0, 0, 0}, hi{0, 0, 0};
+  static Bounds empty() {
+    Bounds b;
+    b.lo = {INFINITY, INFINITY, INFINITY};
+    b.hi = {-INFINITY, -INFINITY, -INFINITY};
+    return b;
+  }
+  bool is_empty() const { return !(lo[0] <= hi[0]); }
+  void grow(const float* p) {
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+  }
   std::array<float, 3> center() const {
     return {(lo[0] + hi[0]) * 0.5f, (lo[1] + hi[1]) * 0.5f, (lo[2] + hi[2]) * 0.5f};
   }
@@ -103,16 +118,9 @@ struct Bounds {
 
 // Bounds of the vertices referenced by triangles (unreferenced ones ignored).
 inline Bounds scene_bounds(const Scene& s) {
-  Bounds b;
-  if (s.indices.empty()) return b;
-  b.lo = {INFINITY, INFINITY, INFINITY};
-  b.hi = {-INFINITY, -INFINITY, -INFINITY};
-  for (uint32_t i : s.indices)
-    for (int a = 0; a < 3; ++a) {
-      float v = s.positions[3 * size_t(i) + a];
-      b.lo[a] = std::min(b.lo[a], v);
-      b.hi[a] = std::max(b.hi[a], v);
-    }
+  if (s.indices.empty()) return Bounds{};
+  Bounds b = Bounds::empty();
+  for (uint32_t i : s.indices) b.grow(&s.positions[3 * size_t(i)]);
   return b;
 }
 
