@@ -277,140 +277,172 @@ void write_batch_index(const std::string& out, int shards) {
   write_text_atomic((fs::path(out) / "index.html").string(), batch_index_html(all));
 }
 
-}  // namespace
+// What every model of this batch process shares and nothing changes: the
+// config, the options, the log, when the batch started, how many models this
+// shard runs and the memory budget (MB, 0 or less: none).
+struct BatchRun {
+  const ConfigFile& config;
+  const BatchOptions& options;
+  const std::function<void(const std::string&)>& log;
+  bool eta;
+  Clock::time_point t0;
+  size_t total;
+  double budget;
+};
 
-nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
-                         const std::function<void(const std::string&)>& log, bool eta) {
-  const auto t0 = Clock::now();
-  ensure_directory(config.out);
-  const std::vector<size_t> mine = shard_indices(config.models.size(), options.shard, options.shards);
-  const int jobs = std::max(1, options.jobs > 0 ? options.jobs : config.jobs);
-  const double budget = options.memory_budget_mb >= 0 ? options.memory_budget_mb : config.memory_budget_mb;
-  const size_t total = mine.size();
-
-  std::vector<Slot> slots(total);
+// The shared progress of the models, under mu: their slots, their weights
+// (file MB + 1, for the time left), the next in the queue and the memory the
+// running ones are estimated to take.
+struct BatchProgress {
+  std::vector<Slot> slots;
+  std::vector<double> weight;
   double weight_total = 0;
-  std::vector<double> weight(total);
-  for (size_t i = 0; i < total; ++i) {
-    slots[i].index = mine[i];
-    std::error_code ec;
-    const auto bytes = fs::file_size(config.models[mine[i]].config.model, ec);
-    weight[i] = 1.0 + (ec ? 0.0 : double(bytes) / 1e6);  // MB + 1
-    weight_total += weight[i];
-  }
-
   std::mutex mu;
   std::condition_variable cv;
   size_t next = 0;
   double running_mb = 0, weight_done = 0;
-  auto say = [&](size_t i, const std::string& what) {
-    const ModelEntry& m = config.models[slots[i].index];
-    std::ostringstream ss;
-    ss << "[" << i + 1 << "/" << total << " " << m.name << "] " << what;
-    std::lock_guard<std::mutex> g(mu);
-    if (eta && weight_done > 0) {
-      const double elapsed = since(t0);
-      ss << "  (about " << format_seconds(elapsed / weight_done * (weight_total - weight_done)) << " left)";
-    }
-    if (log) log(ss.str());
-  };
+};
 
-  auto work = [&](size_t i) {
-    const ModelEntry& m = config.models[slots[i].index];
-    const BatchConfig& c = m.config;
-    const std::string final_dir = (fs::path(config.out) / m.name).string();
-    const auto t = Clock::now();
-    nlohmann::json r = {{"name", m.name}, {"model", c.model}, {"dir", m.name}};
-    try {
-      const ModelRun run = model_run(m, config.path);
-      const nlohmann::json old = read_json_file(manifest_path(final_dir, c));
-      const auto field = [&](const char* part) {  // old[part]["hash"], "" when absent
-        return old.is_object() ? old.value(part, nlohmann::json::object()).value("hash", std::string()) : std::string();
-      };
-      if (!options.force && old.is_object() && old.value("complete", false) &&
-          old.value("perclod_version", "") == perclod_version() && field("model") == run.input_hash &&
-          field("config") == run.settings_hash) {
-        r["status"] = "skipped";
-        r["lods"] = summary_lods(old);
-        const nlohmann::json files = old.value("files", nlohmann::json::object());
-        if (files.contains("report_html")) r["report_html"] = m.name + "/" + files["report_html"].get<std::string>();
-        say(i, "up to date, skipped (--force redoes it)");
-      } else {
-        remove_stale_partials(config.out, m.name);
-        const std::string partial = partial_dir(config.out, m.name);
-        std::error_code ec;
-        fs::remove_all(partial, ec);
-        say(i, "start: " + c.model);
-        try {
-          // Messages name the folder the files will be in once complete.
-          auto moved = [&](std::string s) {
-            for (size_t at; (at = s.find(partial + "/")) != std::string::npos;)
-              s.replace(at, partial.size(), final_dir);
-            return s;
-          };
-          nlohmann::json man;
-          nlohmann::json report =
-              run_model(c, run, partial, [&](const std::string& s) { say(i, moved(s)); }, &man);
-          // Paths in the report and outputs become relative to the model's folder.
-          nlohmann::json rel = report;
-          relocate(rel, partial + "/", "");
-          write_text_atomic(output_names_for(partial, c.model).report(), rel.dump(2) + "\n");
-          publish(partial, final_dir);
-          r["status"] = "done";
-          r["lods"] = summary_lods(man);
-          const nlohmann::json& files = man.at("files");
-          if (files.contains("report_html"))
-            r["report_html"] = m.name + "/" + files["report_html"].get<std::string>();
-          if (report.contains("warnings"))
-            for (const auto& w : report["warnings"])
-              r["warnings"].push_back("[" + m.name + "] " + moved(w.get<std::string>()));
-          r["over_limits"] = report.value("over_limits", 0);
-        } catch (...) {
-          fs::remove_all(partial, ec);
-          throw;
-        }
-        say(i, "done in " + format_seconds(since(t)) + ": " + final_dir);
-      }
-    } catch (const std::exception& e) {
-      r["status"] = "failed";
-      r["error"] = e.what();
-      say(i, std::string("FAILED: ") + e.what());
-    }
-    r["seconds"] = since(t);
-    std::lock_guard<std::mutex> g(mu);
-    slots[i].result = r;
-    weight_done += weight[i];
-  };
+// A slot and a weight for each of this shard's models (mine: their indices in config.models).
+void init_progress(const ConfigFile& config, const std::vector<size_t>& mine, BatchProgress& p) {
+  const size_t total = mine.size();
+  p.slots.resize(total);
+  p.weight.resize(total);
+  for (size_t i = 0; i < total; ++i) {
+    p.slots[i].index = mine[i];
+    std::error_code ec;
+    const auto bytes = fs::file_size(config.models[mine[i]].config.model, ec);
+    p.weight[i] = 1.0 + (ec ? 0.0 : double(bytes) / 1e6);  // MB + 1
+    p.weight_total += p.weight[i];
+  }
+}
 
-  // Workers take models in list order; a model starts only while its memory
-  // estimate fits beside the running ones (the first always starts).
-  auto worker = [&] {
-    for (;;) {
-      size_t i;
-      double need;
-      {
-        std::unique_lock<std::mutex> lk(mu);
-        if (next >= total) return;
-        i = next;
-        const BatchConfig& c = config.models[slots[i].index].config;
-        need = c.memory_mb > 0 ? c.memory_mb : estimate_memory_mb(c.model);
-        cv.wait(lk, [&] { return running_mb == 0 || budget <= 0 || running_mb + need <= budget; });
-        if (i != next) continue;  // another worker took it meanwhile
-        ++next;
-        running_mb += need;
-      }
-      work(i);
-      {
-        std::lock_guard<std::mutex> g(mu);
-        running_mb -= need;
-      }
-      cv.notify_all();
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int k = 0; k < std::min<int>(jobs, int(total)); ++k) pool.emplace_back(worker);
-  for (auto& th : pool) th.join();
+// Logs a line about model i, with the time left when asked for.
+void say(const BatchRun& b, BatchProgress& p, size_t i, const std::string& what) {
+  const ModelEntry& m = b.config.models[p.slots[i].index];
+  std::ostringstream ss;
+  ss << "[" << i + 1 << "/" << b.total << " " << m.name << "] " << what;
+  std::lock_guard<std::mutex> g(p.mu);
+  if (b.eta && p.weight_done > 0) {
+    const double elapsed = since(b.t0);
+    ss << "  (about " << format_seconds(elapsed / p.weight_done * (p.weight_total - p.weight_done)) << " left)";
+  }
+  if (b.log) b.log(ss.str());
+}
 
+// Whether the manifest old (null when none) is of a complete run of this
+// version on the same model and settings.
+bool up_to_date(const nlohmann::json& old, const ModelRun& run) {
+  const auto field = [&](const char* part) {  // old[part]["hash"], "" when absent
+    return old.is_object() ? old.value(part, nlohmann::json::object()).value("hash", std::string()) : std::string();
+  };
+  return old.is_object() && old.value("complete", false) && old.value("perclod_version", "") == perclod_version() &&
+         field("model") == run.input_hash && field("config") == run.settings_hash;
+}
+
+// Runs model i (started at t) in a partial folder and publishes it as
+// final_dir, filling its result r (the partial folder is removed on failure).
+void build_model(const BatchRun& b, BatchProgress& p, size_t i, const ModelRun& run, const std::string& final_dir,
+                 Clock::time_point t, nlohmann::json& r) {
+  const ModelEntry& m = b.config.models[p.slots[i].index];
+  const BatchConfig& c = m.config;
+  remove_stale_partials(b.config.out, m.name);
+  const std::string partial = partial_dir(b.config.out, m.name);
+  std::error_code ec;
+  fs::remove_all(partial, ec);
+  say(b, p, i, "start: " + c.model);
+  try {
+    // Messages name the folder the files will be in once complete.
+    auto moved = [&](std::string s) {
+      for (size_t at; (at = s.find(partial + "/")) != std::string::npos;)
+        s.replace(at, partial.size(), final_dir);
+      return s;
+    };
+    nlohmann::json man;
+    nlohmann::json report =
+        run_model(c, run, partial, [&](const std::string& s) { say(b, p, i, moved(s)); }, &man);
+    // Paths in the report and outputs become relative to the model's folder.
+    nlohmann::json rel = report;
+    relocate(rel, partial + "/", "");
+    write_text_atomic(output_names_for(partial, c.model).report(), rel.dump(2) + "\n");
+    publish(partial, final_dir);
+    r["status"] = "done";
+    r["lods"] = summary_lods(man);
+    const nlohmann::json& files = man.at("files");
+    if (files.contains("report_html"))
+      r["report_html"] = m.name + "/" + files["report_html"].get<std::string>();
+    if (report.contains("warnings"))
+      for (const auto& w : report["warnings"])
+        r["warnings"].push_back("[" + m.name + "] " + moved(w.get<std::string>()));
+    r["over_limits"] = report.value("over_limits", 0);
+  } catch (...) {
+    fs::remove_all(partial, ec);
+    throw;
+  }
+  say(b, p, i, "done in " + format_seconds(since(t)) + ": " + final_dir);
+}
+
+// Model i: skipped when its folder is up to date, else built; its result
+// (done, skipped or failed) goes into its slot.
+void run_one_model(const BatchRun& b, BatchProgress& p, size_t i) {
+  const ModelEntry& m = b.config.models[p.slots[i].index];
+  const BatchConfig& c = m.config;
+  const std::string final_dir = (fs::path(b.config.out) / m.name).string();
+  const auto t = Clock::now();
+  nlohmann::json r = {{"name", m.name}, {"model", c.model}, {"dir", m.name}};
+  try {
+    const ModelRun run = model_run(m, b.config.path);
+    const nlohmann::json old = read_json_file(manifest_path(final_dir, c));
+    if (!b.options.force && up_to_date(old, run)) {
+      r["status"] = "skipped";
+      r["lods"] = summary_lods(old);
+      const nlohmann::json files = old.value("files", nlohmann::json::object());
+      if (files.contains("report_html")) r["report_html"] = m.name + "/" + files["report_html"].get<std::string>();
+      say(b, p, i, "up to date, skipped (--force redoes it)");
+    } else {
+      build_model(b, p, i, run, final_dir, t, r);
+    }
+  } catch (const std::exception& e) {
+    r["status"] = "failed";
+    r["error"] = e.what();
+    say(b, p, i, std::string("FAILED: ") + e.what());
+  }
+  r["seconds"] = since(t);
+  std::lock_guard<std::mutex> g(p.mu);
+  p.slots[i].result = r;
+  p.weight_done += p.weight[i];
+}
+
+// A worker: takes models in list order; a model starts only while its memory
+// estimate fits beside the running ones (the first always starts).
+void run_worker(const BatchRun& b, BatchProgress& p) {
+  for (;;) {
+    size_t i;
+    double need;
+    {
+      std::unique_lock<std::mutex> lk(p.mu);
+      if (p.next >= b.total) return;
+      i = p.next;
+      const BatchConfig& c = b.config.models[p.slots[i].index].config;
+      need = c.memory_mb > 0 ? c.memory_mb : estimate_memory_mb(c.model);
+      p.cv.wait(lk, [&] { return p.running_mb == 0 || b.budget <= 0 || p.running_mb + need <= b.budget; });
+      if (i != p.next) continue;  // another worker took it meanwhile
+      ++p.next;
+      p.running_mb += need;
+    }
+    run_one_model(b, p, i);
+    {
+      std::lock_guard<std::mutex> g(p.mu);
+      p.running_mb -= need;
+    }
+    p.cv.notify_all();
+  }
+}
+
+// This shard's summary (every model's result and the counts by status),
+// written as <out>/batch_<shard>_of_<shards>.json.
+nlohmann::json write_shard_summary(const ConfigFile& config, const BatchOptions& options,
+                                   const std::vector<Slot>& slots, Clock::time_point t0) {
   nlohmann::json summary = {{"models", nlohmann::json::array()}, {"done", 0}, {"skipped", 0}, {"failed", 0},
                             {"shard", std::to_string(options.shard) + "/" + std::to_string(options.shards)},
                             {"config", config.path}, {"perclod_version", perclod_version()}};
@@ -424,6 +456,28 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
                                              std::to_string(options.shards) + ".json"))
                         .string(),
                     summary.dump(2) + "\n");
+  return summary;
+}
+
+}  // namespace
+
+nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
+                         const std::function<void(const std::string&)>& log, bool eta) {
+  const auto t0 = Clock::now();
+  ensure_directory(config.out);
+  const std::vector<size_t> mine = shard_indices(config.models.size(), options.shard, options.shards);
+  const int jobs = std::max(1, options.jobs > 0 ? options.jobs : config.jobs);
+  const double budget = options.memory_budget_mb >= 0 ? options.memory_budget_mb : config.memory_budget_mb;
+  const size_t total = mine.size();
+  const BatchRun b{config, options, log, eta, t0, total, budget};
+  BatchProgress p;
+  init_progress(config, mine, p);
+
+  std::vector<std::thread> pool;
+  for (int k = 0; k < std::min<int>(jobs, int(total)); ++k) pool.emplace_back([&] { run_worker(b, p); });
+  for (auto& th : pool) th.join();
+
+  nlohmann::json summary = write_shard_summary(config, options, p.slots, t0);
   {
     // Shards finishing together take turns, so the last one's scan sees every
     // folder and summary published before it.

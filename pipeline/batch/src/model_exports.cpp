@@ -95,103 +95,140 @@ std::array<double, 16> enu_to_ecef(double lat_deg, double lon_deg, double height
           x,        y,        z,  1};
 }
 
+namespace {
+
+// The length of a bounding box's diagonal.
+double bounds_diagonal(const Bounds& bounds) {
+  double diagonal = 0;
+  for (int a = 0; a < 3; ++a) diagonal += double(bounds.hi[a] - bounds.lo[a]) * double(bounds.hi[a] - bounds.lo[a]);
+  return std::sqrt(diagonal);
+}
+
+// Each LOD's largest displacement in metres, in the report's order.
+std::vector<double> lod_displacements(const nlohmann::json& entries) {
+  std::vector<double> displacements;
+  for (const auto& e : entries) {
+    const auto& s = e.at("simplify");
+    displacements.push_back(s.at("max_displacement_rel").get<double>() * s.at("bbox_diagonal").get<double>());
+  }
+  return displacements;
+}
+
+// Where distance d is in the job's distances (the index of its LOD).
+size_t distance_index(const std::vector<double>& distances, double d) {
+  return size_t(std::find(distances.begin(), distances.end(), d) - distances.begin());
+}
+
+// A GLB per LOD (written unless the LODs are GLBs already) into glb, and the
+// all-LOD GLB (MSFT_lod, finest first), named in files.
+void write_lod_glbs(const std::vector<Scene>& lods, const LodJob& job, const std::vector<LodRange>& ranges,
+                    const ExportOptions& eo, std::vector<std::string>& glb, nlohmann::json& files) {
+  const OutputNames& out = job.label.out;
+  for (size_t i = 0; i < job.distances.size(); ++i) {
+    glb[i] = out.lod(job.distances[i], "glb");
+    if (job.lod_format != "glb") export_scene(lods.at(i), glb[i], eo);
+  }
+  std::vector<const Scene*> ordered;
+  std::vector<std::string> names;
+  std::vector<double> coverage;
+  for (const LodRange& r : ranges) {
+    ordered.push_back(&lods.at(distance_index(job.distances, r.distance)));
+    names.push_back("lod_" + distance_tag(r.distance));
+    coverage.push_back(r.screen_coverage);
+  }
+  const std::string all = out.file("_lods.glb");
+  export_lods_glb(ordered, names, coverage, all, eo);
+  files["lods_glb"] = leaf(all);
+}
+
+// The 3D Tiles 1.1 tileset over the per-LOD GLBs, written and named in files.
+void write_tileset(const Scene& scene, const std::vector<Scene>& lods, const LodJob& job, const BatchConfig& config,
+                   const std::vector<LodRange>& ranges, const std::vector<std::string>& glb, const Bounds& bounds,
+                   double diagonal, nlohmann::json& files) {
+  const OutputNames& out = job.label.out;
+  // 3D Tiles 1.1: the coarsest LOD is the root, each finer one its only
+  // child (REPLACE refinement); the finest is the leaf (geometricError 0).
+  nlohmann::json tile;
+  for (size_t i = 0; i < ranges.size(); ++i) {
+    const size_t k = distance_index(job.distances, ranges[i].distance);
+    nlohmann::json t = {{"boundingVolume", box_volume(scene_bounds(lods[k].triangle_count() ? lods[k] : scene),
+                                                      lods[k].offset, job.label.up)},
+                        {"geometricError", ranges[i].geometric_error},
+                        {"refine", "REPLACE"},
+                        {"content", {{"uri", leaf(glb[k])}}}};
+    if (i > 0) t["children"] = nlohmann::json::array({tile});
+    tile = t;
+  }
+  // The root's volume must hold every descendant: the original's bounds.
+  tile["boundingVolume"] = box_volume(bounds, scene.offset, job.label.up);
+  if (config.crs_origin) {
+    const auto m = enu_to_ecef(config.origin_lat, config.origin_lon, config.origin_height);
+    tile["transform"] = std::vector<double>(m.begin(), m.end());
+  }
+  nlohmann::json tileset = {{"asset", {{"version", "1.1"}, {"generator", std::string("perclod ") + perclod_version()}}},
+                            {"geometricError", std::max(diagonal, tile["geometricError"].get<double>())},
+                            {"root", tile}};
+  write_text_atomic(out.file("_tileset.json"), tileset.dump(2) + "\n");
+  files["tileset"] = leaf(out.file("_tileset.json"));
+}
+
+// One LOD's manifest entry from its report entry e: the distances it serves,
+// its figures, its files (glb: its GLB with a tileset, else null) and its times.
+nlohmann::json manifest_lod(const LodRange& r, const nlohmann::json& e, const std::string* glb) {
+  nlohmann::json views = nlohmann::json::array();
+  for (const auto& v : e.at("lod_vs_original"))
+    views.push_back({{"view", v.at("view")}, {"set", v.at("set")}, {"changed_fraction", v.at("changed_fraction")},
+                     {"ssim_covered", v.at("ssim_covered")}, {"silhouette_mismatch", v.at("silhouette_mismatch")}});
+  nlohmann::json l = {
+      {"distance", r.distance},
+      {"serves", {{"from", r.from}, {"to", std::isfinite(r.to) ? nlohmann::json(r.to) : nlohmann::json(nullptr)}}},
+      {"switch_distance", r.switch_distance},
+      {"max_displacement_m", r.displacement},
+      {"screen_coverage", r.screen_coverage},
+      {"geometric_error", r.geometric_error},
+      {"pixel_footprint", e.at("pixel_footprint")},
+      {"file", leaf(e.at("lod_file").get<std::string>())},
+      {"triangles", label_counts(e.at("simplify").at("triangles_after"))},
+      {"triangles_before", label_counts(e.at("simplify").at("triangles_before"))},
+      {"fidelity", {{"worst", e.at("fidelity").at("worst")},
+                    {"limits", e.at("fidelity").at("limits")},
+                    {"over_limits", e.at("fidelity").at("over_limits").size()},
+                    {"views", views}}},
+      {"seconds", {{"total", e.value("seconds", 0.0)},
+                   {"simplify", e.at("simplify").value("seconds", 0.0)},
+                   {"compare", e.value("seconds_compare", 0.0)}}}};
+  if (glb) l["glb"] = leaf(*glb);
+  return l;
+}
+
+}  // namespace
+
 nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>& lods, const LodJob& job,
                                    const BatchConfig& config, const ModelRun& run, const nlohmann::json& report) {
   const OutputNames& out = job.label.out;
   const auto t0 = Clock::now();
   const ExportOptions eo{job.label.up == UpAxis::Z};
   const Bounds bounds = scene_bounds(scene);
-  double diagonal = 0;
-  for (int a = 0; a < 3; ++a) diagonal += double(bounds.hi[a] - bounds.lo[a]) * double(bounds.hi[a] - bounds.lo[a]);
-  diagonal = std::sqrt(diagonal);
+  const double diagonal = bounds_diagonal(bounds);
   const DisplayProfile& display = job.label.display;
   const double pixel_angle = display_pixel_footprint(display, 1.0);  // metres per pixel at 1 m
 
   const nlohmann::json& entries = report.at("lods");
-  std::vector<double> displacements;
-  for (const auto& e : entries) {
-    const auto& s = e.at("simplify");
-    displacements.push_back(s.at("max_displacement_rel").get<double>() * s.at("bbox_diagonal").get<double>());
-  }
+  const std::vector<double> displacements = lod_displacements(entries);
   const std::vector<LodRange> ranges = lod_ranges(job.distances, displacements, pixel_angle, display.fov_y(), diagonal);
-  auto index_of = [&](double d) {
-    return size_t(std::find(job.distances.begin(), job.distances.end(), d) - job.distances.begin());
-  };
 
   nlohmann::json files = {{"report", leaf(out.report())}};
   std::vector<std::string> glb(job.distances.size());
   if (config.tileset) {
-    for (size_t i = 0; i < job.distances.size(); ++i) {
-      glb[i] = out.lod(job.distances[i], "glb");
-      if (job.lod_format != "glb") export_scene(lods.at(i), glb[i], eo);
-    }
-    std::vector<const Scene*> ordered;
-    std::vector<std::string> names;
-    std::vector<double> coverage;
-    for (const LodRange& r : ranges) {
-      ordered.push_back(&lods.at(index_of(r.distance)));
-      names.push_back("lod_" + distance_tag(r.distance));
-      coverage.push_back(r.screen_coverage);
-    }
-    const std::string all = out.file("_lods.glb");
-    export_lods_glb(ordered, names, coverage, all, eo);
-    files["lods_glb"] = leaf(all);
-
-    // 3D Tiles 1.1: the coarsest LOD is the root, each finer one its only
-    // child (REPLACE refinement); the finest is the leaf (geometricError 0).
-    nlohmann::json tile;
-    for (size_t i = 0; i < ranges.size(); ++i) {
-      const size_t k = index_of(ranges[i].distance);
-      nlohmann::json t = {{"boundingVolume", box_volume(scene_bounds(lods[k].triangle_count() ? lods[k] : scene),
-                                                        lods[k].offset, job.label.up)},
-                          {"geometricError", ranges[i].geometric_error},
-                          {"refine", "REPLACE"},
-                          {"content", {{"uri", leaf(glb[k])}}}};
-      if (i > 0) t["children"] = nlohmann::json::array({tile});
-      tile = t;
-    }
-    // The root's volume must hold every descendant: the original's bounds.
-    tile["boundingVolume"] = box_volume(bounds, scene.offset, job.label.up);
-    if (config.crs_origin) {
-      const auto m = enu_to_ecef(config.origin_lat, config.origin_lon, config.origin_height);
-      tile["transform"] = std::vector<double>(m.begin(), m.end());
-    }
-    nlohmann::json tileset = {{"asset", {{"version", "1.1"}, {"generator", std::string("perclod ") + perclod_version()}}},
-                              {"geometricError", std::max(diagonal, tile["geometricError"].get<double>())},
-                              {"root", tile}};
-    write_text_atomic(out.file("_tileset.json"), tileset.dump(2) + "\n");
-    files["tileset"] = leaf(out.file("_tileset.json"));
+    write_lod_glbs(lods, job, ranges, eo, glb, files);
+    write_tileset(scene, lods, job, config, ranges, glb, bounds, diagonal, files);
   }
   if (fs::exists(out.report_html())) files["report_html"] = leaf(out.report_html());
 
   nlohmann::json lod_list = nlohmann::json::array();
   for (const LodRange& r : ranges) {
-    const size_t k = index_of(r.distance);
-    const nlohmann::json& e = entries.at(k);
-    nlohmann::json views = nlohmann::json::array();
-    for (const auto& v : e.at("lod_vs_original"))
-      views.push_back({{"view", v.at("view")}, {"set", v.at("set")}, {"changed_fraction", v.at("changed_fraction")},
-                       {"ssim_covered", v.at("ssim_covered")}, {"silhouette_mismatch", v.at("silhouette_mismatch")}});
-    nlohmann::json l = {
-        {"distance", r.distance},
-        {"serves", {{"from", r.from}, {"to", std::isfinite(r.to) ? nlohmann::json(r.to) : nlohmann::json(nullptr)}}},
-        {"switch_distance", r.switch_distance},
-        {"max_displacement_m", r.displacement},
-        {"screen_coverage", r.screen_coverage},
-        {"geometric_error", r.geometric_error},
-        {"pixel_footprint", e.at("pixel_footprint")},
-        {"file", leaf(e.at("lod_file").get<std::string>())},
-        {"triangles", label_counts(e.at("simplify").at("triangles_after"))},
-        {"triangles_before", label_counts(e.at("simplify").at("triangles_before"))},
-        {"fidelity", {{"worst", e.at("fidelity").at("worst")},
-                      {"limits", e.at("fidelity").at("limits")},
-                      {"over_limits", e.at("fidelity").at("over_limits").size()},
-                      {"views", views}}},
-        {"seconds", {{"total", e.value("seconds", 0.0)},
-                     {"simplify", e.at("simplify").value("seconds", 0.0)},
-                     {"compare", e.value("seconds_compare", 0.0)}}}};
-    if (config.tileset) l["glb"] = leaf(glb[k]);
-    lod_list.push_back(l);
+    const size_t k = distance_index(job.distances, r.distance);
+    lod_list.push_back(manifest_lod(r, entries.at(k), config.tileset ? &glb[k] : nullptr));
   }
   std::array<double, 3> lo, hi;
   for (int a = 0; a < 3; ++a) lo[a] = bounds.lo[a] + scene.offset[a], hi[a] = bounds.hi[a] + scene.offset[a];

@@ -76,36 +76,44 @@ size_t ply_type_size(std::string_view t) {
   return 0;
 }
 
-// A PLY header's element counts must fit in the bytes after it: at least the
-// fixed-size properties (and list counts) per element in binary, at least two
-// bytes ("0 ") per value in ASCII.
-void check_ply(const std::string& path, const std::string& data) {
-  // The header is every line up to the first that is exactly "end_header"
-  // (assimp took "2.0atend_header" for the end and then never returned).
-  size_t end = std::string::npos, body = 0;  // where the end_header line starts, and the data after it
+// Where a PLY header ends: the start of its end_header line and of the data
+// after it (end is npos when there is no such line).
+struct PlyHeaderEnd {
+  size_t end = std::string::npos, body = 0;
+};
+
+// One element a PLY header declares: its count and the fewest bytes one takes.
+struct PlyElement {
+  std::string name;
+  double count = 0, min_bytes = 0;
+};
+
+// Finds the header's end: the first line that is exactly "end_header"
+// (assimp took "2.0atend_header" for the end and then never returned).
+PlyHeaderEnd find_ply_header_end(const std::string& data) {
+  PlyHeaderEnd h;  // where the end_header line starts, and the data after it
   for (size_t at = 0; at < data.size();) {
     size_t nl = data.find('\n', at);
     size_t stop = nl == std::string::npos ? data.size() : nl;
     std::string_view l(data.data() + at, stop - at);
     if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
     if (l == "end_header") {
-      end = at;
-      body = nl == std::string::npos ? data.size() : nl + 1;
+      h.end = at;
+      h.body = nl == std::string::npos ? data.size() : nl + 1;
       break;
     }
     if (nl == std::string::npos) break;
     at = nl + 1;
   }
-  if (end == std::string::npos)
-    fail(path, "PLY file without an 'end_header' line (truncated or not a PLY file)");
-  const double available = double(data.size() - body);
-  std::istringstream header(data.substr(0, end));
+  return h;
+}
+
+// Parses the header's lines (everything before end_header), failing on any
+// line assimp could choke on; returns the elements with their minimum sizes.
+std::vector<PlyElement> parse_ply_header(const std::string& path, const std::string& header_text) {
+  std::istringstream header(header_text);
   std::string line, format;
-  struct Element {
-    std::string name;
-    double count = 0, min_bytes = 0;
-  };
-  std::vector<Element> elements;
+  std::vector<PlyElement> elements;
   // The header is checked line by line before assimp sees it: assimp's PLY
   // reader looped forever on a garbled header line (fuzz finding
   // tests/fuzz/findings/fuzz_assimp/timeout-ply-header-hang-2.ply).
@@ -135,7 +143,7 @@ void check_ply(const std::string& path, const std::string& data) {
       if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
         bad_line("unknown format '" + format.substr(0, 40) + "'");
     } else if (key == "element") {
-      Element e;
+      PlyElement e;
       std::string count;
       ls >> e.name >> count;
       unsigned long long n = 0;
@@ -157,8 +165,13 @@ void check_ply(const std::string& path, const std::string& data) {
       elements.back().min_bytes += format == "ascii" ? 2 : double(ply_type_size(type));
     }
   }
+  return elements;
+}
+
+// Fails when the elements need more bytes than the file holds after its header.
+void check_ply_sizes(const std::string& path, const std::vector<PlyElement>& elements, double available) {
   double needed = 0;
-  const Element* largest = nullptr;
+  const PlyElement* largest = nullptr;
   for (const auto& e : elements) {
     needed += e.count * e.min_bytes;
     if (!largest || e.count * e.min_bytes > largest->count * largest->min_bytes) largest = &e;
@@ -168,6 +181,18 @@ void check_ply(const std::string& path, const std::string& data) {
                    " elements, which need at least " + std::to_string((unsigned long long)needed) +
                    " bytes, but the file holds only " + std::to_string((unsigned long long)available) +
                    " bytes after its header (truncated or corrupt)");
+}
+
+// A PLY header's element counts must fit in the bytes after it: at least the
+// fixed-size properties (and list counts) per element in binary, at least two
+// bytes ("0 ") per value in ASCII.
+void check_ply(const std::string& path, const std::string& data) {
+  const PlyHeaderEnd h = find_ply_header_end(data);
+  if (h.end == std::string::npos)
+    fail(path, "PLY file without an 'end_header' line (truncated or not a PLY file)");
+  const double available = double(data.size() - h.body);
+  const std::vector<PlyElement> elements = parse_ply_header(path, data.substr(0, h.end));
+  check_ply_sizes(path, elements, available);
 }
 
 uint32_t le32(const std::string& d, size_t at) {

@@ -70,11 +70,7 @@ class CityJsonReader {
       : path_(path), doc_(doc), opt_(opt), rep_(rep) {}
 
   RawModel read() {
-    const std::string type = doc_.is_object() ? text_of(doc_, "type") : std::string();
-    if (type != "CityJSON")
-      fail(path_, "not a CityJSON file (its top-level \"type\" is " +
-                      (doc_.is_object() && doc_.contains("type") ? json_excerpt(doc_["type"]) : std::string("missing")) +
-                      ", not \"CityJSON\"); perclod reads .json files as CityJSON only");
+    check_type();
     read_vertices();
     read_templates();
     const Json* objects = member(doc_, "CityObjects");
@@ -85,15 +81,41 @@ class CityJsonReader {
     if (!any_lod && !parse_double(opt_.cityjson_lod, wanted))
       fail(path_, "CityJSON LOD '" + opt_.cityjson_lod + "' is not a number (e.g. 2, 2.2, 3; \"\" for the highest)");
 
-    // Pass 1: each object's geometries at the chosen LOD, and its ancestry.
-    struct Picked {
-      std::vector<std::string> chain;  // ids, top-level first
-      std::vector<const Json*> geometries;
-      std::string name;
-    };
-    std::vector<Picked> picked;
     std::map<std::string, bool> top_has_child_geometry;
-    for (auto it = objects->begin(); it != objects->end(); ++it) {
+    std::vector<Picked> picked = pick_objects(wanted, any_lod, top_has_child_geometry);
+    name_picked(picked, top_has_child_geometry);
+    emit_picked(picked);
+    if (m_.indices.empty() && rep_.cityjson_objects_without_lod)
+      fail(path_, "no CityObject has geometry at LOD " + opt_.cityjson_lod + " (" +
+                      std::to_string(rep_.cityjson_objects_without_lod) + " have other LODs only)");
+    m_.objects_are_components = true;
+    return std::move(m_);
+  }
+
+ private:
+  // A CityObject chosen in pass 1: its ancestry, its geometries at the chosen
+  // LOD and (once named) its component name.
+  struct Picked {
+    std::vector<std::string> chain;  // ids, top-level first
+    std::vector<const Json*> geometries;
+    std::string name;
+  };
+
+  // Fails unless the document's top-level "type" is "CityJSON".
+  void check_type() const {
+    const std::string type = doc_.is_object() ? text_of(doc_, "type") : std::string();
+    if (type != "CityJSON")
+      fail(path_, "not a CityJSON file (its top-level \"type\" is " +
+                      (doc_.is_object() && doc_.contains("type") ? json_excerpt(doc_["type"]) : std::string("missing")) +
+                      ", not \"CityJSON\"); perclod reads .json files as CityJSON only");
+  }
+
+  // Pass 1: each object's geometries at the chosen LOD, and its ancestry
+  // (noting the top-level objects with a child that has geometry).
+  std::vector<Picked> pick_objects(double wanted, bool any_lod,
+                                   std::map<std::string, bool>& top_has_child_geometry) {
+    std::vector<Picked> picked;
+    for (auto it = objects_->begin(); it != objects_->end(); ++it) {
       const std::string& id = it.key();
       const Json& obj = it.value();
       if (!obj.is_object()) fail(path_, "CityObject '" + id + "' is not a JSON object");
@@ -130,14 +152,21 @@ class CityJsonReader {
       if (p.chain.size() > 1) top_has_child_geometry[p.chain[0]] = true;
       picked.push_back(std::move(p));
     }
-    // Names: "<top>/<child>", so find_buildings() groups a building's parts.
+    return picked;
+  }
+
+  // Names: "<top>/<child>", so find_buildings() groups a building's parts;
+  // then sorted by name.
+  static void name_picked(std::vector<Picked>& picked, const std::map<std::string, bool>& top_has_child_geometry) {
     for (auto& p : picked) {
       for (size_t k = 0; k < p.chain.size(); ++k) p.name += (k ? "/" : "") + clean_id(p.chain[k]);
       if (p.chain.size() == 1 && top_has_child_geometry.count(p.chain[0])) p.name += "/" + clean_id(p.chain[0]);
     }
     std::stable_sort(picked.begin(), picked.end(), [](const Picked& a, const Picked& b) { return a.name < b.name; });
+  }
 
-    // Pass 2: the surfaces.
+  // Pass 2: the surfaces of each picked object, as the component of its name.
+  void emit_picked(const std::vector<Picked>& picked) {
     for (auto& p : picked) {
       auto [it, added] = component_ids_.try_emplace(p.name, uint32_t(m_.component_names.size()));
       if (added) m_.component_names.push_back(p.name);
@@ -149,14 +178,8 @@ class CityJsonReader {
         emit_geometry(*g, comp);
       }
     }
-    if (m_.indices.empty() && rep_.cityjson_objects_without_lod)
-      fail(path_, "no CityObject has geometry at LOD " + opt_.cityjson_lod + " (" +
-                      std::to_string(rep_.cityjson_objects_without_lod) + " have other LODs only)");
-    m_.objects_are_components = true;
-    return std::move(m_);
   }
 
- private:
   // A vertex list to read ring indices from: the file's (already through
   // its transform) or a template's (placed by an instance's matrix + anchor).
   struct VertexSource {

@@ -150,6 +150,27 @@ struct Renderer::Impl {
     glBindBuffer(GL_TEXTURE_BUFFER, color_buf);
     glBufferData(GL_TEXTURE_BUFFER, GLsizeiptr(rgb.size() * sizeof(float)), rgb.data(), GL_DYNAMIC_DRAW);
   }
+
+  // Uploads the colours a render asks for: its own per triangle, the
+  // components' (made on first use) or the materials'.
+  void select_colors(const RenderOptions& opt) {
+    if (!opt.triangle_colors.empty()) {
+      if (opt.triangle_colors.size() != 3 * triangle_count)
+        throw RenderError("triangle_colors must hold 3 floats per triangle");
+      upload_colors(opt.triangle_colors, Colors::Custom);
+    } else if (opt.color_by == ColorBy::Component) {
+      if (component_colors.empty()) {
+        component_colors.resize(3 * triangle_count);
+        for (size_t t = 0; t < triangle_count; ++t) {
+          auto c = component_color(component[t]);
+          for (int k = 0; k < 3; ++k) component_colors[3 * t + k] = c[k];
+        }
+      }
+      upload_colors(component_colors, Colors::Component);
+    } else {
+      upload_colors(material_colors, Colors::Material);
+    }
+  }
 };
 
 Renderer::Renderer() : impl_(new Impl) {
@@ -241,6 +262,131 @@ RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
   return out;
 }
 
+namespace {
+
+// Clears the framebuffer's colour to the background, its IDs to 0 and its
+// depth to 0 (reversed-Z far), at the camera's size.
+void clear_framebuffer(GLuint fbo, const Camera& cam, const std::array<uint8_t, 3>& background) {
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(0, 0, cam.width, cam.height);
+  float bg[4] = {background[0] / 255.f, background[1] / 255.f, background[2] / 255.f, 1.f};
+  GLuint zero[4] = {0, 0, 0, 0};
+  float depth_clear = 0.f;
+  glClearBufferfv(GL_COLOR, 0, bg);
+  glClearBufferuiv(GL_COLOR, 1, zero);
+  glClearBufferfv(GL_DEPTH, 0, &depth_clear);
+}
+
+// Binds the program, its uniforms from the camera (view_proj, light, eye),
+// the colour texture and the vertex array.
+void bind_draw_state(GLuint program, GLuint color_tex, GLuint vao, const Camera& cam, double ambient) {
+  glUseProgram(program);
+  Eigen::Matrix4f vp = (cam.projection() * cam.view()).cast<float>();
+  glUniformMatrix4fv(glGetUniformLocation(program, "view_proj"), 1, GL_FALSE, vp.data());  // column-major
+  const Eigen::Vector3d L = key_light(cam);
+  glUniform3f(glGetUniformLocation(program, "light_dir"), float(L.x()), float(L.y()), float(L.z()));
+  glUniform3f(glGetUniformLocation(program, "eye"), float(cam.eye.x()), float(cam.eye.y()), float(cam.eye.z()));
+  glUniform1f(glGetUniformLocation(program, "ambient"), float(ambient));
+  glUniform1i(glGetUniformLocation(program, "colors"), 0);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_BUFFER, color_tex);
+  glBindVertexArray(vao);
+}
+
+// Draws triangles [first, end) in one call (base: the index gl_PrimitiveID
+// restarts from), adding their count to drawn.
+void draw_range(GLint base, size_t first, size_t end, size_t& drawn) {
+  drawn += end - first;
+  glUniform1ui(base, GLuint(first));
+  glDrawElements(GL_TRIANGLES, GLsizei(3 * (end - first)), GL_UNSIGNED_INT,
+                 reinterpret_cast<const void*>(3 * first * sizeof(uint32_t)));
+}
+
+// The side planes of the clip volume, -w <= x, y <= w, from the rows of
+// view_proj (in double), widened by two pixels.
+struct SidePlanes {
+  Eigen::Vector4d p[4];
+};
+SidePlanes side_planes(const Camera& cam) {
+  const Eigen::Matrix4d m = cam.projection() * cam.view();
+  const double wx = 1.0 + 4.0 / cam.width, wy = 1.0 + 4.0 / cam.height;
+  return {{wx * m.row(3).transpose() + m.row(0).transpose(), wx * m.row(3).transpose() - m.row(0).transpose(),
+           wy * m.row(3).transpose() + m.row(1).transpose(), wy * m.row(3).transpose() - m.row(1).transpose()}};
+}
+
+// Whether a chunk's box may be in view. A box is skipped when even its
+// corner farthest along a plane's normal lies outside by more than the float
+// rounding of the shader's clip coordinates (1e-5 of the terms' magnitudes,
+// about 80 float epsilons): coordinates far from the origin never lose a
+// triangle the GPU draws.
+bool box_visible(const SidePlanes& planes, const std::array<float, 6>& b) {
+  for (const auto& pl : planes.p) {
+    double v = pl[3], mag = std::fabs(pl[3]);
+    for (int k = 0; k < 3; ++k) {
+      v += pl[k] * double(pl[k] >= 0 ? b[3 + k] : b[k]);
+      mag += std::fabs(pl[k]) * std::max(std::fabs(double(b[k])), std::fabs(double(b[3 + k])));
+    }
+    if (v < -1e-5 * mag) return false;
+  }
+  return true;
+}
+
+// Draws the runs of consecutive chunks whose boxes may be in view, one draw
+// each, in order.
+void draw_visible_chunks(const Camera& cam, const std::vector<std::array<float, 6>>& chunk_box,
+                         size_t chunk_triangles, size_t triangle_count, GLint base, size_t& drawn) {
+  const SidePlanes planes = side_planes(cam);
+  size_t run = 0;  // first chunk of the current run of visible chunks
+  const size_t chunks = chunk_box.size();
+  for (size_t c = 0; c <= chunks; ++c) {
+    if (c < chunks && box_visible(planes, chunk_box[c])) continue;
+    if (c > run) draw_range(base, run * chunk_triangles, std::min(c * chunk_triangles, triangle_count), drawn);
+    run = c + 1;
+  }
+}
+
+// Turns a w x h image read from GL upside down (GL rows are bottom-up).
+template <class V>
+void flip_rows(V& v, int w, int h) {
+  for (int y = 0; y < h / 2; ++y)
+    std::swap_ranges(v.begin() + long(y) * w, v.begin() + long(y + 1) * w, v.begin() + long(h - 1 - y) * w);
+}
+
+// Reads the colour attachment into rgb (row 0 top), through the RGBA scratch.
+void read_colors(int w, int h, std::vector<uint8_t>& rgba, std::vector<uint8_t>& rgb) {
+  rgba.resize(size_t(w) * h * 4);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  rgb.resize(size_t(w) * h * 3);
+  for (int y = 0; y < h; ++y)  // GL rows are bottom-up
+    for (int x = 0; x < w; ++x)
+      for (int k = 0; k < 3; ++k)
+        rgb[(size_t(y) * w + x) * 3 + k] = rgba[(size_t(h - 1 - y) * w + x) * 4 + k];
+}
+
+// Reads the ID attachment into ids (row 0 top).
+void read_ids(int w, int h, std::vector<uint32_t>& ids) {
+  ids.resize(size_t(w) * h);
+  glReadBuffer(GL_COLOR_ATTACHMENT1);
+  glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
+  flip_rows(ids, w, h);
+}
+
+// Reads the depth buffer (through the scratch z) into eye depth in metres,
+// row 0 top, 0 for the background.
+void read_depth(const Camera& cam, int w, int h, std::vector<float>& z, std::vector<float>& depth) {
+  z.resize(size_t(w) * h);
+  glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
+  flip_rows(z, w, h);
+  // Reversed-Z window depth -> eye depth: z_w = n (f - d) / (d (f - n))  =>  d = n f / (z_w (f - n) + n).
+  double n = cam.znear, f = cam.zfar;
+  depth.resize(z.size());
+  for (size_t i = 0; i < z.size(); ++i) depth[i] = z[i] > 0 ? float(n * f / (z[i] * (f - n) + n)) : 0.f;
+}
+
+}  // namespace
+
 void Renderer::render(const Camera& cam, RenderOutput& out, const RenderOptions& opt) {
   Impl& I = *impl_;
   if (!I.has_scene) throw RenderError("render() before set_scene()");
@@ -249,122 +395,25 @@ void Renderer::render(const Camera& cam, RenderOutput& out, const RenderOptions&
   auto t0 = std::chrono::steady_clock::now();
   I.make_current();
   I.resize(cam.width, cam.height);
+  I.select_colors(opt);
 
-  if (!opt.triangle_colors.empty()) {
-    if (opt.triangle_colors.size() != 3 * I.triangle_count)
-      throw RenderError("triangle_colors must hold 3 floats per triangle");
-    I.upload_colors(opt.triangle_colors, Impl::Colors::Custom);
-  } else if (opt.color_by == ColorBy::Component) {
-    if (I.component_colors.empty()) {
-      I.component_colors.resize(3 * I.triangle_count);
-      for (size_t t = 0; t < I.triangle_count; ++t) {
-        auto c = component_color(I.component[t]);
-        for (int k = 0; k < 3; ++k) I.component_colors[3 * t + k] = c[k];
-      }
-    }
-    I.upload_colors(I.component_colors, Impl::Colors::Component);
-  } else {
-    I.upload_colors(I.material_colors, Impl::Colors::Material);
-  }
-
-  glBindFramebuffer(GL_FRAMEBUFFER, I.fbo);
-  glViewport(0, 0, cam.width, cam.height);
-  float bg[4] = {opt.background[0] / 255.f, opt.background[1] / 255.f, opt.background[2] / 255.f, 1.f};
-  GLuint zero[4] = {0, 0, 0, 0};
-  float depth_clear = 0.f;
-  glClearBufferfv(GL_COLOR, 0, bg);
-  glClearBufferuiv(GL_COLOR, 1, zero);
-  glClearBufferfv(GL_DEPTH, 0, &depth_clear);
-
-  glUseProgram(I.program);
-  Eigen::Matrix4f vp = (cam.projection() * cam.view()).cast<float>();
-  glUniformMatrix4fv(glGetUniformLocation(I.program, "view_proj"), 1, GL_FALSE, vp.data());  // column-major
-  const Eigen::Vector3d L = key_light(cam);
-  glUniform3f(glGetUniformLocation(I.program, "light_dir"), float(L.x()), float(L.y()), float(L.z()));
-  glUniform3f(glGetUniformLocation(I.program, "eye"), float(cam.eye.x()), float(cam.eye.y()), float(cam.eye.z()));
-  glUniform1f(glGetUniformLocation(I.program, "ambient"), float(opt.ambient));
-  glUniform1i(glGetUniformLocation(I.program, "colors"), 0);
-  glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_BUFFER, I.color_tex);
-  glBindVertexArray(I.vao);
+  clear_framebuffer(I.fbo, cam, opt.background);
+  bind_draw_state(I.program, I.color_tex, I.vao, cam, opt.ambient);
   const GLint base = glGetUniformLocation(I.program, "base");
   out.drawn_triangles = 0;
-  auto draw = [&](size_t first, size_t end) {  // triangles [first, end)
-    out.drawn_triangles += end - first;
-    glUniform1ui(base, GLuint(first));
-    glDrawElements(GL_TRIANGLES, GLsizei(3 * (end - first)), GL_UNSIGNED_INT,
-                   reinterpret_cast<const void*>(3 * first * sizeof(uint32_t)));
-  };
-  if (!opt.cull) {
-    draw(0, I.triangle_count);
-  } else {
-    // The side planes of the clip volume, -w <= x, y <= w, from the rows of
-    // view_proj (in double), widened by two pixels.
-    const Eigen::Matrix4d m = cam.projection() * cam.view();
-    const double wx = 1.0 + 4.0 / cam.width, wy = 1.0 + 4.0 / cam.height;
-    const Eigen::Vector4d planes[4] = {wx * m.row(3).transpose() + m.row(0).transpose(),
-                                       wx * m.row(3).transpose() - m.row(0).transpose(),
-                                       wy * m.row(3).transpose() + m.row(1).transpose(),
-                                       wy * m.row(3).transpose() - m.row(1).transpose()};
-    // A box is skipped when even its corner farthest along a plane's normal
-    // lies outside by more than the float rounding of the shader's clip
-    // coordinates (1e-5 of the terms' magnitudes, about 80 float epsilons):
-    // coordinates far from the origin never lose a triangle the GPU draws.
-    auto visible = [&](const std::array<float, 6>& b) {
-      for (const auto& pl : planes) {
-        double v = pl[3], mag = std::fabs(pl[3]);
-        for (int k = 0; k < 3; ++k) {
-          v += pl[k] * double(pl[k] >= 0 ? b[3 + k] : b[k]);
-          mag += std::fabs(pl[k]) * std::max(std::fabs(double(b[k])), std::fabs(double(b[3 + k])));
-        }
-        if (v < -1e-5 * mag) return false;
-      }
-      return true;
-    };
-    size_t run = 0;  // first chunk of the current run of visible chunks
-    const size_t chunks = I.chunk_box.size();
-    for (size_t c = 0; c <= chunks; ++c) {
-      if (c < chunks && visible(I.chunk_box[c])) continue;
-      if (c > run) draw(run * Impl::kChunkTriangles, std::min(c * Impl::kChunkTriangles, I.triangle_count));
-      run = c + 1;
-    }
-  }
+  if (!opt.cull)
+    draw_range(base, 0, I.triangle_count, out.drawn_triangles);
+  else
+    draw_visible_chunks(cam, I.chunk_box, Impl::kChunkTriangles, I.triangle_count, base, out.drawn_triangles);
 
   int w = cam.width, h = cam.height;
   out.width = w;
   out.height = h;
-  std::vector<uint8_t>& rgba = I.rgba;
-  rgba.resize(size_t(w) * h * 4);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  out.rgb.resize(size_t(w) * h * 3);
-  for (int y = 0; y < h; ++y)  // GL rows are bottom-up
-    for (int x = 0; x < w; ++x)
-      for (int k = 0; k < 3; ++k)
-        out.rgb[(size_t(y) * w + x) * 3 + k] = rgba[(size_t(h - 1 - y) * w + x) * 4 + k];
-  auto flip = [&](auto& v) {
-    for (int y = 0; y < h / 2; ++y)
-      std::swap_ranges(v.begin() + long(y) * w, v.begin() + long(y + 1) * w, v.begin() + long(h - 1 - y) * w);
-  };
+  read_colors(w, h, I.rgba, out.rgb);
   out.ids.clear();
   out.depth.clear();
-  if (opt.want_ids) {
-    out.ids.resize(size_t(w) * h);
-    glReadBuffer(GL_COLOR_ATTACHMENT1);
-    glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, out.ids.data());
-    flip(out.ids);
-  }
-  if (opt.want_depth) {
-    std::vector<float>& z = I.z;
-    z.resize(size_t(w) * h);
-    glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
-    flip(z);
-    // Reversed-Z window depth -> eye depth: z_w = n (f - d) / (d (f - n))  =>  d = n f / (z_w (f - n) + n).
-    double n = cam.znear, f = cam.zfar;
-    out.depth.resize(z.size());
-    for (size_t i = 0; i < z.size(); ++i) out.depth[i] = z[i] > 0 ? float(n * f / (z[i] * (f - n) + n)) : 0.f;
-  }
+  if (opt.want_ids) read_ids(w, h, out.ids);
+  if (opt.want_depth) read_depth(cam, w, h, I.z, out.depth);
   if (GLenum err = glGetError(); err != GL_NO_ERROR)
     throw RenderError("OpenGL error " + std::to_string(err) + " while rendering");
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

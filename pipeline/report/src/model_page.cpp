@@ -273,16 +273,11 @@ std::string html_escape(const std::string& text) {
   return out;
 }
 
-std::string model_report_html(const json& report, const OutputNames& names) {
-  const std::string model = str(report, "model").empty() ? names.stem : str(report, "model");
-  const json& lods = list(report, "lods");
-  std::ostringstream s;
-  s << page_head("perclod report: " + model);
-  s << "<h1>perclod report: " << html_escape(model) << "</h1>\n";
-  s << "<p class=\"muted\">Files of <code>" << html_escape(names.stem) << "</code>; the full figures are in <a href=\""
-    << url(relative(names.report(), names)) << "\">" << html_escape(file_name(names.report())) << "</a>.</p>\n";
+namespace {
 
-  // The run as a whole.
+// The run as a whole: the facts table (model, display, tracer, mode, views,
+// distances, limits, time), the warnings and the charts.
+void write_run_overview(std::ostringstream& s, const json& report, const json& lods) {
   const json& display = sub(report, "display");
   const json& tracer = sub(report, "tracer");
   std::string judge;
@@ -310,8 +305,10 @@ std::string model_report_html(const json& report, const OutputNames& names) {
     s << "</ul>\n";
   }
   s << "<div class=\"charts\">\n" << charts(lods) << "</div>\n";
+}
 
-  // Summary over distances.
+// The summary over distances: one row per LOD, its worst figures against the limits.
+void write_lod_summary(std::ostringstream& s, const json& lods, const OutputNames& names) {
   s << "<h2>LODs</h2>\n<table class=\"summary\"><tr><th>distance</th><th>pixel footprint</th><th>triangles</th>"
        "<th>kept</th><th>worst changed</th><th>lowest SSIM</th><th>worst silhouette</th><th>over limits</th>"
        "<th>time</th><th class=\"l\">LOD file</th></tr>\n";
@@ -336,49 +333,73 @@ std::string model_report_html(const json& report, const OutputNames& names) {
       << "</td></tr>\n";
   }
   s << "</table>\n";
+}
 
-  // One section per distance.
-  for (const auto& l : lods) {
-    const double d = num(l, "distance");
-    const json& simp = sub(l, "simplify");
-    const json& bounds = sub(l, "bounds_px");
-    const std::string tag = short_number(d);
-    s << "<section id=\"d" << url(tag) << "\">\n<h2>" << tag << " m</h2>\n";
-    if (const json* e = member(l, "empty"); e && e->is_boolean() && e->get<bool>())
-      s << "<p class=\"warn\">This LOD is empty: no triangle of the model is displayable at " << tag << " m.</p>\n";
-    std::vector<std::pair<std::string, std::string>> facts = {
-        {"pixel footprint", fixed(num(l, "pixel_footprint"), 4) + "&nbsp;m"},
-        {"samples per pixel", samples_text(l)},
-        {"views combined", str(l, "combine_views").empty() ? "any" : html_escape(str(l, "combine_views"))},
-        {"vertices", count(num(simp, "vertices_before")) + " &rarr; " + count(num(simp, "vertices_after"))}};
-    if (!str(simp, "stop_reason").empty()) facts.push_back({"stop reason", html_escape(str(simp, "stop_reason"))});
-    if (const json* why = member(simp, "refused")) {  // explain: true: in refused_text's words
-      auto n = [&](const char* rule) { return size_t(std::max(0.0, num(*why, rule))); };
-      facts.push_back({"stopped", refused_text({n("bound_or_locked"), n("valence"), n("topology"), n("shape"),
-                                                n("legal")})});
-    }
-    if (member(l, "bounds_px"))
-      facts.push_back({"bounds (px)", "perceptible " + fixed(num(bounds, "perceptible"), 2) + ", imperceptible " +
-                                          fixed(num(bounds, "imperceptible"), 2) + "; undisplayable " +
-                                          undisplayable_rule(bounds)});
-    facts.push_back({"outside every view", count(num(l, "outside_views")) + " triangles"});
-    facts.push_back({"time: total", seconds(num(l, "seconds"))});
-    facts.push_back({"time: simplify", seconds(num(simp, "seconds"))});
-    facts.push_back({"time: judging", seconds(num(l, "seconds_compare"))});
-    for (const char* key : {"lod_file", "labels_file"}) {
-      const std::string f = str(l, key);
-      if (!f.empty())
-        facts.push_back({key == std::string("lod_file") ? "LOD file" : "labels file",
-                         "<a href=\"" + url(relative(f, names)) + "\">" + html_escape(file_name(f)) + "</a>"});
-    }
-    s << "<h3>Triangles</h3>\n" << triangles_table(simp) << facts_table(facts);
-    s << "<h3>Fidelity: the LOD against the original, per judged view</h3>\n" << fidelity_table(l);
-    s << tries_table(l, "fidelity_search", "Fidelity target search");
-    s << tries_table(l, "tighten_to_limits", "Tightened to the limits (the asked bounds first)");
-    s << "<h3>Labelling</h3>\n" << label_views_table(l);
-    s << images_section(l, d, names);
-    s << "</section>\n";
+// The facts of one LOD: footprint, samples, vertices, why it stopped, the
+// bounds, the times and its files.
+std::vector<std::pair<std::string, std::string>> lod_facts(const json& l, const OutputNames& names) {
+  const json& simp = sub(l, "simplify");
+  const json& bounds = sub(l, "bounds_px");
+  std::vector<std::pair<std::string, std::string>> facts = {
+      {"pixel footprint", fixed(num(l, "pixel_footprint"), 4) + "&nbsp;m"},
+      {"samples per pixel", samples_text(l)},
+      {"views combined", str(l, "combine_views").empty() ? "any" : html_escape(str(l, "combine_views"))},
+      {"vertices", count(num(simp, "vertices_before")) + " &rarr; " + count(num(simp, "vertices_after"))}};
+  if (!str(simp, "stop_reason").empty()) facts.push_back({"stop reason", html_escape(str(simp, "stop_reason"))});
+  if (const json* why = member(simp, "refused")) {  // explain: true: in refused_text's words
+    auto n = [&](const char* rule) { return size_t(std::max(0.0, num(*why, rule))); };
+    facts.push_back({"stopped", refused_text({n("bound_or_locked"), n("valence"), n("topology"), n("shape"),
+                                              n("legal")})});
   }
+  if (member(l, "bounds_px"))
+    facts.push_back({"bounds (px)", "perceptible " + fixed(num(bounds, "perceptible"), 2) + ", imperceptible " +
+                                        fixed(num(bounds, "imperceptible"), 2) + "; undisplayable " +
+                                        undisplayable_rule(bounds)});
+  facts.push_back({"outside every view", count(num(l, "outside_views")) + " triangles"});
+  facts.push_back({"time: total", seconds(num(l, "seconds"))});
+  facts.push_back({"time: simplify", seconds(num(simp, "seconds"))});
+  facts.push_back({"time: judging", seconds(num(l, "seconds_compare"))});
+  for (const char* key : {"lod_file", "labels_file"}) {
+    const std::string f = str(l, key);
+    if (!f.empty())
+      facts.push_back({key == std::string("lod_file") ? "LOD file" : "labels file",
+                       "<a href=\"" + url(relative(f, names)) + "\">" + html_escape(file_name(f)) + "</a>"});
+  }
+  return facts;
+}
+
+// One distance's section: its facts, triangles, fidelity, searches,
+// labelling and images.
+void write_distance_section(std::ostringstream& s, const json& l, const OutputNames& names) {
+  const double d = num(l, "distance");
+  const json& simp = sub(l, "simplify");
+  const std::string tag = short_number(d);
+  s << "<section id=\"d" << url(tag) << "\">\n<h2>" << tag << " m</h2>\n";
+  if (const json* e = member(l, "empty"); e && e->is_boolean() && e->get<bool>())
+    s << "<p class=\"warn\">This LOD is empty: no triangle of the model is displayable at " << tag << " m.</p>\n";
+  const std::vector<std::pair<std::string, std::string>> facts = lod_facts(l, names);
+  s << "<h3>Triangles</h3>\n" << triangles_table(simp) << facts_table(facts);
+  s << "<h3>Fidelity: the LOD against the original, per judged view</h3>\n" << fidelity_table(l);
+  s << tries_table(l, "fidelity_search", "Fidelity target search");
+  s << tries_table(l, "tighten_to_limits", "Tightened to the limits (the asked bounds first)");
+  s << "<h3>Labelling</h3>\n" << label_views_table(l);
+  s << images_section(l, d, names);
+  s << "</section>\n";
+}
+
+}  // namespace
+
+std::string model_report_html(const json& report, const OutputNames& names) {
+  const std::string model = str(report, "model").empty() ? names.stem : str(report, "model");
+  const json& lods = list(report, "lods");
+  std::ostringstream s;
+  s << page_head("perclod report: " + model);
+  s << "<h1>perclod report: " << html_escape(model) << "</h1>\n";
+  s << "<p class=\"muted\">Files of <code>" << html_escape(names.stem) << "</code>; the full figures are in <a href=\""
+    << url(relative(names.report(), names)) << "\">" << html_escape(file_name(names.report())) << "</a>.</p>\n";
+  write_run_overview(s, report, lods);
+  write_lod_summary(s, lods, names);
+  for (const auto& l : lods) write_distance_section(s, l, names);
   s << "<p class=\"muted\">Written by perclod.</p>\n</body>\n</html>\n";
   return s.str();
 }
