@@ -24,34 +24,20 @@ void register_label(CLI::App& app) {
   a->model.add(cmd);
   a->display.add(cmd);
   cmd->add_option("--distance,-d", a->distance, "Viewing distance in metres")->required()->check(kPositive);
-  cmd->add_option("--views,--facade,-f", a->views, std::string("View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); default ") + kDefaultViews + ")");
-  cmd->add_option("--samples", a->samples, kSamplesHelp + std::string(" (default ") + samples_name(kDefaultSamples) + ")")
-      ->check(samples_check());
-  CLI::Option* keep = cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
-                "With samples > 1: a sub-pixel triangle no sample hit but lying on the drawn surface, where\n"
-                "such triangles fill half a pixel or more, is labelled from that pixel, not undisplayable\n"
-                "(README, Unsampled surface)");
-  cmd->add_flag("--mask-per-sample", a->mask_per_sample,
-                "Render and perceive each sample offset on its own (SAMPLES renders per view, one ray per\n"
-                "pixel each), so every sample reads the mask of its own picture: labels that a sub-pixel move\n"
-                "hardly changes (README, Stable labels)")
-      ->excludes(keep);
-  cmd->add_option("--spins", a->spins,
-                  "Perception cycle spinning: 1 (the paper), 2 or 4 DWT phases averaged (shift-invariant mask)")
-      ->check(CLI::IsMember({1, 2, 4}));
-  cmd->add_option("--per-building", a->per_building,
-                  "Also label each building from views framed on it: true, false or auto (default: when the "
-                  "component names give two or more buildings)")
+  // The options that set a config key take its help from the table of settings.
+  cmd->add_option("--views,--facade,-f", a->views, key_help("views", key_default("views")));
+  cmd->add_option("--samples", a->samples, key_help("samples", key_default("samples")))->check(samples_check());
+  CLI::Option* keep =
+      cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface, key_help("keep_unsampled_surface"));
+  cmd->add_flag("--mask-per-sample", a->mask_per_sample, key_help("mask_per_sample"))->excludes(keep);
+  cmd->add_option("--spins", a->spins, key_help("spins", key_default("spins")))->check(CLI::IsMember({1, 2, 4}));
+  cmd->add_option("--per-building", a->per_building, key_help("per_building", key_default("per_building")))
       ->check(CLI::IsMember({"true", "false", "auto"}));
-  cmd->add_option("--tracer", a->tracer, "Pixel-to-triangle tracer: octree (default) or embree")
+  cmd->add_option("--tracer", a->tracer, key_help("tracer", key_default("tracer")))
       ->check(CLI::IsMember({"octree", "embree"}));
-  cmd->add_flag("--verify", a->verify, "Also trace with Embree (tie-rule reference) and report per-pixel agreement");
-  cmd->add_option("--ratio", a->ratio, "Imperceptible when imperceptible/traced >= ratio (default 0.5)")
-      ->check(in_range(0, 1));
-  cmd->add_option("--combine-views", a->combine_views,
-                  std::string("How views combine: pooled (imperceptible/traced >= ratio over every view's samples\n"
-                              "together) or any (perceptible in any view wins: the paper); default ") +
-                      kDefaultCombineViews + " (README, Combining views)")
+  cmd->add_flag("--verify", a->verify, key_help("verify"));
+  cmd->add_option("--ratio", a->ratio, key_help("ratio", key_default("ratio")))->check(in_range(0, 1));
+  cmd->add_option("--combine-views", a->combine_views, key_help("combine_views", key_default("combine_views")))
       ->check(CLI::IsMember({"any", "pooled"}));
   cmd->add_option("--threshold", a->threshold, "Perception threshold T in grey levels (default: calibrated)")
       ->check(kNonNegative);

@@ -22,7 +22,7 @@ void register_render(CLI::App& app) {
   cmd->add_option("--distance,-d", a->distances, "Viewing distance(s) in metres, e.g. -d 56 -d 132 or -d 56,132")
       ->required()
       ->delimiter(',');
-  cmd->add_option("--views,--facade,-f", a->views, "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); default facades)");
+  cmd->add_option("--views,--facade,-f", a->views, key_help("views", "default facades"));
   cmd->add_option("--out,-o", a->out, "Output directory (created)")->check(kNotEmpty);
   cmd->add_flag("--ids", a->ids, "Also write the triangle-ID buffer (<name>_ids.tif, uint32, index + 1, 0 = background)");
   cmd->add_flag("--depth", a->depth, "Also write eye depth (<name>_depth.tif, float metres, 0 = background)");

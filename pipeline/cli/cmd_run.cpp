@@ -90,35 +90,27 @@ void register_run(CLI::App& app) {
              "for one model or a batch of many ('models:' in the config; README, Batches)");
   auto a = std::make_shared<RunArgs>();
   cmd->add_option("CONFIG", a->config, "Batch config YAML")->required()->check(kNotEmpty);
-  cmd->add_option("--views", a->views, "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated (README, Views); overrides the config's views)");
-  cmd->add_option("--samples", a->samples, kSamplesHelp + std::string(" (overrides the config's samples)"))
+  // The options that set a config key take its help from the table of settings.
+  cmd->add_option("--views", a->views, key_help("views", "overrides the config's views"));
+  cmd->add_option("--samples", a->samples, key_help("samples", "overrides the config's samples"))
       ->check(samples_check());
   CLI::Option* keep = cmd->add_flag("--keep-unsampled-surface", a->keep_unsampled_surface,
-                "Label sub-pixel triangles that lie between the samples of a drawn surface from their pixel\n"
-                "instead of undisplayable (README, Unsampled surface; also 'keep_unsampled_surface: true' in the config)");
-  cmd->add_flag("--mask-per-sample", a->mask_per_sample,
-                "Render and perceive each sample offset on its own, so labels hardly change under a sub-pixel\n"
-                "move (README, Stable labels; also 'mask_per_sample: true' in the config)")
+                                    key_help("keep_unsampled_surface", "sets the config's keep_unsampled_surface"));
+  cmd->add_flag("--mask-per-sample", a->mask_per_sample, key_help("mask_per_sample", "sets the config's mask_per_sample"))
       ->excludes(keep);
   cmd->add_option("--combine-views", a->combine_views,
-                  "How views combine perceptible and imperceptible: pooled (the default) or any (the paper)\n"
-                  "(README, Combining views; overrides the config's combine_views)")
+                  key_help("combine_views", "overrides the config's combine_views"))
       ->check(CLI::IsMember({"any", "pooled"}));
-  cmd->add_flag("--strict", a->strict,
-                "Fail (exit 1, after every output is written) when a LOD exceeds the config's max_changed or\n"
-                "max_silhouette, or falls below its min_ssim, in any judged view (also 'strict: true' in the config)");
-  cmd->add_flag("--explain", a->explain,
-                "Say why each LOD stopped: its half-edges left, by the first rule that refuses their collapse\n"
-                "(the report's simplify.refused and a 'stopped' line; collapse modes; also 'explain: true' in the config)");
+  cmd->add_flag("--strict", a->strict, key_help("strict", "sets the config's strict"));
+  cmd->add_flag("--explain", a->explain, key_help("explain", "sets the config's explain"));
   cmd->add_option("--shard", a->shard,
                   "Batch: process only shard i of n (0-based, e.g. 2/8): models i, i+n, i+2n... of the list,\n"
                   "so n machines or Slurm array tasks split a city (scripts/slurm/)");
   cmd->add_flag("--force", a->force, "Batch: redo models whose outputs are up to date (same input, settings, version)");
-  cmd->add_option("--jobs", a->jobs, "Batch: models processed at once (overrides the config's jobs)")
+  cmd->add_option("--jobs", a->jobs, key_help("jobs", "overrides the config's jobs"))
       ->check(CLI::Range(1, 64));
   cmd->add_option("--memory-budget-mb", a->memory_budget_mb,
-                  "Batch: start a model only while the running ones' memory estimates and its own fit\n"
-                  "(MiB; 0 = no budget; overrides the config's memory_budget_mb)")
+                  key_help("memory_budget_mb", "overrides the config's memory_budget_mb"))
       ->check(kNonNegative);
   cmd->add_flag("--json", a->json,
                 "Print the run report (one model) or the batch summary (many) on stdout");

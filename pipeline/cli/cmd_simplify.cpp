@@ -149,24 +149,21 @@ void register_simplify(CLI::App& app) {
   cmd->add_option("--distance,-d", a->job.distance, "Viewing distance of this LOD in metres")
       ->required()
       ->check(kPositive);
-  cmd->add_option("--mode", a->mode, "fidelity, paper, bounded, qem or cluster")
+  // The options that set a config key take its help from the table of settings.
+  cmd->add_option("--mode", a->mode, key_help("simplify", "the config key simplify"))
       ->check(CLI::IsMember({"fidelity", "paper", "bounded", "qem", "cluster"}))
       ->capture_default_str();
   cmd->add_option("--target", a->target,
-                  "qem: triangles to keep (when it cannot get there, a warning and the JSON's stop_reason say why)");
-  cmd->add_option("--e-perceptible", a->job.options.bound_perceptible_px,
-                  "fidelity: how far a collapse may move a perceptible triangle, pixels at the distance")
+                  key_help("target", "when it cannot get there, a warning and the JSON's stop_reason say why"));
+  cmd->add_option("--e-perceptible", a->job.options.bound_perceptible_px, key_help("e_perceptible"))
       ->check(kNonNegative)
       ->capture_default_str();
-  cmd->add_option("--e-imperceptible", a->job.options.bound_imperceptible_px,
-                  "fidelity: the same for imperceptible triangles (and pieces without a perceptible face)")
+  cmd->add_option("--e-imperceptible", a->job.options.bound_imperceptible_px, key_help("e_imperceptible"))
       ->check(kNonNegative)
       ->capture_default_str();
-  cmd->add_option("--e-undisplayable", a->e_undisplayable,
-                  "fidelity: keep undisplayable triangles and collapse them within this many pixels\n"
-                  "(default: auto, see above)")
+  cmd->add_option("--e-undisplayable", a->e_undisplayable, key_help("e_undisplayable", "default: auto, see above"))
       ->check(kNonNegative);
-  cmd->add_option("-k,--k", a->job.options.k, "bounded: tolerance, cluster: cell size, in pixels at the distance")
+  cmd->add_option("-k,--k", a->job.options.k, key_help("k"))
       ->check(kPositive)
       ->capture_default_str();
   cmd->add_flag("--constraint-lines", a->job.options.constraint_lines,
@@ -175,22 +172,18 @@ void register_simplify(CLI::App& app) {
       ->check(in_range(0, 180))
       ->capture_default_str();
   cmd->add_flag("--keep-undisplayable", a->keep_undisplayable,
-                "paper, fidelity: collapse undisplayable triangles (as the paper does) and keep those collapses\n"
-                "cannot reach, so closed surfaces stay closed (default: auto; paper: delete them, no pixel\n"
-                "of any labelling view reaches them)");
+                key_help("keep_undisplayable", "this flag: true; --delete-undisplayable: false; neither: auto"));
   cmd->add_flag("--delete-undisplayable", a->delete_undisplayable,
                 "fidelity: always delete undisplayable triangles (the rule before auto)");
   cmd->add_flag("--preserve-bbox", a->job.options.preserve_bbox,
                 "cluster: cluster each component alone and keep its bounding box (Belblidia)");
   cmd->add_option("--out,-o", a->out, "Output directory (created); the LOD is OUT/<model>_lod_<D>m.<format>")
       ->check(kNotEmpty);
-  cmd->add_option("--format", a->job.format, "LOD file format: obj (+ .mtl) or glb")
+  cmd->add_option("--format", a->job.format, key_help("format"))
       ->check(CLI::IsMember({"obj", "glb"}))
       ->capture_default_str();
   cmd->add_flag("--explain", a->job.options.explain_stop,
-                "Collapse modes: count every half-edge left by the first rule that refuses its collapse\n"
-                "(locked or over its bound, shape, topology, valence): why the LOD holds what it holds\n"
-                "(the table's 'stopped' line, the JSON's 'refused'); one more pass over the mesh");
+                key_help("explain", "the table's 'stopped' line, the JSON's 'refused'; one more pass over the mesh"));
   cmd->add_flag("--json", a->json, "Print a JSON report on stdout");
   cmd->callback([a] { run_simplify(*a); });
 }

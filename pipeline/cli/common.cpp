@@ -1,6 +1,7 @@
 #include "common.h"
 
 #include "perclod/outputs.h"
+#include "perclod/settings.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -13,11 +14,10 @@ namespace perclod::cli {
 
 void ModelArgs::add(CLI::App* cmd) {
   cmd->add_option("MODEL", path, "Model file: OBJ, CityJSON, PLY, glTF/GLB, STL, IFC, DAE, FBX")->required();
-  cmd->add_option("--up", up, "Up axis of the model: y (default) or z (CityGML-derived data)")
+  cmd->add_option("--up", up, key_help("up", key_default("up")))
       ->check(CLI::IsMember({"y", "z", "Y", "Z"}));
-  cmd->add_option("--scale", scale, "Unit scale to metres (e.g. 0.001 for a model in mm)")->check(kPositive);
-  cmd->add_option("--cityjson-lod", cityjson_lod,
-                  "CityJSON: the LOD geometry to read, e.g. 2 or 2.2 (default: each object's highest)");
+  cmd->add_option("--scale", scale, key_help("scale"))->check(kPositive);
+  cmd->add_option("--cityjson-lod", cityjson_lod, key_help("cityjson_lod", "default: each object's highest"));
 }
 
 Scene ModelArgs::load(LoadReport* report, bool quiet) const {
@@ -44,7 +44,7 @@ Scene load_model(const std::string& path, const LoadOptions& options, LoadReport
 }
 
 void DisplayArgs::add(CLI::App* cmd) {
-  cmd->add_option("--display", path, "Display profile YAML (default: the paper's 1280x1024, 86.27 dpi, 0.5 m)")
+  cmd->add_option("--display", path, key_help("display", "default: the paper's 1280x1024, 86.27 dpi, 0.5 m"))
       ->check(kNotEmpty);
 }
 
@@ -126,9 +126,28 @@ CLI::Validator in_range(double lo, double hi) {
       desc.str());
 }
 
-const char* const kSamplesHelp =
-    "Samples per pixel: auto (per view, README, Choosing the samples per view), 1, 2, 4, 8, or 9 / 16\n"
-    "(an ordered grid from one render at 3x / 4x the resolution, a mask per sample; README, Grids of samples)";
+std::string key_help(const char* key, const std::string& note) {
+  const std::string text = std::string(config_setting(key).help) + (note.empty() ? "" : " (" + note + ")");
+  // Lines of at most kWidth characters, broken at spaces (CLI11 indents them).
+  constexpr size_t kWidth = 90;
+  std::string out;
+  size_t line = 0;
+  std::istringstream words(text);
+  for (std::string w; words >> w;) {
+    if (line > 0 && line + 1 + w.size() > kWidth) {
+      out += '\n';
+      line = 0;
+    } else if (line > 0) {
+      out += ' ';
+      ++line;
+    }
+    out += w;
+    line += w.size();
+  }
+  return out;
+}
+
+std::string key_default(const char* key) { return std::string("default ") + config_setting(key).default_text; }
 
 CLI::Validator samples_check() {
   return CLI::Validator(

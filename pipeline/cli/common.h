@@ -49,13 +49,20 @@ struct OptionError : std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+// The help of an option that sets config key `key`: the key's help in the
+// table of settings (perclod/settings.h, docs/usage.md#config-keys), then
+// `note` in parentheses ("default 0.5", "overrides the config's ratio"),
+// wrapped for --help. So an option's help and the docs say the same.
+std::string key_help(const char* key, const std::string& note = "");
+// "default <the key's default>" for key_help's note.
+std::string key_default(const char* key);
+
 // Validators whose messages read "must be ..., got 'X'" (CLI11 prefixes the
 // option name), instead of CLI11's "Value 0 not in range 2.2e-308 to 1.8e308".
 extern const CLI::Validator kPositive;     // a finite number > 0
 extern const CLI::Validator kNonNegative;  // a finite number >= 0
 extern const CLI::Validator kNotEmpty;     // a non-empty string (output directories)
 CLI::Validator in_range(double lo, double hi);
-extern const char* const kSamplesHelp;  // --samples of label and run
 CLI::Validator samples_check();          // auto, 1, 2, 4, 8, 9 or 16
 
 // The files an error is about, for messages that name none (e.g. "scene:

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "perclod/outputs.h"
+#include "perclod/settings.h"
 #include "perclod/views.h"
 
 namespace perclod {
@@ -83,6 +84,21 @@ T get(const YAML::Node& n, const std::string& path, const char* key, T fallback)
   }
 }
 
+// The keys of one mapping in a table of settings (perclod/settings.h): the
+// top level's (parent "": the keys without a dot) or those of the mapping
+// `parent` ("crs_origin": lat, lon, height). `top_only` picks the batch's
+// own keys instead of the others.
+std::set<std::string> keys_in(const std::vector<SettingSpec>& table, const std::string& parent, bool top_only = false) {
+  std::set<std::string> keys;
+  const std::string prefix = parent.empty() ? "" : parent + ".";
+  for (const SettingSpec& s : table) {
+    const std::string key = s.key;
+    if (s.top_only != top_only || key.rfind(prefix, 0) != 0) continue;
+    if (key.find('.', prefix.size()) == std::string::npos) keys.insert(key.substr(prefix.size()));
+  }
+  return keys;
+}
+
 void require_positive(const std::string& path, const char* key, double v) {
   if (!(v > 0) || !std::isfinite(v)) throw config_error(path, std::string("'") + key + "' must be a positive number");
 }
@@ -93,7 +109,8 @@ DisplayProfile default_display_profile() { return DisplayProfile{}; }
 
 DisplayProfile load_display_profile(const std::string& path) {
   YAML::Node n = load_yaml(path);
-  check_keys(n, path, {"name", "width", "height", "dpi", "viewer_distance_m", "fov_y_deg"});
+  static const std::set<std::string> keys = keys_in(display_settings(), "");
+  check_keys(n, path, keys);
   DisplayProfile d;
   d.name = get<std::string>(n, path, "name", std::filesystem::path(path).stem().string());
   d.width = get<int>(n, path, "width", d.width);
@@ -115,26 +132,31 @@ DisplayProfile load_display_profile(const std::string& path) {
 
 namespace {
 
-// Keys that set how one model is processed: a config's top level, and the
+// The known keys of a config's mappings come from the table of settings
+// (docs/usage.md#config-keys). A model's keys: a config's top level and the
 // overrides of a `models:` entry.
-const std::set<std::string> kModelKeys = {
-    "model", "up", "scale", "display", "distances", "views", "facades", "samples", "spins",
-    "keep_unsampled_surface", "mask_per_sample", "per_building", "combine_views", "tracer", "verify", "ratio", "simplify", "k", "target",
-    "keep_undisplayable", "format",
-    "e_perceptible", "e_imperceptible", "e_undisplayable", "judge_views", "max_changed", "max_silhouette",
-    "min_ssim", "strict", "tighten_to_limits", "explain",
-    "fidelity_target", "cityjson_lod", "crs_origin", "tileset", "memory_mb", "debug_images", "marking_near"};
-// Keys of the batch itself (top level only).
-const std::set<std::string> kBatchKeys = {"models", "out", "jobs", "memory_budget_mb"};
+const std::set<std::string>& model_keys() {
+  static const std::set<std::string> keys = keys_in(config_settings(), "");
+  return keys;
+}
+// The batch's own keys (top level only).
+const std::set<std::string>& batch_keys() {
+  static const std::set<std::string> keys = keys_in(config_settings(), "", true);
+  return keys;
+}
 
-// The settings of one model from a mapping `n` holding kModelKeys (and, at
-// the top level, "out"). `path` names the place in errors ("cfg.yaml" or
+std::string relative_to(const std::filesystem::path& dir, const std::string& p) {
+  return p.empty() || std::filesystem::path(p).is_absolute() ? p : (dir / p).string();
+}
+
+// The settings of one model from a mapping `n` holding model_keys() (and, at
+// the top level, the batch's keys), group by group in the order its errors
+// are checked. `path` names the place in errors ("cfg.yaml" or
 // "cfg.yaml: models[2]"); relative file names are taken from `dir`.
-BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std::filesystem::path& dir) {
-  namespace fs = std::filesystem;
-  auto rel = [&](const std::string& p) { return p.empty() || fs::path(p).is_absolute() ? p : (dir / p).string(); };
-  BatchConfig c;
-  c.model = rel(get<std::string>(n, path, "model", ""));
+
+void read_model_file(const YAML::Node& n, const std::string& path, const std::filesystem::path& dir,
+                     BatchConfig& c) {
+  c.model = relative_to(dir, get<std::string>(n, path, "model", ""));
   if (c.model.empty()) throw config_error(path, "'model' is required");
   try {
     c.up = parse_up_axis(get<std::string>(n, path, "up", "y"));
@@ -144,41 +166,48 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   c.scale = get<double>(n, path, "scale", 1.0);
   require_positive(path, "scale", c.scale);
   if (n["display"]) {
-    c.display = rel(get<std::string>(n, path, "display", ""));
+    c.display = relative_to(dir, get<std::string>(n, path, "display", ""));
     if (c.display.empty()) throw config_error(path, "'display' must name a display profile file");
   }
+}
+
+// A view set: one string ("facades,top") or a list of items, checked.
+void read_view_set(const YAML::Node& n, const std::string& path, const char* key, std::vector<std::string>& items) {
+  const YAML::Node v = n[key];
+  if (!v) return;
+  items.clear();
+  if (v.IsSequence()) {
+    for (const auto& item : v) {
+      if (!item.IsScalar())
+        throw config_error(path, std::string("'") + key + "' must be a list of view names or presets");
+      items.push_back(item.Scalar());
+    }
+  } else if (v.IsScalar()) {
+    items.push_back(v.Scalar());
+  } else {
+    throw config_error(path, std::string("'") + key + "' must be a view set such as \"facades,top\" or a list");
+  }
+}
+
+void read_views(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   if (n["views"] && n["facades"]) throw config_error(path, "give 'views' or its old name 'facades', not both");
   const char* views_key = n["facades"] ? "facades" : "views";
-  // A view set: one string ("facades,top") or a list of items, checked.
-  auto view_set = [&](const char* key, std::vector<std::string>& items) {
-    const YAML::Node v = n[key];
-    if (!v) return;
-    items.clear();
-    if (v.IsSequence()) {
-      for (const auto& item : v) {
-        if (!item.IsScalar())
-          throw config_error(path, std::string("'") + key + "' must be a list of view names or presets");
-        items.push_back(item.Scalar());
-      }
-    } else if (v.IsScalar()) {
-      items.push_back(v.Scalar());
-    } else {
-      throw config_error(path, std::string("'") + key + "' must be a view set such as \"facades,top\" or a list");
-    }
-  };
-  view_set(views_key, c.views);
+  read_view_set(n, path, views_key, c.views);
   try {
     parse_views(c.views, c.up);
   } catch (const std::invalid_argument& e) {
     throw config_error(path, std::string("'") + views_key + "': " + e.what());
   }
-  view_set("judge_views", c.judge_views);
+  read_view_set(n, path, "judge_views", c.judge_views);
   if (c.judge_views == std::vector<std::string>{"none"}) c.judge_views.clear();
   if (!c.judge_views.empty()) try {
       parse_views(c.judge_views, c.up);
     } catch (const std::invalid_argument& e) {
       throw config_error(path, std::string("'judge_views': ") + e.what() + " (or 'none')");
     }
+}
+
+void read_sampling(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   if (const YAML::Node sn = n["samples"]) {
     try {
       c.samples = parse_samples(sn.IsScalar() ? sn.Scalar() : std::string("(not a single value)"));
@@ -204,6 +233,9 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
       throw config_error(path, std::string("'per_building': ") + e.what());
     }
   }
+}
+
+void read_label_rule(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   c.combine_views = get<std::string>(n, path, "combine_views", c.combine_views);
   try {
     parse_combine_views(c.combine_views);
@@ -215,19 +247,28 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   c.verify = get<bool>(n, path, "verify", c.verify);
   c.ratio = get<double>(n, path, "ratio", c.ratio);
   if (!(c.ratio >= 0 && c.ratio <= 1)) throw config_error(path, "'ratio' must be within [0, 1]");
+}
+
+// A fidelity bound e_*: 0..1000 pixels, and given only in fidelity mode.
+void check_bound(const YAML::Node& n, const std::string& path, const BatchConfig& c, const char* key, double v) {
+  if (!(v >= 0 && v <= 1000)) throw config_error(path, std::string("'") + key + "' must be 0..1000 pixels");
+  if (n[key] && c.simplify != "fidelity")
+    throw config_error(path, std::string("'") + key + "' applies only to 'simplify: fidelity'");
+}
+
+void read_simplify_mode(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   c.simplify = get<std::string>(n, path, "simplify", c.simplify);
   if (c.simplify != "fidelity" && c.simplify != "paper" && c.simplify != "bounded" && c.simplify != "qem" &&
       c.simplify != "cluster")
     throw config_error(path, "'simplify' must be fidelity, paper, bounded, qem or cluster");
   c.e_perceptible = get<double>(n, path, "e_perceptible", c.e_perceptible);
   c.e_imperceptible = get<double>(n, path, "e_imperceptible", c.e_imperceptible);
-  auto check_bound = [&](const char* key, double v) {
-    if (!(v >= 0 && v <= 1000)) throw config_error(path, std::string("'") + key + "' must be 0..1000 pixels");
-    if (n[key] && c.simplify != "fidelity")
-      throw config_error(path, std::string("'") + key + "' applies only to 'simplify: fidelity'");
-  };
-  check_bound("e_perceptible", c.e_perceptible);
-  check_bound("e_imperceptible", c.e_imperceptible);
+  check_bound(n, path, c, "e_perceptible", c.e_perceptible);
+  check_bound(n, path, c, "e_imperceptible", c.e_imperceptible);
+}
+
+// The limits each judged view is held to, and what a run does about them.
+void read_limits(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   c.max_changed = get<double>(n, path, "max_changed", c.max_changed);
   c.max_silhouette = get<double>(n, path, "max_silhouette", c.max_silhouette);
   if (!(c.max_changed >= 0 && c.max_changed <= 1)) throw config_error(path, "'max_changed' must be a fraction in [0, 1]");
@@ -242,20 +283,28 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   c.explain = get<bool>(n, path, "explain", c.explain);
   if (c.explain && c.simplify == "cluster")
     throw config_error(path, "'explain' applies to the collapse modes (fidelity, paper, bounded, qem), not cluster");
-  if (const YAML::Node t = n["fidelity_target"]) {
-    if (!t.IsMap()) throw config_error(path, "'fidelity_target' must be a mapping such as {max_changed: 0.02}");
-    if (c.simplify != "fidelity") throw config_error(path, "'fidelity_target' applies only to 'simplify: fidelity'");
-    check_keys(t, path, {"max_changed", "max_silhouette", "min_ssim"});
-    c.fidelity_target = true;
-    c.target_max_changed = get<double>(t, path, "max_changed", c.max_changed);
-    c.target_max_silhouette = get<double>(t, path, "max_silhouette", c.max_silhouette);
-    if (!(c.target_max_changed >= 0 && c.target_max_changed <= 1) ||
-        !(c.target_max_silhouette >= 0 && c.target_max_silhouette <= 1))
-      throw config_error(path, "'fidelity_target': max_changed and max_silhouette must be fractions in [0, 1]");
-    c.target_min_ssim = get<double>(t, path, "min_ssim", c.min_ssim);
-    if (!(c.target_min_ssim >= 0 && c.target_min_ssim <= 1))
-      throw config_error(path, "'fidelity_target': min_ssim must be within [0, 1]");
-  }
+}
+
+void read_fidelity_target(const YAML::Node& n, const std::string& path, BatchConfig& c) {
+  const YAML::Node t = n["fidelity_target"];
+  if (!t) return;
+  if (!t.IsMap()) throw config_error(path, "'fidelity_target' must be a mapping such as {max_changed: 0.02}");
+  if (c.simplify != "fidelity") throw config_error(path, "'fidelity_target' applies only to 'simplify: fidelity'");
+  static const std::set<std::string> keys = keys_in(config_settings(), "fidelity_target");
+  check_keys(t, path, keys);
+  c.fidelity_target = true;
+  c.target_max_changed = get<double>(t, path, "max_changed", c.max_changed);
+  c.target_max_silhouette = get<double>(t, path, "max_silhouette", c.max_silhouette);
+  if (!(c.target_max_changed >= 0 && c.target_max_changed <= 1) ||
+      !(c.target_max_silhouette >= 0 && c.target_max_silhouette <= 1))
+    throw config_error(path, "'fidelity_target': max_changed and max_silhouette must be fractions in [0, 1]");
+  c.target_min_ssim = get<double>(t, path, "min_ssim", c.min_ssim);
+  if (!(c.target_min_ssim >= 0 && c.target_min_ssim <= 1))
+    throw config_error(path, "'fidelity_target': min_ssim must be within [0, 1]");
+}
+
+// The mode's own settings (k, target, the undisplayable rule) and the LOD format.
+void read_simplify_settings(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   c.k = get<double>(n, path, "k", c.k);
   require_positive(path, "k", c.k);
   if (n["target"]) {
@@ -274,7 +323,7 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   }
   if (n["e_undisplayable"]) {
     c.e_undisplayable = get<double>(n, path, "e_undisplayable", c.e_undisplayable);
-    check_bound("e_undisplayable", c.e_undisplayable);
+    check_bound(n, path, c, "e_undisplayable", c.e_undisplayable);
     if (c.keep_undisplayable == "false")
       throw config_error(path, "'e_undisplayable' bounds the collapses of kept undisplayable triangles; "
                                "'keep_undisplayable: false' deletes them");
@@ -282,6 +331,9 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   }
   c.format = get<std::string>(n, path, "format", c.format);
   if (c.format != "obj" && c.format != "glb") throw config_error(path, "'format' must be obj or glb");
+}
+
+void read_distances(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   if (n["distances"]) {
     if (!n["distances"].IsSequence()) throw config_error(path, "'distances' must be a list of metres");
     for (const auto& d : n["distances"]) {
@@ -302,6 +354,10 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   } catch (const std::invalid_argument& e) {
     throw config_error(path, std::string("'distances': ") + e.what());
   }
+}
+
+// What is written besides the LODs, and how a batch schedules the model.
+void read_outputs(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   c.memory_mb = get<double>(n, path, "memory_mb", c.memory_mb);
   if (!(c.memory_mb >= 0) || !std::isfinite(c.memory_mb))
     throw config_error(path, "'memory_mb' must be a non-negative number of MiB (0 = estimate from the file size)");
@@ -311,7 +367,8 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   c.marking_near = get<bool>(n, path, "marking_near", c.marking_near);
   if (const YAML::Node o = n["crs_origin"]) {
     if (!o.IsMap()) throw config_error(path, "'crs_origin' must be a mapping {lat, lon, height}");
-    check_keys(o, path, {"lat", "lon", "height"});
+    static const std::set<std::string> keys = keys_in(config_settings(), "crs_origin");
+    check_keys(o, path, keys);
     if (!o["lat"] || !o["lon"]) throw config_error(path, "'crs_origin' needs lat and lon (degrees)");
     c.crs_origin = true;
     c.origin_lat = get<double>(o, path, "lat", 0.0);
@@ -320,9 +377,23 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
     if (!(std::abs(c.origin_lat) <= 90) || !(std::abs(c.origin_lon) <= 180) || !std::isfinite(c.origin_height))
       throw config_error(path, "'crs_origin': lat must be within [-90, 90], lon within [-180, 180] degrees");
   }
+}
+
+BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std::filesystem::path& dir) {
+  BatchConfig c;
+  read_model_file(n, path, dir, c);
+  read_views(n, path, c);
+  read_sampling(n, path, c);
+  read_label_rule(n, path, c);
+  read_simplify_mode(n, path, c);
+  read_limits(n, path, c);
+  read_fidelity_target(n, path, c);
+  read_simplify_settings(n, path, c);
+  read_distances(n, path, c);
+  read_outputs(n, path, c);
   // The files it names, last: every value above is checked without them.
   std::error_code ec;
-  if (!fs::is_regular_file(c.model, ec)) throw config_error(path, "model '" + c.model + "': no such file");
+  if (!std::filesystem::is_regular_file(c.model, ec)) throw config_error(path, "model '" + c.model + "': no such file");
   if (!c.display.empty()) load_display_profile(c.display);  // throws naming the profile
   return c;
 }
@@ -399,8 +470,8 @@ BatchConfig load_batch_config(const std::string& path) {
 ConfigFile load_config_file(const std::string& path) {
   namespace fs = std::filesystem;
   YAML::Node n = load_yaml(path);
-  std::set<std::string> known = kModelKeys;
-  known.insert(kBatchKeys.begin(), kBatchKeys.end());
+  std::set<std::string> known = model_keys();
+  known.insert(batch_keys().begin(), batch_keys().end());
   check_keys(n, path, known);
   const fs::path dir = fs::path(path).parent_path();
   ConfigFile f;
@@ -428,8 +499,7 @@ ConfigFile load_config_file(const std::string& path) {
     throw config_error(path, "'models' must be a non-empty list of model files, globs, folders or mappings");
   // Each entry is parsed from the top-level settings with its own on top.
   YAML::Node base = YAML::Clone(n);
-  for (const auto& k : kBatchKeys) base.remove(k);
-  auto rel = [&](const std::string& p) { return p.empty() || fs::path(p).is_absolute() ? p : (dir / p).string(); };
+  for (const auto& k : batch_keys()) base.remove(k);
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string where = path + ": models[" + std::to_string(i) + "]";
     const YAML::Node item = list[i];
@@ -438,7 +508,7 @@ ConfigFile load_config_file(const std::string& path) {
     if (item.IsScalar()) {
       pattern = item.Scalar();
     } else if (item.IsMap()) {
-      check_keys(item, where, kModelKeys);
+      check_keys(item, where, model_keys());
       if (!item["model"]) throw config_error(where, "'model' is required in a models entry");
       for (const auto& kv : item) merged[kv.first.as<std::string>()] = YAML::Clone(kv.second);
       pattern = get<std::string>(item, where, "model", "");
@@ -446,7 +516,7 @@ ConfigFile load_config_file(const std::string& path) {
       throw config_error(where, "must be a model file, glob, folder, or a mapping with 'model'");
     }
     if (pattern.empty()) throw config_error(where, "names no model");
-    for (const std::string& file : expand_models(rel(pattern), pattern, where)) {
+    for (const std::string& file : expand_models(relative_to(dir, pattern), pattern, where)) {
       merged["model"] = fs::absolute(file).lexically_normal().string();  // already joined with `dir`
       BatchConfig c = parse_model(merged, where, dir);
       c.out = f.out;
@@ -457,44 +527,128 @@ ConfigFile load_config_file(const std::string& path) {
   return f;
 }
 
+namespace {
+
+// The value a hashed key enters settings_json with: config_settings()'s
+// hashed keys each have one (nested keys inside their mapping's), none
+// other. A writer may leave its key out; the JSON types of the values are
+// part of the hash.
+using HashWriter = void (*)(const BatchConfig&, nlohmann::json&);
+using json = nlohmann::json;
+
+// The display profile's values, not its path, by display_settings()'s keys.
+void write_display(const BatchConfig& c, json& s) {
+  const DisplayProfile d = c.display.empty() ? default_display_profile() : load_display_profile(c.display);
+  const std::map<std::string, json> values = {{"name", d.name},
+                                              {"width", d.width},
+                                              {"height", d.height},
+                                              {"dpi", d.dpi},
+                                              {"viewer_distance_m", d.viewer_distance},
+                                              {"fov_y_deg", d.fov_y_override_deg}};
+  json& out = s["display"] = json::object();
+  for (const SettingSpec& k : display_settings())
+    if (k.hashed) out[k.key] = values.at(k.key);
+}
+
+const std::map<std::string, HashWriter>& hash_writers() {
+  static const std::map<std::string, HashWriter> writers = {
+      {"up", [](const BatchConfig& c, json& s) { s["up"] = c.up == UpAxis::Z ? "z" : "y"; }},
+      {"scale", [](const BatchConfig& c, json& s) { s["scale"] = c.scale; }},
+      {"display", write_display},
+      {"distances", [](const BatchConfig& c, json& s) { s["distances"] = c.distances; }},
+      {"views", [](const BatchConfig& c, json& s) { s["views"] = c.views; }},
+      {"samples", [](const BatchConfig& c, json& s) { s["samples"] = samples_json(c.samples); }},
+      {"spins", [](const BatchConfig& c, json& s) { s["spins"] = c.spins; }},
+      {"keep_unsampled_surface",
+       [](const BatchConfig& c, json& s) { s["keep_unsampled_surface"] = c.keep_unsampled_surface; }},
+      // Joins when on, so the hashes of older configs stay.
+      {"mask_per_sample", [](const BatchConfig& c, json& s) { if (c.mask_per_sample) s["mask_per_sample"] = true; }},
+      {"per_building", [](const BatchConfig& c, json& s) { s["per_building"] = c.per_building; }},
+      // Left out when it is the paper's rule; the default (pooled) joins, so
+      // a manifest redoes models labelled before the key existed.
+      {"combine_views",
+       [](const BatchConfig& c, json& s) {
+         if (c.combine_views != "any") s["combine_views"] = c.combine_views;
+       }},
+      {"tracer", [](const BatchConfig& c, json& s) { s["tracer"] = c.tracer; }},
+      {"verify", [](const BatchConfig& c, json& s) { s["verify"] = c.verify; }},
+      {"ratio", [](const BatchConfig& c, json& s) { s["ratio"] = c.ratio; }},
+      {"simplify", [](const BatchConfig& c, json& s) { s["simplify"] = c.simplify; }},
+      {"e_perceptible", [](const BatchConfig& c, json& s) { s["e_perceptible"] = c.e_perceptible; }},
+      {"e_imperceptible", [](const BatchConfig& c, json& s) { s["e_imperceptible"] = c.e_imperceptible; }},
+      {"e_undisplayable",
+       [](const BatchConfig& c, json& s) {
+         if (std::isfinite(c.e_undisplayable)) s["e_undisplayable"] = c.e_undisplayable;
+       }},
+      // true and false stay booleans, so the hashes of configs that named
+      // one stay what they were before auto.
+      {"keep_undisplayable",
+       [](const BatchConfig& c, json& s) {
+         s["keep_undisplayable"] = c.keep_undisplayable == "auto" ? json("auto") : json(c.keep_undisplayable == "true");
+       }},
+      {"k", [](const BatchConfig& c, json& s) { s["k"] = c.k; }},
+      {"target", [](const BatchConfig& c, json& s) { s["target"] = c.target; }},
+      {"format", [](const BatchConfig& c, json& s) { s["format"] = c.format; }},
+      {"judge_views", [](const BatchConfig& c, json& s) { s["judge_views"] = c.judge_views; }},
+      {"max_changed", [](const BatchConfig& c, json& s) { s["max_changed"] = c.max_changed; }},
+      {"max_silhouette", [](const BatchConfig& c, json& s) { s["max_silhouette"] = c.max_silhouette; }},
+      // Joins only when set, so the hashes of configs without it (and the
+      // batches a manifest resumes) stay what they were before the key.
+      {"min_ssim", [](const BatchConfig& c, json& s) { if (c.min_ssim > 0) s["min_ssim"] = c.min_ssim; }},
+      // Joins in fidelity mode, where it decides: a manifest redoes fidelity
+      // LODs made before tightening existed (some would now be tighter).
+      {"tighten_to_limits",
+       [](const BatchConfig& c, json& s) {
+         if (c.simplify == "fidelity") s["tighten_to_limits"] = c.tighten_to_limits;
+       }},
+      // Only the report changes; joins when on, so older hashes stay.
+      {"explain", [](const BatchConfig& c, json& s) { if (c.explain) s["explain"] = true; }},
+      {"fidelity_target",
+       [](const BatchConfig& c, json& s) {
+         json target = nullptr;
+         if (c.fidelity_target) {
+           target = {{"max_changed", c.target_max_changed}, {"max_silhouette", c.target_max_silhouette}};
+           if (c.target_min_ssim > 0) target["min_ssim"] = c.target_min_ssim;
+         }
+         s["fidelity_target"] = target;
+       }},
+      {"cityjson_lod", [](const BatchConfig& c, json& s) { s["cityjson_lod"] = c.cityjson_lod; }},
+      {"crs_origin",
+       [](const BatchConfig& c, json& s) {
+         s["crs_origin"] = c.crs_origin ? json{{"lat", c.origin_lat}, {"lon", c.origin_lon}, {"height", c.origin_height}}
+                                        : json(nullptr);
+       }},
+      {"tileset", [](const BatchConfig& c, json& s) { s["tileset"] = c.tileset; }},
+      {"debug_images", [](const BatchConfig& c, json& s) { s["debug_images"] = c.debug_images; }},
+      {"marking_near", [](const BatchConfig& c, json& s) { s["marking_near"] = c.marking_near; }},
+  };
+  return writers;
+}
+
+// The hashed keys of config_settings() that settings_json writes: not an
+// old name, not a key inside a mapping.
+bool written_by_settings_json(const SettingSpec& k) { return k.hashed && !k.alias_of && !std::strchr(k.key, '.'); }
+
+}  // namespace
+
 nlohmann::json settings_json(const BatchConfig& c) {
-  DisplayProfile d = c.display.empty() ? default_display_profile() : load_display_profile(c.display);
-  nlohmann::json target = nullptr;
-  if (c.fidelity_target) {
-    target = {{"max_changed", c.target_max_changed}, {"max_silhouette", c.target_max_silhouette}};
-    if (c.target_min_ssim > 0) target["min_ssim"] = c.target_min_ssim;
+  static const bool checked = [] {
+    for (const auto& [key, writer] : hash_writers()) {
+      const SettingSpec* k = find_setting(config_settings(), key);
+      if (!k || !written_by_settings_json(*k))
+        throw std::logic_error("settings_json writes '" + key + "', which config_settings() does not hash");
+    }
+    return true;
+  }();
+  (void)checked;
+  json s = json::object();
+  for (const SettingSpec& k : config_settings()) {
+    if (!written_by_settings_json(k)) continue;
+    const auto w = hash_writers().find(k.key);
+    if (w == hash_writers().end())
+      throw std::logic_error(std::string("config key '") + k.key + "' is hashed but settings_json has no value for it");
+    w->second(c, s);
   }
-  // min_ssim joins only when set, so the hashes of configs without it (and
-  // the batches a manifest resumes) stay what they were before the key.
-  nlohmann::json s = {{"up", c.up == UpAxis::Z ? "z" : "y"}, {"scale", c.scale},
-          {"display", {{"name", d.name}, {"width", d.width}, {"height", d.height}, {"dpi", d.dpi},
-                       {"viewer_distance_m", d.viewer_distance}, {"fov_y_deg", d.fov_y_override_deg}}},
-          {"distances", c.distances}, {"views", c.views}, {"samples", samples_json(c.samples)}, {"spins", c.spins},
-          {"keep_unsampled_surface", c.keep_unsampled_surface},
-          {"per_building", c.per_building}, {"tracer", c.tracer}, {"verify", c.verify}, {"ratio", c.ratio},
-          {"simplify", c.simplify}, {"e_perceptible", c.e_perceptible}, {"e_imperceptible", c.e_imperceptible},
-          {"k", c.k}, {"target", c.target}, {"format", c.format},
-          {"judge_views", c.judge_views}, {"max_changed", c.max_changed}, {"max_silhouette", c.max_silhouette},
-          {"fidelity_target", target},
-          {"cityjson_lod", c.cityjson_lod}, {"tileset", c.tileset}, {"debug_images", c.debug_images},
-          {"marking_near", c.marking_near},
-          {"crs_origin", c.crs_origin ? nlohmann::json{{"lat", c.origin_lat}, {"lon", c.origin_lon},
-                                                       {"height", c.origin_height}}
-                                      : nlohmann::json(nullptr)}};
-  if (c.min_ssim > 0) s["min_ssim"] = c.min_ssim;
-  // Likewise combine_views when it is the paper's rule; the default (pooled)
-  // joins, so a manifest redoes models labelled before the key existed.
-  if (c.combine_views != "any") s["combine_views"] = c.combine_views;
-  if (c.mask_per_sample) s["mask_per_sample"] = true;  // off: the hashes of older configs stay
-  if (std::isfinite(c.e_undisplayable)) s["e_undisplayable"] = c.e_undisplayable;
-  // true and false stay booleans, so the hashes of configs that named one
-  // stay what they were before auto.
-  s["keep_undisplayable"] = c.keep_undisplayable == "auto" ? nlohmann::json("auto")
-                                                           : nlohmann::json(c.keep_undisplayable == "true");
-  // Joins in fidelity mode, where it decides: a manifest redoes fidelity
-  // LODs made before tightening existed (some of them would now be tighter).
-  if (c.simplify == "fidelity") s["tighten_to_limits"] = c.tighten_to_limits;
-  if (c.explain) s["explain"] = true;  // only the report changes; joins when on, so older hashes stay
   return s;
 }
 

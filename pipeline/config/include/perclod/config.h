@@ -17,7 +17,10 @@ namespace perclod {
 DisplayProfile load_display_profile(const std::string& path);
 DisplayProfile default_display_profile();  // the paper's 19" LCD
 
-// A batch job (configs/demo.yaml).
+// A batch job (configs/demo.yaml). Its keys, with their types, defaults,
+// allowed values and help, are config_settings() (perclod/settings.h,
+// docs/usage.md#config-keys); tests/pipeline/test_settings.cpp checks the
+// defaults below against that table's.
 struct BatchConfig {
   std::string model;                 // path, relative to the config file's folder
   UpAxis up = UpAxis::Y;
