@@ -187,37 +187,35 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
   out.t_perceive = since(t0);
 }
 
-// The second half, on any thread: trace the view seen by see_view at
-// vs.samples samples per pixel (with vs.mask_per_sample, `cam` is one
-// sample pass, traced at its pixel centres); adds its counts and labels for
-// the triangles of `owner[t] == building` (all when `owner` is null).
-void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
-                const ViewSampling& vs, const std::string& name, const Camera& cam,
-                const std::vector<uint32_t>* owner, uint32_t building, LabelResult& res, Accumulator& acc,
-                ViewOutcome& out) {
-  const size_t nt = scene.triangle_count();
-  const double t_render = out.t_render, t_perceive = out.t_perceive;
-  auto t0 = Clock::now();
+namespace {
 
-  const size_t pixels = size_t(out.image.width) * out.image.height;
-  TriangleCounts counts;
-  counts.traced.assign(nt, 0);
-  counts.imperceptible.assign(nt, 0);
-  t0 = Clock::now();
-  // Every sample of the view in one call: the octree walks its structure
-  // once for every eight of them. With a mask per sample this render is one sample
-  // pass, its camera shifted by the pass's offset: one ray per pixel centre.
-  const int grid = sample_grid(vs.samples);
-  const int samples = grid ? grid * grid : vs.mask_per_sample ? 1 : vs.samples;
-  std::vector<std::array<double, 2>> offsets =
-      grid                 ? grid_offsets(grid)
-      : vs.mask_per_sample ? std::vector<std::array<double, 2>>{{0.0, 0.0}}
-                           : sample_offsets(vs.samples);
+// How a view's samples are traced: an ordered grid (its sample pictures each
+// a mask), one ray per pixel centre (a mask-per-sample pass), or the job's
+// samples from one picture; and whether verify's pixel centres ride along.
+struct TracePlan {
+  int grid = 0;     // sample_grid(vs.samples)
+  int samples = 1;  // samples counted per pixel of this render
+  bool centre_in_walk = false;
+};
+
+// Every sample of the view in one call into out.samples: the octree walks
+// its structure once for every eight of them. With a mask per sample this
+// render is one sample pass, its camera shifted by the pass's offset: one
+// ray per pixel centre.
+TracePlan trace_view(const Tracer& tracer, bool verify, bool whole_model, const ViewSampling& vs, const Camera& cam,
+                     size_t pixels, ViewOutcome& out) {
+  TracePlan plan;
+  plan.grid = sample_grid(vs.samples);
+  plan.samples = plan.grid ? plan.grid * plan.grid : vs.mask_per_sample ? 1 : vs.samples;
+  std::vector<std::array<double, 2>> offsets = plan.grid           ? grid_offsets(plan.grid)
+                                               : vs.mask_per_sample ? std::vector<std::array<double, 2>>{{0.0, 0.0}}
+                                                                    : sample_offsets(vs.samples);
   // verify compares the octree with Embree and with the ID buffer at the
   // pixel centres: with several samples the centre rides along in the same
   // walk, as one more sample, when the walk has room for it.
-  const bool centre_in_walk = !grid && reference && !owner && samples > 1 && samples < OctreeTracer::kMaxSamples;
-  if (centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `base`
+  plan.centre_in_walk =
+      !plan.grid && verify && whole_model && plan.samples > 1 && plan.samples < OctreeTracer::kMaxSamples;
+  if (plan.centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `base`
   std::vector<std::vector<uint32_t>>& traced = out.samples;
   traced.resize(offsets.size());
   std::vector<uint32_t*> buffers;
@@ -228,33 +226,46 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   // The offsets are from base's pixel centres: the view's camera unshifted,
   // or a mask-per-sample pass's own camera (shifted, one offset of zero).
   Camera base = cam;
-  if (!vs.mask_per_sample && !grid) base.shift_x = base.shift_y = 0;
+  if (!vs.mask_per_sample && !plan.grid) base.shift_x = base.shift_y = 0;
   tracer.trace_samples(base, offsets, buffers.data());
+  return plan;
+}
+
+// Adds the traced samples (of `owner[t] == building` only, when given) to
+// `counts`, then the triangles drawn but missed by every sample and, with
+// keep_unsampled_surface, the unsampled surface; returns how many of those.
+size_t count_samples(const Scene& scene, const LabelJob& job, const TracePlan& plan, const Camera& cam,
+                     const std::vector<uint32_t>* owner, uint32_t building, size_t pixels, ViewOutcome& out,
+                     TriangleCounts& counts) {
   auto mask_of = [&](size_t k) -> const uint8_t* {
-    return grid && k ? out.more_masks[k - 1].data() : out.perception.mask.data();
+    return plan.grid && k ? out.more_masks[k - 1].data() : out.perception.mask.data();
   };
-  for (size_t k = 0; k < size_t(samples); ++k) {
-    std::vector<uint32_t>& rays = traced[k];
+  for (size_t k = 0; k < size_t(plan.samples); ++k) {
+    std::vector<uint32_t>& rays = out.samples[k];
     if (owner)
       for (uint32_t& id : rays)
         if (id && (*owner)[id - 1] != building) id = 0;
     add_counts(counts, rays.data(), mask_of(k), pixels);
   }
-  const std::vector<uint32_t>& rays = traced[0];
-  if (grid) {
-    for (size_t k = 0; k < size_t(samples); ++k)
+  if (plan.grid) {
+    for (size_t k = 0; k < size_t(plan.samples); ++k)
       add_drawn_but_missed(k ? out.more_ids[k - 1].data() : out.image.ids.data(), mask_of(k), pixels, owner, building,
                            counts);
-  } else if (samples > 1) {
+  } else if (plan.samples > 1) {
     add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
   }
-  size_t unsampled_surface = 0;
-  if (finds_unsampled_surface(job))
-    unsampled_surface = add_unsampled_surface(scene, cam, out.image.depth.data(), out.image.ids.data(),
-                                              out.perception.mask.data(), owner, building, counts);
-  const double t_trace = since(t0);
+  if (!finds_unsampled_surface(job)) return 0;
+  return add_unsampled_surface(scene, cam, out.image.depth.data(), out.image.ids.data(), out.perception.mask.data(),
+                               owner, building, counts);
+}
 
-  const std::vector<Label> labels = label_triangles(counts, job.ratio);
+// Adds the view's counts to the totals (weighted to sixteenths of a pixel
+// with samples auto), its labels to the combined ones and its frustum to
+// the triangles some view could see.
+void accumulate_view(const Scene& scene, const LabelJob& job, const ViewSampling& vs, const Camera& cam,
+                     const std::vector<uint32_t>* owner, uint32_t building, const TriangleCounts& counts,
+                     const std::vector<Label>& labels, LabelResult& res, Accumulator& acc) {
+  const size_t nt = scene.triangle_count();
   // The frustum marks a building's view may set are its own triangles'.
   std::vector<uint8_t> seen;
   if (owner) {
@@ -273,41 +284,65 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
     acc.combined[t] = combine_labels(acc.combined[t], labels[t]);
     if (owner) acc.in_frustum[t] |= seen[t];
   }
+}
+
+// Rays against the renderer's ID buffer and, with verify, octree against
+// Embree: both at the pixel centres, where the rasteriser samples. With one
+// sample per pixel that is the trace itself; otherwise verify traces the
+// centres once more, and without verify the comparison is left out.
+void verify_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const TracePlan& plan,
+                 const Camera& cam, size_t pixels, ViewOutcome& out) {
+  std::vector<uint32_t> traced_centre;
+  const uint32_t* centre = nullptr;
+  const Camera drawn = kept_picture_camera(cam, plan.grid);  // the camera of out.image
+  if (plan.samples == 1 || plan.grid) {
+    centre = out.samples[0].data();  // the one sample is the centre (of this pass's camera; with grid, sample 0's)
+  } else if (plan.centre_in_walk) {
+    centre = out.samples.back().data();
+  } else if (reference) {
+    traced_centre.resize(pixels);
+    tracer.trace(cam, traced_centre.data());
+    centre = traced_centre.data();
+  }
+  if (centre)
+    out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, drawn, centre, out.image.ids.data()));
+  if (reference) {
+    std::vector<uint32_t> ref(pixels);
+    const auto t0 = Clock::now();
+    reference->trace(drawn, ref.data());
+    out.report["seconds"]["trace_embree_verify"] = since(t0);
+    out.report["octree_vs_embree"] = to_json(compare_traced(scene, drawn, centre, ref.data()));
+  }
+}
+
+}  // namespace
+
+void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
+                const ViewSampling& vs, const std::string& name, const Camera& cam,
+                const std::vector<uint32_t>* owner, uint32_t building, LabelResult& res, Accumulator& acc,
+                ViewOutcome& out) {
+  const size_t nt = scene.triangle_count();
+  const double t_render = out.t_render, t_perceive = out.t_perceive;
+  const size_t pixels = size_t(out.image.width) * out.image.height;
+  TriangleCounts counts;
+  counts.traced.assign(nt, 0);
+  counts.imperceptible.assign(nt, 0);
+  const auto t0 = Clock::now();
+  const TracePlan plan = trace_view(tracer, reference != nullptr, owner == nullptr, vs, cam, pixels, out);
+  const size_t unsampled_surface = count_samples(scene, job, plan, cam, owner, building, pixels, out, counts);
+  const double t_trace = since(t0);
+
+  const std::vector<Label> labels = label_triangles(counts, job.ratio);
+  accumulate_view(scene, job, vs, cam, owner, building, counts, labels, res, acc);
   out.report = {{"view", name},
-                {"rendered_pixels", grid ? pixels * size_t(samples) : pixels},
+                {"rendered_pixels", plan.grid ? pixels * size_t(plan.samples) : pixels},
                 {"covered_pixels", out.perception.counted_pixels},
                 {"imperceptible_fraction", out.perception.imperceptible_fraction},
                 {"levels", out.perception.levels},
                 {"labels", to_json(count_labels(labels))},
                 {"unsampled_surface", unsampled_surface},
                 {"seconds", {{"render", t_render}, {"perceive", t_perceive}, {"trace", t_trace}}}};
-  if (!owner) {
-    // Rays against the renderer's ID buffer and, with verify, octree against
-    // Embree: both at the pixel centres, where the rasteriser samples. With
-    // one sample per pixel that is the trace above; otherwise verify traces
-    // the centres once more, and without verify the comparison is left out.
-    std::vector<uint32_t> traced_centre;
-    const uint32_t* centre = nullptr;
-    const Camera drawn = kept_picture_camera(cam, grid);  // the camera of out.image
-    if (samples == 1 || grid) {
-      centre = rays.data();  // the one sample is the centre (of this pass's camera; with grid, sample 0's image)
-    } else if (centre_in_walk) {
-      centre = traced.back().data();
-    } else if (reference) {
-      traced_centre.resize(pixels);
-      tracer.trace(cam, traced_centre.data());
-      centre = traced_centre.data();
-    }
-    if (centre)
-      out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, drawn, centre, out.image.ids.data()));
-    if (reference) {
-      std::vector<uint32_t> ref(pixels);
-      t0 = Clock::now();
-      reference->trace(drawn, ref.data());
-      out.report["seconds"]["trace_embree_verify"] = since(t0);
-      out.report["octree_vs_embree"] = to_json(compare_traced(scene, drawn, centre, ref.data()));
-    }
-  }
+  if (!owner) verify_view(scene, tracer, reference, plan, cam, pixels, out);
 }
 
 // How a view of camera `cam` is sampled: the job's samples, or with
