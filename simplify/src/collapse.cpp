@@ -757,23 +757,20 @@ class Collapser {
 // A connected piece (faces sharing a vertex) as the removal rule sees it.
 struct Piece {
   bool perceptible = false, all_undisplayable = true, used = false;
-  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  Bounds box = Bounds::empty();
 
   void add(Label l, const float* p) {
     used = true;
     perceptible |= l == Label::Perceptible;
     all_undisplayable &= l == Label::Undisplayable;
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], p[a]);
-      hi[a] = std::max(hi[a], p[a]);
-    }
+    box.grow(p);
   }
   // No perceptible face, and: Paper mode, or all undisplayable, or (Bounded,
   // Fidelity) a bounding-box diagonal within the tolerance.
   bool removable(SimplifyMode mode, double tolerance) const {
     if (!used || perceptible) return false;
     if (mode == SimplifyMode::Paper || all_undisplayable) return true;
-    double dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+    double dx = box.hi[0] - box.lo[0], dy = box.hi[1] - box.lo[1], dz = box.hi[2] - box.lo[2];
     return std::sqrt(dx * dx + dy * dy + dz * dz) <= tolerance;
   }
 };

@@ -106,7 +106,7 @@ nlohmann::json summary_lods(const nlohmann::json& manifest) {
 }
 
 std::string manifest_path(const std::string& dir, const BatchConfig& c) {
-  return output_names_for(dir, c.model).file("_manifest.json");
+  return output_names_for(dir, c.model).manifest();
 }
 
 std::string host_name() {
@@ -208,7 +208,8 @@ void write_batch_tileset(const std::string& out) {
   for (const auto& d : dirs)
     for (const auto& f : fs::directory_iterator(d, ec)) {
       const std::string name = f.path().filename().string();
-      if (name.size() < 13 || name.compare(name.size() - 13, 13, "_tileset.json") != 0) continue;
+      const size_t n = std::strlen(kTilesetSuffix);
+      if (name.size() < n || name.compare(name.size() - n, n, kTilesetSuffix) != 0) continue;
       nlohmann::json t = read_json_file(f.path().string());
       if (!t.is_object() || !t.contains("root")) continue;
       nlohmann::json root = t["root"];
@@ -259,7 +260,7 @@ void write_batch_tileset(const std::string& out) {
                                  {"geometricError", std::max(error, 2 * std::sqrt(r))},
                                  {"refine", "ADD"},
                                  {"children", children}}}};
-  write_text_atomic((fs::path(out) / "tileset.json").string(), ts.dump(2) + "\n");
+  write_text_atomic(batch_tileset_file(out), ts.dump(2) + "\n");
 }
 
 // <out>/index.html from every shard's summary batch_<i>_of_<n>.json on disk
@@ -267,14 +268,13 @@ void write_batch_tileset(const std::string& out) {
 void write_batch_index(const std::string& out, int shards) {
   nlohmann::json all = {{"models", nlohmann::json::array()}, {"done", 0}, {"skipped", 0}, {"failed", 0}, {"seconds", 0.0}};
   for (int i = 0; i < shards; ++i) {
-    const nlohmann::json s = read_json_file(
-        (fs::path(out) / ("batch_" + std::to_string(i) + "_of_" + std::to_string(shards) + ".json")).string());
+    const nlohmann::json s = read_json_file(batch_summary_file(out, i, shards));
     if (!s.is_object()) continue;
     for (const auto& m : s["models"]) all["models"].push_back(m);
     for (const char* k : {"done", "skipped", "failed"}) all[k] = all[k].get<int>() + s.value(k, 0);
     all["seconds"] = std::max(all["seconds"].get<double>(), s.value("seconds", 0.0));
   }
-  write_text_atomic((fs::path(out) / "index.html").string(), batch_index_html(all));
+  write_text_atomic(batch_index_file(out), batch_index_html(all));
 }
 
 // What every model of this batch process shares and nothing changes: the
@@ -452,10 +452,7 @@ nlohmann::json write_shard_summary(const ConfigFile& config, const BatchOptions&
     summary[st] = summary[st].get<int>() + 1;
   }
   summary["seconds"] = since(t0);
-  write_text_atomic((fs::path(config.out) / ("batch_" + std::to_string(options.shard) + "_of_" +
-                                             std::to_string(options.shards) + ".json"))
-                        .string(),
-                    summary.dump(2) + "\n");
+  write_text_atomic(batch_summary_file(config.out, options.shard, options.shards), summary.dump(2) + "\n");
   return summary;
 }
 

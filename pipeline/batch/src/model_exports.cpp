@@ -85,7 +85,7 @@ std::vector<LodRange> lod_ranges(const std::vector<double>& distances, const std
 std::array<double, 16> enu_to_ecef(double lat_deg, double lon_deg, double height) {
   constexpr double kA = 6378137.0, kF = 1 / 298.257223563;  // WGS84
   const double e2 = kF * (2 - kF);
-  const double lat = lat_deg * M_PI / 180, lon = lon_deg * M_PI / 180;
+  const double lat = lat_deg * kPi / 180, lon = lon_deg * kPi / 180;
   const double sl = std::sin(lat), cl = std::cos(lat), so = std::sin(lon), co = std::cos(lon);
   const double n = kA / std::sqrt(1 - e2 * sl * sl);
   const double x = (n + height) * cl * co, y = (n + height) * cl * so, z = (n * (1 - e2) + height) * sl;
@@ -136,7 +136,7 @@ void write_lod_glbs(const std::vector<Scene>& lods, const LodJob& job, const std
     names.push_back("lod_" + distance_tag(r.distance));
     coverage.push_back(r.screen_coverage);
   }
-  const std::string all = out.file("_lods.glb");
+  const std::string all = out.lods_glb();
   export_lods_glb(ordered, names, coverage, all, eo);
   files["lods_glb"] = leaf(all);
 }
@@ -168,8 +168,8 @@ void write_tileset(const Scene& scene, const std::vector<Scene>& lods, const Lod
   nlohmann::json tileset = {{"asset", {{"version", "1.1"}, {"generator", std::string("perclod ") + perclod_version()}}},
                             {"geometricError", std::max(diagonal, tile["geometricError"].get<double>())},
                             {"root", tile}};
-  write_text_atomic(out.file("_tileset.json"), tileset.dump(2) + "\n");
-  files["tileset"] = leaf(out.file("_tileset.json"));
+  write_text_atomic(out.tileset(), tileset.dump(2) + "\n");
+  files["tileset"] = leaf(out.tileset());
 }
 
 // One LOD's manifest entry from its report entry e: the distances it serves,
@@ -246,7 +246,7 @@ nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>&
                  {"bounds", {{"min", lo}, {"max", hi}}}}},
       {"config", {{"file", run.config_file}, {"hash", run.settings_hash}, {"settings", settings_json(config)}}},
       {"display", {{"name", display.name}, {"width", display.width}, {"height", display.height},
-                   {"fov_y_deg", display.fov_y() * 180 / M_PI}, {"pixel_angle", pixel_angle}}},
+                   {"fov_y_deg", display.fov_y() * 180 / kPi}, {"pixel_angle", pixel_angle}}},
       {"lods", lod_list},
       {"files", files},
       {"timings", {{"load", report.contains("load") ? report["load"].value("seconds", 0.0) : 0.0},
@@ -254,7 +254,7 @@ nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>&
                    {"exports", since(t0)}}}};
   if (config.crs_origin)
     manifest["crs_origin"] = {{"lat", config.origin_lat}, {"lon", config.origin_lon}, {"height", config.origin_height}};
-  write_text_atomic(out.file("_manifest.json"), manifest.dump(2) + "\n");
+  write_text_atomic(out.manifest(), manifest.dump(2) + "\n");
   return manifest;
 }
 

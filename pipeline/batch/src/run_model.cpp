@@ -113,7 +113,7 @@ nlohmann::json run_model(const BatchConfig& config, const ModelRun& run, const s
   write_text_atomic(job.label.out.report(), report.dump(2) + "\n");
   report["model"] = c.model;
   report["load"] = load_report_json(rep);
-  report["manifest"] = leaf(job.label.out.file("_manifest.json"));
+  report["manifest"] = leaf(job.label.out.manifest());
   write_model_report_html(report, job.label.out);
   nlohmann::json m = write_model_exports(scene, lods, job, c, run, report);
   if (manifest) *manifest = std::move(m);

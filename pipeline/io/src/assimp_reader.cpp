@@ -3,6 +3,8 @@
 // hostile file declares.
 #include "readers.h"
 
+#include "perclod/outputs.h"
+
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -225,8 +227,7 @@ RawModel read_assimp(const std::string& path, LoadReport& rep) {
   const std::string data = read_file(path);  // same existence / readability errors as OBJ
   // Files that claim a format by their magic or their extension: assimp picks
   // its reader by either (a PLY starting "ply?" hung it as well).
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower_extension(path);
   if (data.compare(0, 3, "ply") == 0 || ext == ".ply") check_ply(path, data);
   if (data.compare(0, 4, "glTF") == 0 || ext == ".glb") check_glb(path, data);
   // No aiProcess_Triangulate: perclod triangulates, so it can count polygons.

@@ -285,8 +285,7 @@ void export_lods_glb(const std::vector<const Scene*>& lods, const std::vector<st
 }
 
 void export_scene(const Scene& s, const std::string& path, const ExportOptions& options) {
-  std::string ext = fs::path(path).extension().string();
-  for (auto& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower_extension(path);
   try {
     validate(s);
   } catch (const std::invalid_argument& e) {

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "perclod/outputs.h"
 #include "perclod/simplify.h"
 #include "readers.h"
 
@@ -45,11 +46,6 @@ std::string read_file(const std::string& path) {
 
 namespace {
 
-std::string lower_extension(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (auto& ch : e) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-  return e;
-}
 
 Scene build_scene(RawModel&& m, const std::string& path, const LoadOptions& opt, LoadReport& rep) {
   if (m.indices.empty()) fail(path, "no triangles (empty model)");

@@ -1,6 +1,8 @@
 // Output file names and atomic writes (perclod/outputs.h).
 #include "perclod/outputs.h"
 
+#include <cctype>
+
 #include <fcntl.h>
 #include <sys/file.h>
 #include <signal.h>
@@ -57,6 +59,22 @@ std::string OutputNames::lod(double d, const std::string& format) const {
 }
 
 std::string OutputNames::report() const { return file("_report.json"); }
+std::string OutputNames::manifest() const { return file("_manifest.json"); }
+std::string OutputNames::tileset() const { return file(kTilesetSuffix); }
+std::string OutputNames::lods_glb() const { return file("_lods.glb"); }
+
+std::string batch_tileset_file(const std::string& out) { return (std::filesystem::path(out) / "tileset.json").string(); }
+std::string batch_index_file(const std::string& out) { return (std::filesystem::path(out) / "index.html").string(); }
+std::string batch_summary_file(const std::string& out, int shard, int shards) {
+  return (std::filesystem::path(out) / ("batch_" + std::to_string(shard) + "_of_" + std::to_string(shards) + ".json"))
+      .string();
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (auto& ch : e) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  return e;
+}
 
 std::string OutputNames::report_html() const { return file("_report.html"); }
 

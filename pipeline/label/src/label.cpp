@@ -356,7 +356,7 @@ void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& re
 nlohmann::json label_model(const Scene& scene, const LabelJob& job, TracerKind kind, const Progress& progress) {
   std::optional<OutputDirectoryLock> lock;
   if (!job.out.dir.empty()) lock.emplace(job.out.dir);
-  check_framing(scene, job, job.views, {job.distance});  // before any work
+  check_framing(scene_bounds(scene), job.up, job.display, job.views, {job.distance});  // before any work
   std::unique_ptr<Tracer> tracer = make_tracer(scene, kind);
   if (progress) progress(tracer_summary(*tracer));
   Renderer renderer;

@@ -92,13 +92,6 @@ PerceptionSettings perception_for(const LabelJob& job) {
   return ps;
 }
 
-void check_framing(const Scene& scene, const LabelJob& job, const std::vector<std::string>& views,
-                   const std::vector<double>& distances) {
-  const Bounds b = scene_bounds(scene);
-  for (double d : distances)
-    for (const auto& v : views) frame_view(b, job.up, v, d, job.display);
-}
-
 std::string tracer_summary(const Tracer& tracer) {
   char line[160];
   std::snprintf(line, sizeof line, "%s built in %.0f ms, %zu KiB", tracer.name(), tracer.build_seconds() * 1e3,

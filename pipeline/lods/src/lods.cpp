@@ -294,8 +294,9 @@ LodSet make_lods(const Scene& scene, const LodJob& job, const Progress& progress
   OutputDirectoryLock lock(job.label.out.dir);
   const auto t_all = Clock::now();
   // Labelling and held-out views at every distance, before any work.
-  check_framing(scene, job.label, job.label.views, job.distances);
-  check_framing(scene, job.label, job.judge_views, job.distances);
+  const Bounds bounds = scene_bounds(scene);
+  check_framing(bounds, job.label.up, job.label.display, job.label.views, job.distances);
+  check_framing(bounds, job.label.up, job.label.display, job.judge_views, job.distances);
   JobTools tools;
   tools.tracer = make_tracer(scene, job.tracer);
   if (job.label.verify) tools.verify_tracer = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);

@@ -97,7 +97,7 @@ struct Renderer::Impl {
   int fb_w = 0, fb_h = 0;
   size_t index_count = 0;
   static constexpr size_t kChunkTriangles = 2048;
-  std::vector<std::array<float, 6>> chunk_box;  // lo xyz, hi xyz of each chunk's triangles
+  std::vector<Bounds> chunk_box;  // the box of each chunk's triangles
   // Copies of what colouring needs, so nothing points into the caller's scene.
   bool has_scene = false;
   size_t triangle_count = 0;
@@ -230,16 +230,10 @@ void Renderer::set_scene(const Scene& s) {
   impl_->index_count = s.indices.size();
   const size_t nt = s.triangle_count();
   const size_t chunks = (nt + Impl::kChunkTriangles - 1) / Impl::kChunkTriangles;
-  impl_->chunk_box.assign(chunks, {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY});
+  impl_->chunk_box.assign(chunks, Bounds::empty());
   for (size_t t = 0; t < nt; ++t) {
-    auto& b = impl_->chunk_box[t / Impl::kChunkTriangles];
-    for (int c = 0; c < 3; ++c) {
-      const float* p = &s.positions[3 * size_t(s.indices[3 * t + c])];
-      for (int k = 0; k < 3; ++k) {
-        b[k] = std::min(b[k], p[k]);
-        b[3 + k] = std::max(b[3 + k], p[k]);
-      }
-    }
+    Bounds& b = impl_->chunk_box[t / Impl::kChunkTriangles];
+    for (int c = 0; c < 3; ++c) b.grow(&s.positions[3 * size_t(s.indices[3 * t + c])]);
   }
   impl_->triangle_count = nt;
   impl_->component.resize(nt);
@@ -319,12 +313,12 @@ SidePlanes side_planes(const Camera& cam) {
 // rounding of the shader's clip coordinates (1e-5 of the terms' magnitudes,
 // about 80 float epsilons): coordinates far from the origin never lose a
 // triangle the GPU draws.
-bool box_visible(const SidePlanes& planes, const std::array<float, 6>& b) {
+bool box_visible(const SidePlanes& planes, const Bounds& b) {
   for (const auto& pl : planes.p) {
     double v = pl[3], mag = std::fabs(pl[3]);
     for (int k = 0; k < 3; ++k) {
-      v += pl[k] * double(pl[k] >= 0 ? b[3 + k] : b[k]);
-      mag += std::fabs(pl[k]) * std::max(std::fabs(double(b[k])), std::fabs(double(b[3 + k])));
+      v += pl[k] * double(pl[k] >= 0 ? b.hi[k] : b.lo[k]);
+      mag += std::fabs(pl[k]) * std::max(std::fabs(double(b.lo[k])), std::fabs(double(b.hi[k])));
     }
     if (v < -1e-5 * mag) return false;
   }
@@ -333,7 +327,7 @@ bool box_visible(const SidePlanes& planes, const std::array<float, 6>& b) {
 
 // Draws the runs of consecutive chunks whose boxes may be in view, one draw
 // each, in order.
-void draw_visible_chunks(const Camera& cam, const std::vector<std::array<float, 6>>& chunk_box,
+void draw_visible_chunks(const Camera& cam, const std::vector<Bounds>& chunk_box,
                          size_t chunk_triangles, size_t triangle_count, GLint base, size_t& drawn) {
   const SidePlanes planes = side_planes(cam);
   size_t run = 0;  // first chunk of the current run of visible chunks

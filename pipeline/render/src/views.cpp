@@ -248,4 +248,10 @@ double display_pixel_footprint(const DisplayProfile& display, double distance) {
   return c.pixel_footprint(distance);
 }
 
+void check_framing(const Bounds& bounds, UpAxis up, const DisplayProfile& display, const std::vector<std::string>& views,
+                   const std::vector<double>& distances) {
+  for (double d : distances)
+    for (const auto& v : views) frame_view(bounds, up, v, d, display);
+}
+
 }  // namespace perclod

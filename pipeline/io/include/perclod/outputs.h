@@ -31,9 +31,25 @@ struct OutputNames {
   std::string lod(double distance, const std::string& format) const;
   std::string report() const;                       // <dir>/<stem>_report.json
   std::string report_html() const;                  // <dir>/<stem>_report.html (perclod/report_html.h)
+  std::string manifest() const;                     // <dir>/<stem>_manifest.json (perclod/model_exports.h)
+  std::string tileset() const;                      // <dir>/<stem>_tileset.json
+  std::string lods_glb() const;                     // <dir>/<stem>_lods.glb (every LOD, MSFT_lod)
   // <dir>/<stem><suffix>: `perceive` names its images after the input image.
   std::string file(const std::string& suffix) const;
 };
+
+// The suffix of every model's tileset (a batch's tileset finds them by it).
+constexpr const char* kTilesetSuffix = "_tileset.json";
+
+// A batch's own files in its output folder `out`: the tileset over every
+// model (<out>/tileset.json), the index page (<out>/index.html) and shard
+// i of n's summary (<out>/batch_<i>_of_<n>.json).
+std::string batch_tileset_file(const std::string& out);
+std::string batch_index_file(const std::string& out);
+std::string batch_summary_file(const std::string& out, int shard, int shards);
+
+// The extension of `path` lower-cased, with its dot: ".obj", "" for none.
+std::string lower_extension(const std::string& path);
 
 // Names in `dir` after the stem of `input` (the model or image file): out/bldg_...
 OutputNames output_names_for(const std::string& dir, const std::string& input);

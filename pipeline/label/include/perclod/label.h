@@ -203,12 +203,6 @@ Framing framing_of(const LabelJob& job);
 // The job's perception settings at its display's pixel density.
 PerceptionSettings perception_for(const LabelJob& job);
 
-// Frames each of `views` at every distance (frame_view) on job's display and
-// up axis, so a view that cannot be framed (too many tiles) fails before any
-// rendering starts.
-void check_framing(const Scene& scene, const LabelJob& job, const std::vector<std::string>& views,
-                   const std::vector<double>& distances);
-
 // "octree built in 120 ms, 4096 KiB": the progress line after a tracer build.
 std::string tracer_summary(const Tracer& tracer);
 

@@ -90,4 +90,10 @@ double display_pixel_footprint(const DisplayProfile& display, double distance);
 // Near/far fitted to the box as seen by `cam` (near stays positive).
 void fit_clip_planes(Camera& cam, const Bounds& bounds);
 
+// Frames each of `views` at every distance (frame_view) around `bounds`, so
+// a view that cannot be framed (too many tiles) fails before any rendering
+// starts.
+void check_framing(const Bounds& bounds, UpAxis up, const DisplayProfile& display, const std::vector<std::string>& views,
+                   const std::vector<double>& distances);
+
 }  // namespace perclod
