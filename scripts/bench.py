@@ -62,7 +62,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from obj_to_cityjson import read_obj  # noqa: E402  (the scripts' one OBJ reader)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-DEFAULT_VIEWS = "facades,ring8el30,ring8el60,top"  # perclod's default view set (pipeline/include/perclod/views.h)
+DEFAULT_VIEWS = "facades,ring8el30,ring8el60,top"  # perclod's kDefaultViews (pipeline/render/include/perclod/views.h)
 SECTIONS = ("tracers", "simplifiers", "sweeps", "stability", "scaling", "failures")
 
 # --smoke: bench_fidelity at half the display's resolution (a quarter of the

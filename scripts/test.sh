@@ -45,7 +45,7 @@ stage_asan() {
 }
 # Not under ASan (the normal stage runs them all): the slowest tests that
 # run the whole pipeline on good input. Under ASan they took 15-92 s each,
-# 293 s of the stage's 817 s of test time (2026-12-05, 2-core VM; Release:
+# 293 s of the stage's 817 s of test time (2-core VM; Release:
 # 2-15 s each), and the code they run is run under ASan by shorter tests: the
 # same CLI commands on the demo building
 # (CliPipeline.LabelWritesLabelsMarkingRendersAndAgreement, CliBatch.*,

@@ -46,9 +46,9 @@ void register_label(CLI::App& app) {
   cmd->add_option("--out,-o", a->out, "Output directory (created)")->check(kNotEmpty);
   cmd->add_flag("--json", a->json, "Print the JSON summary on stdout");
   cmd->footer(
-      "Writes OUT/<model>_labels_<d>m.txt (format in README.md), OUT/<model>_label_<d>m.json, and per view\n"
-      "<model>_<view>_<d>m.png, _simulated.png, _difference.png, _mask.png, _marking.png, _marking_near.png\n"
-      "(a view too close to frame the model is tiled: <view>_t<i>).");
+      "Writes OUT/<model>_labels_<d>m.txt (docs/usage.md#the-labels-file), OUT/<model>_label_<d>m.json,\n"
+      "and per view <model>_<view>_<d>m.png, _simulated.png, _difference.png, _mask.png, _marking.png,\n"
+      "_marking_near.png (a view too close to frame the model is tiled: <view>_t<i>).");
   cmd->callback([a] {
     set_error_files({a->model.path});
     LabelJob job;

@@ -1,5 +1,5 @@
 // perclod run CONFIG: the whole method as a batch job (configs/demo.yaml), for
-// one model ('model:') or many ('models:', README "Batches").
+// one model ('model:') or many ('models:', docs/usage.md#batches).
 #include <unistd.h>
 
 #include <cstdio>
@@ -87,7 +87,7 @@ void run_many(const RunArgs& a, const ConfigFile& f) {
 void register_run(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "run", "Run the whole method from a YAML config (see configs/demo.yaml): one LOD per distance,\n"
-             "for one model or a batch of many ('models:' in the config; README, Batches)");
+             "for one model or a batch of many ('models:' in the config; docs/usage.md#batches)");
   auto a = std::make_shared<RunArgs>();
   cmd->add_option("CONFIG", a->config, "Batch config YAML")->required()->check(kNotEmpty);
   // The options that set a config key take its help from the table of settings.
@@ -119,7 +119,7 @@ void register_run(CLI::App& app) {
       "_simulated/_difference/_mask.png, _marking.png and _marking_near.png, <model>_report.json and its\n"
       "offline page <model>_report.html (figures, charts, renders beside them), and for\n"
       "viewers <model>_lod_<d>m.glb, <model>_lods.glb (MSFT_lod), <model>_tileset.json (3D Tiles 1.1) and\n"
-      "<model>_manifest.json (README, Manifest).\n"
+      "<model>_manifest.json (docs/usage.md#manifest).\n"
       "A batch writes each model to OUT/<name>/ (complete or absent: built in a partial folder, then renamed),\n"
       "skips models whose manifest matches their input, settings and perclod version, goes on past a model\n"
       "that fails (exit 1 at the end, naming it), and writes OUT/batch_<i>_of_<n>.json and OUT/tileset.json.\n"

@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
 #if defined(__GLIBC__)
   // Buffers of 1 MB and more (renders, ID buffers, perception images) are
   // mapped and unmapped, not kept in the heap when freed, so one stage's
-  // freed buffers do not raise the next stage's peak (README, Figures).
+  // freed buffers do not raise the next stage's peak
+  // (BENCHMARKS.md#the-heaps-padding).
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
   // But setting that threshold also fixes the heap's padding at 128 kB, so
   // a request of 1 MB or more found no room at the heap's top and was
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
   // its pages: `perclod run configs/demo.yaml` 8.0 s instead of 10.3 s
   // (peak 377-383 MiB instead of 349), `perclod simplify` of the million-
   // triangle facade at 427 m on one core 0.56 s instead of 0.83 s in the
-  // simplifier (README, Batches, measured: "The heap's padding").
+  // simplifier (BENCHMARKS.md#the-heaps-padding).
   mallopt(M_TOP_PAD, 64 << 20);
 #endif
   CLI::App app{
@@ -46,7 +47,7 @@ int main(int argc, char** argv) {
 
   // An interrupted run leaves no temporaries behind (finished files stay).
   perclod::remove_temporaries_on_signals();
-  // One error format (README "Usage"): "perclod: error: FILE: what" for
+  // One error format (README.md#usage): "perclod: error: FILE: what" for
   // errors about a file, "perclod: error: what" for options. Exit status 1
   // for errors, 2 for usage errors (unknown option, missing argument, ...),
   // 0 for --help and --version.

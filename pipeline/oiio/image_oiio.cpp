@@ -1,5 +1,5 @@
 // libperclod_oiio.so: perclod's image encoding and decoding through
-// OpenImageIO, loaded on first use by pipeline/src/image_io.cpp (see
+// OpenImageIO, loaded on first use by pipeline/io/src/image_io.cpp (see
 // image_codec.h for why it is a module of its own).
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>

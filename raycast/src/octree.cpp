@@ -55,7 +55,7 @@
 //     whole costs less than computing them. A tile's rays are likewise set
 //     up four at a time (shear_rays4). On the 1M facade view of
 //     bench_raycast these made the octree 1.27x faster (68.5 -> 54 ms on one
-//     thread, 2026-12-03).
+//     thread; BENCHMARKS.md#one-view-in-detail).
 // The result is the same, bit for bit, as testing every ray against every
 // triangle (BruteForceTracer; the tests check it): the culling is
 // conservative and the exact test is the same function.

@@ -35,7 +35,7 @@ TEST(Cli, InfoJsonDescribesTheBuilding) {
 }
 
 // OpenImageIO (some 260 shared libraries, 0.42 s to load) is dlopen()ed by
-// the first image read or write (pipeline/src/image_codec.h): a command that
+// the first image read or write (pipeline/io/src/image_codec.h): a command that
 // touches no image never loads it, one that writes images does. The dynamic
 // loader lists every file it loads under LD_DEBUG=files.
 TEST(Cli, OpenImageIoIsLoadedOnlyByCommandsThatTouchImages) {

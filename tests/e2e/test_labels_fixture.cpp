@@ -46,7 +46,7 @@ TEST(PaperLabels, FacadesAtOneSamplePerPixelMatchTheFixtureBitForBit) {
 }
 
 // And the paper's simplification of those labels keeps what it kept when
-// the fidelity work began (2026-12-02, README "The demo, measured": 3,039
+// the fidelity work began (BENCHMARKS.md#10-the-demo: 3,039
 // of 12,456 triangles at 56 m): `paper` stays the paper's method.
 TEST(PaperLabels, PaperModeOnTheFixtureKeepsItsCount) {
   const std::string model = std::string(PERCLOD_SOURCE_DIR) + "/data/ingolstadt/bldg_4018215.obj";

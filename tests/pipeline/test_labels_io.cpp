@@ -1,4 +1,4 @@
-// The labels file (README "Output files"): the model fingerprint line and the
+// The labels file (docs/usage.md#the-labels-file): the model fingerprint line and the
 // mistakes read_labels must refuse instead of reading them silently.
 #include <gtest/gtest.h>
 

@@ -65,7 +65,8 @@ std::vector<size_t> shard_indices(size_t count, int shard, int shards) {
 
 // An upper bound for `perclod run` with the default settings, fitted to its
 // peak resident memory on generated facades and the demo building, with
-// about 10% to spare (README, Batches: "Models at a time").
+// about 10% to spare (docs/usage.md#models-at-a-time;
+// BENCHMARKS.md#the-memory-estimate).
 double estimate_memory_mb(const std::string& model_file) {
   std::error_code ec;
   const double mb = double(fs::file_size(model_file, ec)) / (1024.0 * 1024.0);

@@ -72,8 +72,8 @@ bool simplify_mode_uses_labels(SimplifyMode m);
 // Paper and Bounded keep perceptible triangles bit-identical.
 bool simplify_mode_keeps_perceptible(SimplifyMode m);
 
-// Fidelity's default bounds in pixels at the LOD's distance (README,
-// "Fidelity mode", gives the measurements that chose them).
+// Fidelity's default bounds in pixels at the LOD's distance
+// (BENCHMARKS.md#choosing-the-bounds gives the measurements that chose them).
 constexpr double kDefaultBoundPerceptiblePx = 0.5;
 constexpr double kDefaultBoundImperceptiblePx = 0.5;
 constexpr double kDefaultBoundAreaPx2 = 1.0;

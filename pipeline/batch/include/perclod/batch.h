@@ -36,7 +36,8 @@ std::pair<int, int> parse_shard(const std::string& spec);
 std::vector<size_t> shard_indices(size_t count, int shard, int shards);
 
 // A rough peak-memory estimate (MiB) for one model, from its file size
-// (README, "Batches": fitted to measured runs of single buildings; a block
+// (BENCHMARKS.md#the-memory-estimate: fitted to measured runs of single
+// buildings; a block
 // framed in many tiles needs far more, and its entry's memory_mb says so).
 double estimate_memory_mb(const std::string& model_file);
 

@@ -13,7 +13,7 @@
 
 namespace perclod {
 
-// The serving range of each LOD (sorted by distance; README, "Manifest"):
+// The serving range of each LOD (sorted by distance; docs/usage.md#manifest):
 // vd = its largest vertex displacement (metres), its switch distance
 // d_th = vd / (pixel angle) (Belblidia's d_th = f * vd / ps), serving from
 // min(d, d_th) (never before the previous LOD's start) up to the next LOD's

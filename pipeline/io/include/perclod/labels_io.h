@@ -1,4 +1,4 @@
-// perclod/labels_io.h - the labels file (documented in README.md).
+// perclod/labels_io.h - the labels file (docs/usage.md#the-labels-file).
 //
 //   perclod-labels 1
 //   model <triangles> <hash>         (optional: the model's fingerprint, 16 hex digits)

@@ -1,7 +1,7 @@
 // perclod/outputs.h - where every output file goes, and how it gets there.
 //
-// OutputNames is the one place that builds the file names of README.md's
-// output table; every command and the library's orchestration ask it.
+// OutputNames is the one place that builds the file names of the output
+// table (docs/usage.md#output-files); every command and the library's orchestration ask it.
 // write_atomic is the one way a file is written: to a temporary name in the
 // destination folder, renamed into place only once the writer has finished,
 // so an interrupted or failed write never leaves a half-written file under

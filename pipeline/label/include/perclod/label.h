@@ -56,7 +56,8 @@ Buildings find_buildings(const Scene& scene);
 // (choose_sampling).
 constexpr int kAutoSamples = 0;
 // Samples per pixel `perclod run` and `label` take unless told otherwise
-// (README, "Stable labels", says how it was chosen): auto.
+// (BENCHMARKS.md#5-stability-and-the-inputs-where-methods-fail says how it
+// was chosen): auto.
 constexpr int kDefaultSamples = kAutoSamples;
 // "auto" -> kAutoSamples, or one of 1, 2, 4, 8, 9, 16; throws
 // std::invalid_argument naming the text otherwise.
@@ -83,7 +84,7 @@ struct ViewSampling {
 // labels): `window_pixels` is the size of the view's window on the model
 // (perception_window), `frame_pixels` the whole frame's, `triangles` the
 // scene's. The steadiest setting whose estimated work stays within that of
-// one render of the frame (README, "Choosing the samples per view"):
+// one render of the frame (docs/usage.md#choosing-the-samples-per-view):
 //  * triangles > frame / 16: the renders and the traced samples cost in
 //    proportion to the triangles, and one render with 4 samples is taken;
 //  * else 16 x window <= frame: the 16-sample grid (one render at 4x of the
@@ -93,7 +94,7 @@ struct ViewSampling {
 //  * else one render of the frame with 4 samples.
 ViewSampling choose_sampling(size_t window_pixels, size_t frame_pixels, size_t triangles);
 // How `perclod run` and `label` combine views unless told otherwise
-// (README, "Combining views", says how it was chosen): "pooled".
+// (docs/usage.md#combining-views says how it was chosen): "pooled".
 constexpr const char* kDefaultCombineViews = "pooled";
 
 struct LabelJob {
@@ -106,22 +107,23 @@ struct LabelJob {
   // ordered 3 x 3 and 4 x 4 grids, a mask per sample from one render: the
   // view's window (perception_window) drawn at 3 or 4 times its resolution
   // per axis, whose fine pixels are the samples, split into one picture per
-  // sample offset, each perceived on its own (README, Grids of samples).
+  // sample offset, each perceived on its own (docs/usage.md#grids-of-samples).
   int samples = 1;
   // With samples > 1: a triangle smaller than a pixel that no sample and no
   // pixel centre hit, lying on the drawn surface at its centroid's pixel
   // (within half a pixel footprint of the depth drawn there) and not under
   // the triangle drawn at that pixel's centre, is not undisplayable when
   // such triangles would leave at least half of that pixel open: it takes
-  // the pixel's decision with one sample's weight (README, "Unsampled
-  // surface"). false: the paper's rule, unsampled = undisplayable.
+  // the pixel's decision with one sample's weight
+  // (docs/usage.md#unsampled-surface). false: the paper's rule, unsampled =
+  // undisplayable.
   bool keep_unsampled_surface = false;
   // false: one render and perception mask per view, read by all of its
   // samples. true: each sample offset gets a render and mask of its own
   // (the camera shifted by that offset, one ray per pixel), so a sample reads
   // the mask of the picture drawn at its own position: `samples` renders per
   // view, and labels that a sub-pixel move of the model hardly changes
-  // (README, "Stable labels").
+  // (BENCHMARKS.md#5-stability-and-the-inputs-where-methods-fail).
   bool mask_per_sample = false;
   // Also label each building from views framed on it (its neighbours drawn
   // and occluding); Auto = when find_buildings finds two or more.

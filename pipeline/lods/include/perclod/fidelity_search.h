@@ -27,10 +27,10 @@ struct FidelitySearchStep {
 
 // The tries, in order. Tightening e_I alone cannot help where e_P or the
 // deleted undisplayable triangles hold a LOD over the target: on the
-// million-triangle facade at 56 m (perclod run, 2026-12-03) every e_I from
-// 16 down to 0.5 px at e_P = 0.5 px leaves 2.8-3.0% of the worst judged view
-// changed, 0.25 px for both 2.1%; 0.125 px with undisplayable triangles kept
-// within it meets 2% (0.98%). The last try moves nothing and deletes nothing:
+// million-triangle facade at 56 m (BENCHMARKS.md#with-a-fidelity-target)
+// every e_I from 16 down to 0.5 px at e_P = 0.5 px leaves 2.8-3.0% of the
+// worst judged view changed, 0.25 px for both 2.1%; 0.125 px with
+// undisplayable triangles kept within it meets 2% (0.98%). The last try moves nothing and deletes nothing:
 // only collapses of zero error remain.
 constexpr FidelitySearchStep kFidelitySearch[] = {
     {16, false}, {8, false}, {4, false}, {2, false}, {1, false}, {0.5, false},  // undisplayable deleted
@@ -69,21 +69,23 @@ SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& st
 // keeps the first LOD within the limits in every judged view; when none is,
 // the LOD at the asked bounds stays, flagged as before. Tightening from 0.5
 // to 0.125 px cut the changed pixels by about 3x where it was tried (the
-// million-triangle facade at 56 m: 2.97% -> 0.98%, perclod run 2026-12-03),
-// so a LOD further over than that is left alone rather than tried at every
-// step for nothing: the default LODs at 427 m are within the limits (the
-// block) or 3.8-19x over 2% (README, Fidelity), where moving the original
-// by a quarter pixel changes 19-65% of a view.
+// million-triangle facade at 56 m: 2.97% -> 0.98%,
+// BENCHMARKS.md#tightening-to-the-limits), so a LOD further over than that
+// is left alone rather than tried at every step for nothing: the default
+// LODs at 427 m are within the limits (the block) or 3.8-19x over 2% (the
+// same section), where moving the original by a quarter pixel changes
+// 19-65% of a view.
 constexpr double kTightenReach = 3;
 
 // The tries, in order: e_imperceptible 0.25 px (undisplayable triangles as
 // asked), then undisplayable triangles kept within kAutoUndisplayableBoundPx
 // at 0.25 and 0.125 px, then within 0.125 px too. Kept within 4 px they
 // cost far fewer triangles than within the step's own bound, for nearly the
-// same figures (bench_fidelity, 2026-12-04: Sponza at 132 m 21,810 triangles
-// and 2.02% of the worst held-out view changed, against 34,036 and 1.84%;
-// the million-triangle facade at 56 m 186,397 and 1.60% against 194,765
-// and 1.55%).
+// same figures (bench_fidelity, BENCHMARKS.md#tightening-to-the-limits and
+// #with-a-fidelity-target: Sponza at 132 m 21,810 triangles and 2.02% of the
+// worst held-out view changed, against 34,036 and 1.84%; the
+// million-triangle facade at 56 m 186,397 and 1.60% against 194,765 and
+// 1.55%).
 constexpr FidelitySearchStep kTightenSteps[] = {{0.25, false},
                                                 {0.25, true, kAutoUndisplayableBoundPx},
                                                 {0.125, true, kAutoUndisplayableBoundPx},

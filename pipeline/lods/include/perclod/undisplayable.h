@@ -29,8 +29,9 @@ double undisplayable_exposure(const Scene& scene, const Tracer& tracer, const st
 // keep_undisplayable: auto (fidelity mode) deletes undisplayable triangles
 // when their exposure is at most kKeepUndisplayableExposure, and otherwise
 // keeps them, collapsed within kAutoUndisplayableBoundPx (an asked
-// e_undisplayable keeps them anyway: auto has nothing to decide). README,
-// "Keeping undisplayable triangles", has the measurements that chose both.
+// e_undisplayable keeps them anyway: auto has nothing to decide).
+// BENCHMARKS.md#keeping-undisplayable-triangles has the measurements that
+// chose both.
 constexpr double kKeepUndisplayableExposure = 0.004;
 constexpr double kAutoUndisplayableBoundPx = 4;
 

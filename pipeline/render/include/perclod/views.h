@@ -46,8 +46,8 @@ std::vector<std::string> parse_views(const std::vector<std::string>& items, UpAx
 // The old name: the same as parse_views.
 inline std::vector<std::string> parse_facades(const std::string& spec, UpAxis up) { return parse_views(spec, up); }
 
-// The view set `perclod run` labels from unless told otherwise (README,
-// "Views", says how it was chosen).
+// The view set `perclod run` labels from unless told otherwise
+// (docs/usage.md#view-sets says how it was chosen).
 constexpr const char* kDefaultViews = "facades,ring8el30,ring8el60,top";
 
 // A view name (see above) -> its camera at `distance`.
