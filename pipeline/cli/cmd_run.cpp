@@ -12,6 +12,7 @@
 #include "perclod/run_model.h"
 #include "perclod/config.h"
 #include "perclod/lods.h"
+#include "perclod/report_json.h"
 
 namespace perclod::cli {
 namespace {
@@ -25,9 +26,8 @@ struct RunArgs {
   bool explain = false;
 };
 
-void print_warnings(const nlohmann::json& report) {
-  if (report.contains("warnings"))
-    for (const auto& w : report["warnings"]) std::fprintf(stderr, "perclod: warning: %s\n", w.get<std::string>().c_str());
+void print_warnings(const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) std::fprintf(stderr, "perclod: warning: %s\n", w.c_str());
 }
 
 void run_one(const RunArgs& a, const ConfigFile& f) {
@@ -36,10 +36,10 @@ void run_one(const RunArgs& a, const ConfigFile& f) {
     throw OptionError("--shard, --force, --jobs and --memory-budget-mb apply to a batch config ('models:'); " +
                       f.path + " names one model");
   set_error_files({c.model, a.config});
-  nlohmann::json report = run_model(c, model_run(f.models.front(), f.path), c.out, print_progress);
-  print_warnings(report);
-  if (a.json) print_json(report);
-  const size_t over = report.value("over_limits", size_t(0));
+  const ModelReport report = run_model(c, model_run(f.models.front(), f.path), c.out, print_progress);
+  print_warnings(report.lods.warnings);
+  if (a.json) print_json(model_report_json(report));
+  const size_t over = report.lods.over_limits;
   if ((a.strict || c.strict) && over > 0)
     throw std::runtime_error(c.model + ": " + std::to_string(over) +
                              " view figures exceed the fidelity limits (the warnings above; strict mode)");
@@ -56,26 +56,24 @@ void run_many(const RunArgs& a, const ConfigFile& f) {
   o.jobs = a.jobs;
   o.memory_budget_mb = a.memory_budget_mb;
   set_error_files({a.config});
-  nlohmann::json summary = run_batch(f, o, print_progress, ::isatty(2) == 1);
+  const BatchSummary summary = run_batch(f, o, print_progress, ::isatty(2) == 1);
   std::map<std::string, bool> strict;  // each model's own 'strict' (an entry may override it)
   for (const auto& e : f.models) strict[e.name] = e.config.strict;
   size_t over = 0;
-  for (const auto& m : summary["models"]) {
-    print_warnings(m);
-    if (m.value("status", "") == "done" && (a.strict || strict[m.value("name", "")]))
-      over += m.value("over_limits", size_t(0));
+  for (const ModelOutcome& m : summary.models) {
+    print_warnings(m.warnings);
+    if (m.status == ModelStatus::Done && (a.strict || strict[m.name])) over += m.over_limits;
   }
   std::fprintf(stderr, "perclod: batch %s: %d done, %d skipped, %d failed of %zu models in %.0f s\n",
-               summary["shard"].get<std::string>().c_str(), summary["done"].get<int>(), summary["skipped"].get<int>(),
-               summary["failed"].get<int>(), summary["models"].size(), summary["seconds"].get<double>());
-  if (a.json) print_json(summary);
-  if (summary["failed"].get<int>() > 0) {
+               summary.shard.c_str(), summary.done, summary.skipped, summary.failed, summary.models.size(),
+               summary.seconds);
+  if (a.json) print_json(batch_summary_json(summary));
+  if (summary.failed > 0) {
     std::string names;
-    for (const auto& m : summary["models"])
-      if (m["status"] == "failed") names += (names.empty() ? "" : ", ") + m["name"].get<std::string>();
-    throw std::runtime_error(std::to_string(summary["failed"].get<int>()) + " of " +
-                             std::to_string(summary["models"].size()) + " models failed (" + names +
-                             "); the others' outputs are complete");
+    for (const ModelOutcome& m : summary.models)
+      if (m.status == ModelStatus::Failed) names += (names.empty() ? "" : ", ") + m.name;
+    throw std::runtime_error(std::to_string(summary.failed) + " of " + std::to_string(summary.models.size()) +
+                             " models failed (" + names + "); the others' outputs are complete");
   }
   if (over > 0)
     throw std::runtime_error(std::to_string(over) +

@@ -25,7 +25,9 @@
 #include "perclod/export.h"
 #include "perclod/load.h"
 #include "perclod/outputs.h"
+#include "perclod/batch_summary.h"
 #include "perclod/report_html.h"
+#include "perclod/report_json.h"
 #include "perclod/run_model.h"
 #include "batch_util.h"
 #include "perclod/lods.h"
@@ -76,8 +78,8 @@ double estimate_memory_mb(const std::string& model_file) {
 namespace {
 
 struct Slot {
-  size_t index = 0;      // in config.models
-  nlohmann::json result;
+  size_t index = 0;  // in config.models
+  ModelOutcome result;
 };
 
 // A JSON file (a manifest, a tileset, a summary), or null when it is missing
@@ -93,15 +95,20 @@ nlohmann::json read_json_file(const std::string& path) {
 }
 
 // Per LOD of a manifest: distance, total triangles, worst figures.
-nlohmann::json summary_lods(const nlohmann::json& manifest) {
-  nlohmann::json r = nlohmann::json::array();
+std::vector<LodSummary> summary_lods(const nlohmann::json& manifest) {
+  std::vector<LodSummary> r;
   const nlohmann::json lods = manifest.is_object() ? manifest.value("lods", nlohmann::json::array()) : nlohmann::json();
   if (lods.is_array())
     for (const auto& l : lods) {
       if (!l.is_object()) continue;
-      r.push_back({{"distance", l.value("distance", 0.0)},
-                   {"triangles", l.value("triangles", nlohmann::json::object()).value("total", size_t(0))},
-                   {"worst", l.value("fidelity", nlohmann::json::object()).value("worst", nlohmann::json::object())}});
+      LodSummary s;
+      s.distance = l.value("distance", 0.0);
+      s.triangles = l.value("triangles", nlohmann::json::object()).value("total", size_t(0));
+      const nlohmann::json w = l.value("fidelity", nlohmann::json::object()).value("worst", nlohmann::json::object());
+      if (w.is_object() && !w.empty())
+        s.worst = WorstFigures{w.value("changed_fraction", 0.0), w.value("ssim_covered", 1.0),
+                               w.value("silhouette_mismatch", 0.0)};
+      r.push_back(s);
     }
   return r;
 }
@@ -344,7 +351,7 @@ bool up_to_date(const nlohmann::json& old, const ModelRun& run) {
 // Runs model i (started at t) in a partial folder and publishes it as
 // final_dir, filling its result r (the partial folder is removed on failure).
 void build_model(const BatchRun& b, BatchProgress& p, size_t i, const ModelRun& run, const std::string& final_dir,
-                 Clock::time_point t, nlohmann::json& r) {
+                 Clock::time_point t, ModelOutcome& r) {
   const ModelEntry& m = b.config.models[p.slots[i].index];
   const BatchConfig& c = m.config;
   remove_stale_partials(b.config.out, m.name);
@@ -360,22 +367,19 @@ void build_model(const BatchRun& b, BatchProgress& p, size_t i, const ModelRun& 
       return s;
     };
     nlohmann::json man;
-    nlohmann::json report =
+    const ModelReport report =
         run_model(c, run, partial, [&](const std::string& s) { say(b, p, i, moved(s)); }, &man);
     // Paths in the report and outputs become relative to the model's folder.
-    nlohmann::json rel = report;
+    nlohmann::json rel = model_report_json(report);
     relocate(rel, partial + "/", "");
     write_text_atomic(output_names_for(partial, c.model).report(), rel.dump(2) + "\n");
     publish(partial, final_dir);
-    r["status"] = "done";
-    r["lods"] = summary_lods(man);
+    r.status = ModelStatus::Done;
+    r.lods = summary_lods(man);
     const nlohmann::json& files = man.at("files");
-    if (files.contains("report_html"))
-      r["report_html"] = m.name + "/" + files["report_html"].get<std::string>();
-    if (report.contains("warnings"))
-      for (const auto& w : report["warnings"])
-        r["warnings"].push_back("[" + m.name + "] " + moved(w.get<std::string>()));
-    r["over_limits"] = report.value("over_limits", 0);
+    if (files.contains("report_html")) r.report_html = m.name + "/" + files["report_html"].get<std::string>();
+    for (const std::string& w : report.lods.warnings) r.warnings.push_back("[" + m.name + "] " + moved(w));
+    r.over_limits = report.lods.over_limits;
   } catch (...) {
     fs::remove_all(partial, ec);
     throw;
@@ -390,25 +394,26 @@ void run_one_model(const BatchRun& b, BatchProgress& p, size_t i) {
   const BatchConfig& c = m.config;
   const std::string final_dir = (fs::path(b.config.out) / m.name).string();
   const auto t = Clock::now();
-  nlohmann::json r = {{"name", m.name}, {"model", c.model}, {"dir", m.name}};
+  ModelOutcome r;
+  r.name = m.name, r.model = c.model, r.dir = m.name;
   try {
     const ModelRun run = model_run(m, b.config.path);
     const nlohmann::json old = read_json_file(manifest_path(final_dir, c));
     if (!b.options.force && up_to_date(old, run)) {
-      r["status"] = "skipped";
-      r["lods"] = summary_lods(old);
+      r.status = ModelStatus::Skipped;
+      r.lods = summary_lods(old);
       const nlohmann::json files = old.value("files", nlohmann::json::object());
-      if (files.contains("report_html")) r["report_html"] = m.name + "/" + files["report_html"].get<std::string>();
+      if (files.contains("report_html")) r.report_html = m.name + "/" + files["report_html"].get<std::string>();
       say(b, p, i, "up to date, skipped (--force redoes it)");
     } else {
       build_model(b, p, i, run, final_dir, t, r);
     }
   } catch (const std::exception& e) {
-    r["status"] = "failed";
-    r["error"] = e.what();
+    r.status = ModelStatus::Failed;
+    r.error = e.what();
     say(b, p, i, std::string("FAILED: ") + e.what());
   }
-  r["seconds"] = since(t);
+  r.seconds = since(t);
   std::lock_guard<std::mutex> g(p.mu);
   p.slots[i].result = r;
   p.weight_done += p.weight[i];
@@ -442,24 +447,26 @@ void run_worker(const BatchRun& b, BatchProgress& p) {
 
 // This shard's summary (every model's result and the counts by status),
 // written as <out>/batch_<shard>_of_<shards>.json.
-nlohmann::json write_shard_summary(const ConfigFile& config, const BatchOptions& options,
-                                   const std::vector<Slot>& slots, Clock::time_point t0) {
-  nlohmann::json summary = {{"models", nlohmann::json::array()}, {"done", 0}, {"skipped", 0}, {"failed", 0},
-                            {"shard", std::to_string(options.shard) + "/" + std::to_string(options.shards)},
-                            {"config", config.path}, {"perclod_version", perclod_version()}};
-  for (const Slot& s : slots) {
-    summary["models"].push_back(s.result);
-    const std::string st = s.result.value("status", "failed");
-    summary[st] = summary[st].get<int>() + 1;
+BatchSummary write_shard_summary(const ConfigFile& config, const BatchOptions& options, std::vector<Slot>& slots,
+                                 Clock::time_point t0) {
+  BatchSummary summary;
+  summary.shard = std::to_string(options.shard) + "/" + std::to_string(options.shards);
+  summary.config = config.path;
+  summary.perclod_version = perclod_version();
+  for (Slot& s : slots) {
+    const ModelStatus st = s.result.status;
+    (st == ModelStatus::Done ? summary.done : st == ModelStatus::Skipped ? summary.skipped : summary.failed) += 1;
+    summary.models.push_back(std::move(s.result));
   }
-  summary["seconds"] = since(t0);
-  write_text_atomic(batch_summary_file(config.out, options.shard, options.shards), summary.dump(2) + "\n");
+  summary.seconds = since(t0);
+  write_text_atomic(batch_summary_file(config.out, options.shard, options.shards),
+                    batch_summary_json(summary).dump(2) + "\n");
   return summary;
 }
 
 }  // namespace
 
-nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
+BatchSummary run_batch(const ConfigFile& config, const BatchOptions& options,
                          const std::function<void(const std::string&)>& log, bool eta) {
   const auto t0 = Clock::now();
   ensure_directory(config.out);
@@ -475,7 +482,7 @@ nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
   for (int k = 0; k < std::min<int>(jobs, int(total)); ++k) pool.emplace_back([&] { run_worker(b, p); });
   for (auto& th : pool) th.join();
 
-  nlohmann::json summary = write_shard_summary(config, options, p.slots, t0);
+  BatchSummary summary = write_shard_summary(config, options, p.slots, t0);
   {
     // Shards finishing together take turns, so the last one's scan sees every
     // folder and summary published before it.

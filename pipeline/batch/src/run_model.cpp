@@ -93,31 +93,31 @@ ModelRun model_run(const ModelEntry& model, const std::string& config_file) {
   return run;
 }
 
-nlohmann::json run_model(const BatchConfig& config, const ModelRun& run, const std::string& dir,
-                         const Progress& progress, nlohmann::json* manifest) {
+ModelReport run_model(const BatchConfig& config, const ModelRun& run, const std::string& dir,
+                      const Progress& progress, nlohmann::json* manifest) {
   BatchConfig c = config;
   c.out = dir;
   LodJob job = lod_job(c);
   LoadOptions lo;
   lo.scale = c.scale;
   lo.cityjson_lod = c.cityjson_lod;
-  LoadReport rep;
-  Scene scene = load_scene(c.model, lo, &rep);
+  ModelReport r;
+  r.model = c.model;
+  Scene scene = load_scene(c.model, lo, &r.load);
   if (progress) {
     std::ostringstream ss;
     ss << c.model << ": " << scene.triangle_count() << " triangles, " << scene.component_count() << " components";
     progress(ss.str());
   }
   std::vector<Scene> lods;
-  nlohmann::json report = lod_set_json(make_lods(scene, job, progress, &lods));
-  write_text_atomic(job.label.out.report(), report.dump(2) + "\n");
-  report["model"] = c.model;
-  report["load"] = load_report_json(rep);
-  report["manifest"] = leaf(job.label.out.manifest());
+  r.lods = make_lods(scene, job, progress, &lods);
+  write_text_atomic(job.label.out.report(), lod_set_json(r.lods).dump(2) + "\n");
+  r.manifest_file = leaf(job.label.out.manifest());
+  const nlohmann::json report = model_report_json(r);
   write_model_report_html(report, job.label.out);
   nlohmann::json m = write_model_exports(scene, lods, job, c, run, report);
   if (manifest) *manifest = std::move(m);
-  return report;
+  return r;
 }
 
 }  // namespace perclod

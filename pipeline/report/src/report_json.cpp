@@ -142,4 +142,12 @@ nlohmann::json lod_set_json(const LodSet& set) {
   return report;
 }
 
+nlohmann::json model_report_json(const ModelReport& r) {
+  nlohmann::json j = lod_set_json(r.lods);
+  j["model"] = r.model;
+  j["load"] = load_report_json(r.load);
+  j["manifest"] = r.manifest_file;
+  return j;
+}
+
 }  // namespace perclod

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "perclod/batch_summary.h"
 #include "perclod/config.h"
 
 namespace perclod {
@@ -42,12 +43,11 @@ std::vector<size_t> shard_indices(size_t count, int shard, int shards);
 double estimate_memory_mb(const std::string& model_file);
 
 // Runs the batch; `log` receives progress lines ("[i/n name] ..."; with an
-// estimate of the time left when `eta` is set). Returns the summary:
-// {"models": [{"name", "model", "status": "done"|"skipped"|"failed",
-// "error", "dir", "seconds", "lods": [...]}], "done", "skipped", "failed",
-// "shard", "seconds"}, also written to <out>/batch_<shard>.json, with
-// <out>/tileset.json referencing every complete model's tileset.
-nlohmann::json run_batch(const ConfigFile& config, const BatchOptions& options,
-                         const std::function<void(const std::string&)>& log, bool eta = false);
+// estimate of the time left when `eta` is set). Returns what it did with
+// each model, also written (batch_summary_json) to
+// <out>/batch_<shard>_of_<shards>.json, with <out>/tileset.json referencing
+// every complete model's tileset and <out>/index.html.
+BatchSummary run_batch(const ConfigFile& config, const BatchOptions& options,
+                       const std::function<void(const std::string&)>& log, bool eta = false);
 
 }  // namespace perclod

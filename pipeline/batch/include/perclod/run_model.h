@@ -8,6 +8,7 @@
 
 #include "perclod/config.h"
 #include "perclod/lods.h"
+#include "perclod/report_json.h"
 
 namespace perclod {
 
@@ -31,10 +32,10 @@ struct ModelRun {
 ModelRun model_run(const ModelEntry& model, const std::string& config_file);
 
 // load + make_lods (job from lod_job(config), outputs in `dir` named after the
-// model) + the report page + write_model_exports. Returns the report, with
-// "model", "load" and "manifest" (the manifest's file name) added; `manifest`,
-// when given, receives the manifest itself. Throws on any failure (naming the file).
-nlohmann::json run_model(const BatchConfig& config, const ModelRun& run, const std::string& dir,
-                         const Progress& progress = {}, nlohmann::json* manifest = nullptr);
+// model) + the report file and page + write_model_exports. Returns what it
+// did (model_report_json gives it as JSON); `manifest`, when given, receives
+// the manifest itself. Throws on any failure (naming the file).
+ModelReport run_model(const BatchConfig& config, const ModelRun& run, const std::string& dir,
+                      const Progress& progress = {}, nlohmann::json* manifest = nullptr);
 
 }  // namespace perclod

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "perclod/judge.h"
+#include "perclod/load.h"
 #include "perclod/lods.h"
 #include "perclod/simplify.h"
 #include "perclod/undisplayable.h"
@@ -28,5 +29,16 @@ nlohmann::json judgement_json(const Judgement& j);
 // The run report of make_lods: the model, display, tracer, and per LOD its
 // labelling report, bounds, tries, figures per view and judgement.
 nlohmann::json lod_set_json(const LodSet& set);
+
+// One model's run as `perclod run` returns it: its file, how it loaded, its
+// LODs, and the name of its manifest (beside the LODs).
+struct ModelReport {
+  std::string model;
+  LoadReport load;
+  std::string manifest_file;
+  LodSet lods;
+};
+// lod_set_json with "model", "load" and "manifest" added.
+nlohmann::json model_report_json(const ModelReport& report);
 
 }  // namespace perclod
