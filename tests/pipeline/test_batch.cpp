@@ -20,15 +20,7 @@ using namespace perclod;
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::error_of;
 
 // A folder with three model files in two subfolders and a config using them.
 struct BatchFolder {

@@ -17,15 +17,7 @@
 using namespace perclod;
 
 namespace {
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::error_of;
 
 // The key of the top-level mapping a table key sits in: "crs_origin" for "crs_origin.lat".
 std::string top_key(const std::string& key) { return key.substr(0, key.find('.')); }
