@@ -4,6 +4,8 @@
 #include "commands.h"
 #include "common.h"
 #include "perclod/label.h"
+#include "perclod/label_model.h"
+#include "perclod/report_json.h"
 
 namespace perclod::cli {
 
@@ -69,12 +71,11 @@ void register_label(CLI::App& app) {
     job.closer_factor = a->closer;
     job.out = output_names_for(a->out, a->model.path);
     Scene s = a->model.load();
-    nlohmann::json report = label_model(s, job, parse_tracer(a->tracer), print_progress);
-    const auto& l = report["labels"];
-    std::fprintf(stderr, "labels: %d perceptible, %d imperceptible, %d undisplayable -> %s\n",
-                 l["perceptible"].get<int>(), l["imperceptible"].get<int>(), l["undisplayable"].get<int>(),
-                 report["labels_file"].get<std::string>().c_str());
-    if (a->json) print_json(report);
+    const LabelReport report = label_model(s, job, parse_tracer(a->tracer), print_progress);
+    const LabelCounts& l = report.labels;
+    std::fprintf(stderr, "labels: %d perceptible, %d imperceptible, %d undisplayable -> %s\n", int(l.perceptible),
+                 int(l.imperceptible), int(l.undisplayable), report.labels_file.c_str());
+    if (a->json) print_json(label_report_json(report));
   });
 }
 

@@ -54,6 +54,7 @@
 #include "perclod/facade.h"
 #include "perclod/load.h"
 #include "perclod/label.h"
+#include "perclod/report_json.h"
 #include "perclod/undisplayable.h"
 
 using namespace perclod;
@@ -156,7 +157,7 @@ void coverage(const Model& m, const Scene& scene, const std::vector<double>& dis
                   100 * exposure, std::chrono::duration<double>(std::chrono::steady_clock::now() - t_exp).count(), sec);
       LabelCounts c = count_labels(r.labels);
       std::printf("%-6s %5.0f  %-34s %4zu views %6.1f s  P %6zu I %6zu U %6zu out %5zu  held-out U px: mean %6.2f%% worst %6.2f%% (%s)\n",
-                  m.key.c_str(), d, set.c_str(), r.report["views"].size(), sec, c.perceptible, c.imperceptible,
+                  m.key.c_str(), d, set.c_str(), label_report_json(r.report)["views"].size(), sec, c.perceptible, c.imperceptible,
                   c.undisplayable, r.outside_views, 100 * sum / double(n), 100 * worst, worst_view.c_str());
       std::fflush(stdout);
     }
@@ -290,13 +291,13 @@ void cost(const std::string& key, const Scene& scene, UpAxis up, double d, int r
       auto t0 = std::chrono::steady_clock::now();
       LabelResult res = label_scene(renderer, scene, tracer, job);
       double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      views = res.report["views"].size();
+      views = label_report_json(res.report)["views"].size();
       per_view.push_back(sec / double(views));
       double a = 0, b = 0, c = 0;
-      for (const auto& v : res.report["views"]) {
-        a += v["seconds"]["render"].get<double>();
-        b += v["seconds"]["perceive"].get<double>();
-        c += v["seconds"]["trace"].get<double>();
+      for (const ViewLabelling& v : res.report.views) {
+        a += v.seconds.at("render");
+        b += v.seconds.at("perceive");
+        c += v.seconds.at("trace");
       }
       render.push_back(a / double(views));
       perceive.push_back(b / double(views));

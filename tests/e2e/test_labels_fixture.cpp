@@ -12,6 +12,7 @@
 #include "cli_util.h"
 #include "perclod/load.h"
 #include "perclod/label.h"
+#include "perclod/label_model.h"
 
 namespace perclod {
 namespace {

@@ -11,6 +11,7 @@
 
 #include "perclod/load.h"
 #include "perclod/label.h"
+#include "perclod/report_json.h"
 
 namespace perclod {
 namespace {
@@ -70,7 +71,7 @@ TEST(PerBuilding, BlockBuildingsAreLabelledFromTheirOwnViews) {
 
   // Per building, every kept building had its own views.
   size_t with_triangles = 0;
-  for (const auto& e : per.report["per_building"]) with_triangles += e["views"].get<size_t>() > 0;
+  for (const BuildingLabelling& e : per.report.buildings) with_triangles += e.views > 0;
   EXPECT_EQ(with_triangles, 6u);
   // Views only add: labels seen by the whole-model views stay seen, and
   // per-building views see more of the buildings.

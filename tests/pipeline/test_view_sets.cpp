@@ -11,6 +11,7 @@
 #include "perclod/fidelity_search.h"
 #include "perclod/judge.h"
 #include "perclod/label.h"
+#include "perclod/report_json.h"
 #include "perclod/undisplayable.h"
 #include "test_util.h"
 
@@ -71,7 +72,7 @@ TEST(ViewSets, TilingLeavesNoTriangleOfTheNearSideUndisplayable) {
   LabelResult r = label(s, job_for("-y", 5));
   EXPECT_GT(r.views.size(), 4u);
   for (size_t t = 0; t < front; ++t) ASSERT_NE(r.labels[t], Label::Undisplayable) << "square triangle " << t;
-  EXPECT_EQ(r.report["views"].size(), r.views.size());
+  EXPECT_EQ(label_report_json(r.report)["views"].size(), r.views.size());
   // Without tiling (one camera) most of the wall would be out of the frame.
   Camera one = view_camera(scene_bounds(s), UpAxis::Z, "-y", 5, job_for("-y", 5).display);
   std::vector<uint8_t> in(s.triangle_count(), 0);
@@ -143,7 +144,7 @@ TEST(ViewSets, PerBuildingViewsLabelEachBuildingAtItsOwnDistance) {
   LabelResult per = label(s, job);
   EXPECT_TRUE(plaque_front(per, 12));
   EXPECT_TRUE(plaque_front(per, 36));
-  EXPECT_EQ(per.report["per_building"].size(), 2u);
+  EXPECT_EQ(label_report_json(per.report)["per_building"].size(), 2u);
   // The same groups without "<building>/" names are parts of one model:
   // auto leaves them to the whole-model views.
   Scene parts = s;
@@ -151,7 +152,7 @@ TEST(ViewSets, PerBuildingViewsLabelEachBuildingAtItsOwnDistance) {
   EXPECT_EQ(find_buildings(parts).names.size(), 4u);
   EXPECT_EQ(find_buildings(parts).named, 0u);
   LabelResult auto_parts = label(parts, job);
-  EXPECT_FALSE(auto_parts.report.contains("per_building"));
+  EXPECT_FALSE(label_report_json(auto_parts.report).contains("per_building"));
   EXPECT_EQ(auto_parts.labels, whole.labels);
   // Per-building views only add: nothing labelled by the whole-model views is lost.
   for (size_t t = 0; t < s.triangle_count(); ++t)
@@ -171,12 +172,15 @@ TEST(ViewSets, PerBuildingReportCountsViewsWhoseEyeIsInsideANeighbour) {
   LabelJob job = job_for("+x,-x", 56);
   job.per_building = PerBuilding::On;
   LabelResult r = label(s, job);
-  const auto& per = r.report["per_building"];
+  const std::vector<BuildingLabelling>& per = r.report.buildings;
+  ASSERT_TRUE(r.report.per_building);
   ASSERT_EQ(per.size(), 2u);
-  EXPECT_EQ(per[0]["building"], "kiosk");
-  EXPECT_EQ(per[0]["eyes_inside_other_buildings"].get<size_t>(), 1u);  // +x; -x stands in the open
-  EXPECT_EQ(per[1]["building"], "hall");
-  EXPECT_EQ(per[1]["eyes_inside_other_buildings"].get<size_t>(), 0u);
+  EXPECT_EQ(per[0].building, "kiosk");
+  EXPECT_EQ(per[0].eyes_inside_other_buildings, 1u);  // +x; -x stands in the open
+  EXPECT_EQ(per[1].building, "hall");
+  EXPECT_EQ(per[1].eyes_inside_other_buildings, 0u);
+  const nlohmann::json per_json = label_report_json(r.report)["per_building"];
+  EXPECT_EQ(per_json[0]["eyes_inside_other_buildings"], 1);
   // The kiosk's -x face, seen from its -x view in the open, is labelled.
   size_t visible = 0;
   for (size_t t = 0; t < 12; ++t) visible += r.labels[t] != Label::Undisplayable;
@@ -194,7 +198,7 @@ TEST(ViewSets, SampleCountsScaleWithSamplesPerPixel) {
   for (size_t t = 0; t < s.triangle_count(); ++t) a += one.totals.traced[t], b += four.totals.traced[t];
   EXPECT_GT(a, 1000u);
   EXPECT_NEAR(double(b) / double(a), 4.0, 0.1);
-  EXPECT_EQ(four.report["samples_per_pixel"], 4);
+  EXPECT_EQ(label_report_json(four.report)["samples_per_pixel"], 4);
   EXPECT_THROW(label(s, job_for("facades", 30, 3)), std::invalid_argument);
 }
 
@@ -224,8 +228,8 @@ TEST(ViewSets, PooledViewsDecideFromEveryViewsSamplesTogether) {
     turned += any.labels[t] == Label::Perceptible && pooled.labels[t] == Label::Imperceptible;
   }
   EXPECT_GT(turned, 0u);
-  EXPECT_EQ(any.report["combine_views"], "any");
-  EXPECT_EQ(pooled.report["combine_views"], "pooled");
+  EXPECT_EQ(label_report_json(any.report)["combine_views"], "any");
+  EXPECT_EQ(label_report_json(pooled.report)["combine_views"], "pooled");
   EXPECT_EQ(parse_combine_views("pooled"), CombineViews::Pooled);
   EXPECT_THROW(parse_combine_views("all"), std::invalid_argument);
 }
@@ -251,10 +255,10 @@ TEST(ViewSets, MaskPerSampleTracesTheSameSamplesFromARenderEach) {
   EXPECT_GT(a, 10000u);
   EXPECT_NEAR(double(b) / double(a), 1.0, 1e-3);
   EXPECT_GE(same, s.triangle_count() * 99 / 100);  // 729 of 732 measured, the others one sample apart
-  ASSERT_EQ(mps.report["views"].size(), plain.report["views"].size());
-  for (const auto& v : mps.report["views"]) EXPECT_EQ(v["passes"], 4);
-  EXPECT_EQ(mps.report["mask_per_sample"], true);
-  EXPECT_FALSE(plain.report.contains("mask_per_sample"));
+  ASSERT_EQ(label_report_json(mps.report)["views"].size(), label_report_json(plain.report)["views"].size());
+  for (const ViewLabelling& v : mps.report.views) EXPECT_EQ(v.passes, 4u);
+  EXPECT_EQ(label_report_json(mps.report)["mask_per_sample"], true);
+  EXPECT_FALSE(label_report_json(plain.report).contains("mask_per_sample"));
 
   LabelJob one = job_for("facades", 60, 1);
   const LabelResult one_plain = label(s, one);
@@ -288,11 +292,12 @@ TEST(ViewSets, AGridOfSamplesComesFromOneRefinedRender) {
   EXPECT_LE(seen_differently, 2u);  // 1 of 732 measured
   EXPECT_GT(a, 10000u);
   EXPECT_NEAR(double(b) / double(4 * a), 1.0, 2e-3);
-  EXPECT_EQ(grid.report["sample_grid"], 4);
-  EXPECT_EQ(grid.report["mask_per_sample"], true);
-  ASSERT_EQ(grid.report["views"].size(), plain.report["views"].size());
-  for (size_t v = 0; v < grid.report["views"].size(); ++v) {
-    const auto& g = grid.report["views"][v];
+  EXPECT_EQ(label_report_json(grid.report)["sample_grid"], 4);
+  EXPECT_EQ(label_report_json(grid.report)["mask_per_sample"], true);
+  ASSERT_EQ(label_report_json(grid.report)["views"].size(), label_report_json(plain.report)["views"].size());
+  const nlohmann::json grid_views = label_report_json(grid.report)["views"];
+  for (size_t v = 0; v < grid_views.size(); ++v) {
+    const auto& g = grid_views[v];
     EXPECT_FALSE(g.contains("passes"));
     const Camera c = grid.views[v].camera;
     EXPECT_EQ(g["rendered_pixels"].get<size_t>(), 16 * size_t(c.width) * c.height);
@@ -442,15 +447,15 @@ TEST(ViewSets, UnsampledTrianglesOfADrawnSurfaceAreKeptOnRequest) {
   LabelResult paper_rule = label(s, job);
   EXPECT_GT(undisplayable(paper_rule, front), 0.8);
   EXPECT_EQ(undisplayable(paper_rule, hidden), 1.0);
-  EXPECT_EQ(paper_rule.report["keep_unsampled_surface"], false);
+  EXPECT_EQ(label_report_json(paper_rule.report)["keep_unsampled_surface"], false);
 
   job.keep_unsampled_surface = true;
   LabelResult kept = label(s, job);
   EXPECT_LT(undisplayable(kept, front), 0.1);  // 0 measured; border pixels may keep a few
   EXPECT_EQ(undisplayable(kept, hidden), 1.0);
-  EXPECT_EQ(kept.report["keep_unsampled_surface"], true);
+  EXPECT_EQ(label_report_json(kept.report)["keep_unsampled_surface"], true);
   size_t counted = 0;
-  for (const auto& v : kept.report["views"]) counted += v["unsampled_surface"].get<size_t>();
+  for (const ViewLabelling& v : kept.report.views) counted += v.unsampled_surface;
   EXPECT_GT(counted, size_t(0.8 * double(n)));
   // Only triangles no sample hit change; the sampled ones keep their counts.
   for (size_t t = 0; t < s.triangle_count(); ++t)
@@ -527,14 +532,14 @@ TEST(ViewSets, AutoSamplesLabelEachViewAsItsChoice) {
   const Scene s = wall(30, 12);
   {
     const LabelResult autos = label(s, full_frame(job_for("facades,az30el30,top", 200, kAutoSamples)));
-    EXPECT_EQ(autos.report["samples_per_pixel"], "auto");
-    EXPECT_EQ(autos.report["sampling_chosen"], (nlohmann::json{{"16 (grid)", 6}}));
-    for (const auto& v : autos.report["views"]) EXPECT_EQ(v["sampling"], "16 (grid)");
+    EXPECT_EQ(label_report_json(autos.report)["samples_per_pixel"], "auto");
+    EXPECT_EQ(label_report_json(autos.report)["sampling_chosen"], (nlohmann::json{{"16 (grid)", 6}}));
+    for (const ViewLabelling& v : autos.report.views) EXPECT_EQ(v.sampling, "16 (grid)");
     same_as(autos, label(s, full_frame(job_for("facades,az30el30,top", 200, 16))), 1, "grid at 200 m");
   }
   {
     const LabelResult autos = label(s, full_frame(job_for("-y,+y", 100, kAutoSamples)));
-    EXPECT_EQ(autos.report["sampling_chosen"], (nlohmann::json{{"4 (mask per sample)", 2}}));
+    EXPECT_EQ(label_report_json(autos.report)["sampling_chosen"], (nlohmann::json{{"4 (mask per sample)", 2}}));
     LabelJob mps = full_frame(job_for("-y,+y", 100, 4));
     mps.mask_per_sample = true;
     same_as(autos, label(s, mps), 4, "mask per sample at 100 m");
@@ -542,14 +547,14 @@ TEST(ViewSets, AutoSamplesLabelEachViewAsItsChoice) {
   {
     const Scene fine = wall(80, 40);  // 6,412 triangles > 320 x 256 / 16
     const LabelResult autos = label(fine, job_for("facades,top", 400, kAutoSamples));
-    EXPECT_EQ(autos.report["sampling_chosen"], (nlohmann::json{{"4", autos.report["views"].size()}}));  // tiles too
+    EXPECT_EQ(label_report_json(autos.report)["sampling_chosen"], (nlohmann::json{{"4", label_report_json(autos.report)["views"].size()}}));  // tiles too
     same_as(autos, label(fine, job_for("facades,top", 400, 4)), 4, "one render, triangle-bound");
   }
   // With mask_per_sample or keep_unsampled_surface, auto means 4 samples.
   LabelJob keep = job_for("-y", 100, kAutoSamples);
   keep.keep_unsampled_surface = true;
   EXPECT_EQ(effective_samples(keep), 4);
-  EXPECT_EQ(label(s, keep).report["samples_per_pixel"], 4);
+  EXPECT_EQ(label_report_json(label(s, keep).report)["samples_per_pixel"], 4);
 }
 
 // keep_undisplayable: auto keeps undisplayable triangles only when the

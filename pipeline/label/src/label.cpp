@@ -137,7 +137,7 @@ class SceneLabeller {
   void label_model_views();
   bool labels_per_building();
   void label_buildings();
-  nlohmann::json label_building(uint32_t b, const BuildingTriangles& bt, ViewPipeline& pipeline, size_t& first,
+  BuildingLabelling label_building(uint32_t b, const BuildingTriangles& bt, ViewPipeline& pipeline, size_t& first,
                                 std::vector<ViewPass>& own_passes, size_t& views, double& seconds);
   LabelResult finish();
 
@@ -168,14 +168,15 @@ void SceneLabeller::begin_report() {
   res_.totals.traced.assign(nt_, 0);
   res_.totals.imperceptible.assign(nt_, 0);
   const int grid = sample_grid(job_.samples);
-  res_.report = {{"distance", job_.distance},
-                 {"tracer", tracer_.name()},
-                 {"samples_per_pixel", samples_json(job_.samples)},
-                 {"combine_views", job_.combine == CombineViews::Pooled ? "pooled" : "any"},
-                 {"keep_unsampled_surface", depth_},
-                 {"views", nlohmann::json::array()}};
-  if (job_.mask_per_sample || grid) res_.report["mask_per_sample"] = true;
-  if (grid) res_.report["sample_grid"] = grid;
+  LabelReport& r = res_.report;
+  r.distance = job_.distance;
+  r.tracer = tracer_.name();
+  r.samples = job_.samples;
+  r.combine_views = job_.combine == CombineViews::Pooled ? "pooled" : "any";
+  r.keep_unsampled_surface = depth_;
+  r.mask_per_sample = job_.mask_per_sample || grid;
+  r.sample_grid = grid;
+  r.automatic = automatic_;
 }
 
 // The whole model's views framed into tiles, each tile's sampling and passes.
@@ -190,7 +191,7 @@ void SceneLabeller::plan_model_views() {
     if (automatic_) ++chosen[sampling_name(vs)];
     add_view_passes(i, tiles_[i].camera, window, vs, passes_);
   }
-  if (automatic_) res_.report["sampling_chosen"] = chosen;
+  if (automatic_) res_.report.sampling_chosen = chosen;
 }
 
 // A whole-model view rendered and perceived: record it, queue its images.
@@ -216,13 +217,13 @@ void SceneLabeller::on_model_view_counted(const ViewPass& vp, ViewOutcome& o) {
   if (vp.pass == 0) {
     if (write_files_ && job_.write_view_images)
       res_.id_buffers.push_back(IdBuffer{tile.name, kept_picture_camera(vp.camera, vp.grid()), std::move(o.packed_ids)});
-    res_.report["views"].push_back(o.report);
-    if (automatic_) res_.report["views"].back()["sampling"] = sampling_name(vp.sampling);
+    res_.report.views.push_back(o.report);
+    if (automatic_) res_.report.views.back().sampling = sampling_name(vp.sampling);
   } else {
-    add_pass_report(res_.report["views"].back(), o.report, vp.passes);
+    add_pass_report(res_.report.views.back(), o.report, vp.passes);
   }
   if (progress_ && vp.pass + 1 == vp.passes)
-    progress_(progress_line(tile.name, job_.distance, res_.report["views"].back()));
+    progress_(progress_line(tile.name, job_.distance, res_.report.views.back()));
 }
 
 // Every pass of every whole-model view, rendering overlapped with tracing.
@@ -254,24 +255,23 @@ bool SceneLabeller::labels_per_building() {
 // Per building: views framed on each building, counting its own triangles.
 void SceneLabeller::label_buildings() {
   const BuildingTriangles bt = building_triangles(scene_, buildings_);
-  nlohmann::json per = nlohmann::json::array();
+  res_.report.per_building = true;
   size_t views = 0;  // of the building being labelled
   double seconds = 0;
   size_t first = 0;  // the pipeline's item number of the building's first pass
   std::vector<ViewPass> own_passes;  // of the building being labelled
   ViewPipeline pipeline(job_.overlap, [](size_t, ViewOutcome&) {}, [&](size_t k, ViewOutcome& o) {
     views += own_passes[k - first].pass == 0;
-    for (const auto& [key, v] : o.report["seconds"].items()) seconds += v.get<double>();
+    for (const auto& [key, v] : o.report.seconds) seconds += v;
   });
   for (uint32_t b = 0; b < buildings_.names.size(); ++b) {
     if (bt.box[b].is_empty()) continue;  // a building without triangles
-    per.push_back(label_building(b, bt, pipeline, first, own_passes, views, seconds));
+    res_.report.buildings.push_back(label_building(b, bt, pipeline, first, own_passes, views, seconds));
   }
-  res_.report["per_building"] = per;
 }
 
 // One building's own views through `pipeline`; returns its report entry.
-nlohmann::json SceneLabeller::label_building(uint32_t b, const BuildingTriangles& bt, ViewPipeline& pipeline,
+BuildingLabelling SceneLabeller::label_building(uint32_t b, const BuildingTriangles& bt, ViewPipeline& pipeline,
                                              size_t& first, std::vector<ViewPass>& own_passes, size_t& views,
                                              double& seconds) {
   views = 0;
@@ -297,11 +297,7 @@ nlohmann::json SceneLabeller::label_building(uint32_t b, const BuildingTriangles
                  });
   pipeline.drain();
   first += own_passes.size();
-  nlohmann::json entry = {{"building", buildings_.names[b]},
-                          {"views", views},
-                          {"eyes_inside_other_buildings", eyes_inside},
-                          {"seconds", seconds}};
-  if (automatic_) entry["sampling_chosen"] = own_chosen;
+  BuildingLabelling entry{buildings_.names[b], views, eyes_inside, seconds, own_chosen};
   if (progress_) {
     std::ostringstream ss;
     ss.precision(3);
@@ -326,8 +322,8 @@ LabelResult SceneLabeller::finish() {
       ++res_.outside_views;
     }
   }
-  res_.report["labels"] = to_json(count_labels(res_.labels));
-  res_.report["outside_views"] = res_.outside_views;
+  res_.report.labels = count_labels(res_.labels);
+  res_.report.outside_views = res_.outside_views;
   return std::move(res_);
 }
 
@@ -348,23 +344,10 @@ void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& re
   lf.model_hash = model_fingerprint(scene);
   std::string path = job.out.labels(job.distance);
   write_labels(path, lf);
-  result.report["labels_file"] = path;
-  result.report["marking_renders"] = write_marking_images(renderer, scene, result.labels, result.id_buffers, job);
+  result.report.labels_file = path;
+  result.report.markings_written = true;
+  result.report.marking_renders = write_marking_images(renderer, scene, result.labels, result.id_buffers, job);
   result.id_buffers.clear();
-}
-
-nlohmann::json label_model(const Scene& scene, const LabelJob& job, TracerKind kind, const Progress& progress) {
-  std::optional<OutputDirectoryLock> lock;
-  if (!job.out.dir.empty()) lock.emplace(job.out.dir);
-  check_framing(scene_bounds(scene), job.up, job.display, job.views, {job.distance});  // before any work
-  std::unique_ptr<Tracer> tracer = make_tracer(scene, kind);
-  if (progress) progress(tracer_summary(*tracer));
-  Renderer renderer;
-  LabelResult r = label_scene(renderer, scene, *tracer, job, progress);
-  write_label_outputs(renderer, scene, r, job);
-  r.report["tracer_build_seconds"] = tracer->build_seconds();
-  write_text_atomic(job.out.label_report(job.distance), r.report.dump(2) + "\n");
-  return r.report;
 }
 
 }  // namespace perclod

@@ -10,14 +10,6 @@
 namespace perclod::detail {
 namespace {
 
-nlohmann::json to_json(const Agreement& a) {
-  return {{"covered", a.covered},
-          {"identical", a.identical},
-          {"ties", a.ties},
-          {"edge_grazes", a.edge_grazes},
-          {"real_disagreements", a.real_disagreements},
-          {"identical_rate", a.identical_rate()}};
-}
 
 // The samples of a pixel sit off its centre (sample_offsets), where the
 // rasteriser decides what it draws: a sliver can cover a centre and no
@@ -134,9 +126,6 @@ void decimate(const RenderOutput& fine, int s, int a, int b, RenderOutput& out) 
 
 }  // namespace
 
-nlohmann::json to_json(const LabelCounts& c) {
-  return {{"perceptible", c.perceptible}, {"imperceptible", c.imperceptible}, {"undisplayable", c.undisplayable}};
-}
 
 // The camera of the picture a view keeps (its image, record, ID buffer):
 // `cam` itself, or with a grid of samples sample 0's picture of the refined
@@ -304,14 +293,13 @@ void verify_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* r
     tracer.trace(cam, traced_centre.data());
     centre = traced_centre.data();
   }
-  if (centre)
-    out.report["rays_vs_id_buffer"] = to_json(compare_with_id_buffer(scene, drawn, centre, out.image.ids.data()));
+  if (centre) out.report.rays_vs_id_buffer = compare_with_id_buffer(scene, drawn, centre, out.image.ids.data());
   if (reference) {
     std::vector<uint32_t> ref(pixels);
     const auto t0 = Clock::now();
     reference->trace(drawn, ref.data());
-    out.report["seconds"]["trace_embree_verify"] = since(t0);
-    out.report["octree_vs_embree"] = to_json(compare_traced(scene, drawn, centre, ref.data()));
+    out.report.seconds["trace_embree_verify"] = since(t0);
+    out.report.octree_vs_embree = compare_traced(scene, drawn, centre, ref.data());
   }
 }
 
@@ -334,14 +322,16 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
 
   const std::vector<Label> labels = label_triangles(counts, job.ratio);
   accumulate_view(scene, job, vs, cam, owner, building, counts, labels, res, acc);
-  out.report = {{"view", name},
-                {"rendered_pixels", plan.grid ? pixels * size_t(plan.samples) : pixels},
-                {"covered_pixels", out.perception.counted_pixels},
-                {"imperceptible_fraction", out.perception.imperceptible_fraction},
-                {"levels", out.perception.levels},
-                {"labels", to_json(count_labels(labels))},
-                {"unsampled_surface", unsampled_surface},
-                {"seconds", {{"render", t_render}, {"perceive", t_perceive}, {"trace", t_trace}}}};
+  ViewLabelling& r = out.report;
+  r = ViewLabelling{};
+  r.view = name;
+  r.rendered_pixels = plan.grid ? pixels * size_t(plan.samples) : pixels;
+  r.covered_pixels = out.perception.counted_pixels;
+  r.imperceptible_fraction = out.perception.imperceptible_fraction;
+  r.levels = out.perception.levels;
+  r.labels = count_labels(labels);
+  r.unsampled_surface = unsampled_surface;
+  r.seconds = {{"render", t_render}, {"perceive", t_perceive}, {"trace", t_trace}};
   if (!owner) verify_view(scene, tracer, reference, plan, cam, pixels, out);
 }
 
@@ -380,24 +370,26 @@ std::string sampling_name(const ViewSampling& vs) {
 }
 
 // Adds a later pass's timings to the report of the view's first pass.
-void add_pass_report(nlohmann::json& first, const nlohmann::json& pass, size_t passes) {
-  for (const auto& [k, v] : pass["seconds"].items()) first["seconds"][k] = first["seconds"][k].get<double>() + v.get<double>();
-  first["rendered_pixels"] = first["rendered_pixels"].get<size_t>() + pass["rendered_pixels"].get<size_t>();
-  first["passes"] = passes;
+void add_pass_report(ViewLabelling& first, const ViewLabelling& pass, size_t passes) {
+  for (const auto& [k, v] : pass.seconds) first.seconds[k] += v;
+  first.rendered_pixels += pass.rendered_pixels;
+  first.passes = passes;
 }
 
-std::string progress_line(const std::string& name, double d, const nlohmann::json& report) {
+std::string progress_line(const std::string& name, double d, const ViewLabelling& report) {
   std::ostringstream ss;
   ss.precision(3);
-  const auto& s = report["seconds"];
-  ss << "  " << name << " at " << d << " m: " << report["covered_pixels"].get<size_t>() << " px, "
-     << 100 * report["imperceptible_fraction"].get<double>() << "% imperceptible";
-  if (report.contains("passes")) ss << " in the first of " << report["passes"].get<size_t>() << " passes; all passes:";
+  const auto seconds = [&](const char* step) {
+    const auto it = report.seconds.find(step);
+    return it == report.seconds.end() ? 0.0 : it->second;
+  };
+  ss << "  " << name << " at " << d << " m: " << size_t(report.covered_pixels) << " px, "
+     << 100 * report.imperceptible_fraction << "% imperceptible";
+  if (report.passes) ss << " in the first of " << report.passes << " passes; all passes:";
   else ss << ";";
-  ss << " render " << 1e3 * s["render"].get<double>()
-     << " ms, perceive " << 1e3 * s["perceive"].get<double>() << " ms, trace " << 1e3 * s["trace"].get<double>()
-     << " ms";
-  if (report.contains("sampling")) ss << " (samples " << report["sampling"].get<std::string>() << ")";  // auto's choice
+  ss << " render " << 1e3 * seconds("render") << " ms, perceive " << 1e3 * seconds("perceive") << " ms, trace "
+     << 1e3 * seconds("trace") << " ms";
+  if (!report.sampling.empty()) ss << " (samples " << report.sampling << ")";  // auto's choice
   return ss.str();
 }
 

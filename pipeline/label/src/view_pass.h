@@ -41,7 +41,7 @@ struct ViewOutcome {
   std::vector<std::vector<uint32_t>> more_ids;
   std::vector<std::vector<uint8_t>> more_masks;
   double t_render = 0, t_perceive = 0;
-  nlohmann::json report;
+  ViewLabelling report;
 };
 
 // Labels views one after another with the two halves overlapped: while a
@@ -101,8 +101,6 @@ struct ViewPass {
 // (each view's counts times kAutoCountUnit / its samples).
 constexpr int kAutoCountUnit = 16;
 
-nlohmann::json to_json(const LabelCounts& c);
-
 // Whether labelling runs add_unsampled_surface (and so renders depth).
 inline bool finds_unsampled_surface(const LabelJob& job) { return job.samples > 1 && job.keep_unsampled_surface; }
 
@@ -140,7 +138,7 @@ void add_view_passes(size_t tile, const Camera& cam, const Camera& window, const
 
 std::string sampling_name(const ViewSampling& vs);
 // Adds a later pass's timings to the report of the view's first pass.
-void add_pass_report(nlohmann::json& first, const nlohmann::json& pass, size_t passes);
-std::string progress_line(const std::string& name, double d, const nlohmann::json& report);
+void add_pass_report(ViewLabelling& first, const ViewLabelling& pass, size_t passes);
+std::string progress_line(const std::string& name, double d, const ViewLabelling& report);
 
 }  // namespace perclod::detail

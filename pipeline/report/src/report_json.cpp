@@ -9,6 +9,42 @@
 namespace perclod {
 namespace {
 
+nlohmann::json agreement_json(const Agreement& a) {
+  return {{"covered", a.covered},
+          {"identical", a.identical},
+          {"ties", a.ties},
+          {"edge_grazes", a.edge_grazes},
+          {"real_disagreements", a.real_disagreements},
+          {"identical_rate", a.identical_rate()}};
+}
+
+nlohmann::json view_labelling_json(const ViewLabelling& v) {
+  nlohmann::json seconds = nlohmann::json::object();
+  for (const auto& [step, s] : v.seconds) seconds[step] = s;
+  nlohmann::json j = {{"view", v.view},
+                      {"rendered_pixels", v.rendered_pixels},
+                      {"covered_pixels", v.covered_pixels},
+                      {"imperceptible_fraction", v.imperceptible_fraction},
+                      {"levels", v.levels},
+                      {"labels", label_counts_json(v.labels)},
+                      {"unsampled_surface", v.unsampled_surface},
+                      {"seconds", std::move(seconds)}};
+  if (v.rays_vs_id_buffer) j["rays_vs_id_buffer"] = agreement_json(*v.rays_vs_id_buffer);
+  if (v.octree_vs_embree) j["octree_vs_embree"] = agreement_json(*v.octree_vs_embree);
+  if (!v.sampling.empty()) j["sampling"] = v.sampling;
+  if (v.passes) j["passes"] = v.passes;
+  return j;
+}
+
+nlohmann::json building_labelling_json(const BuildingLabelling& b, bool automatic) {
+  nlohmann::json j = {{"building", b.building},
+                      {"views", b.views},
+                      {"eyes_inside_other_buildings", b.eyes_inside_other_buildings},
+                      {"seconds", b.seconds}};
+  if (automatic) j["sampling_chosen"] = b.sampling_chosen;
+  return j;
+}
+
 nlohmann::json worst_json(const WorstFigures& w) {
   return {{"changed_fraction", w.changed_fraction},
           {"ssim_covered", w.ssim_covered},
@@ -28,7 +64,7 @@ nlohmann::json try_json(const LodTry& t) {
 }
 
 nlohmann::json lod_json(const LodResult& r) {
-  nlohmann::json entry = r.labelling;
+  nlohmann::json entry = label_report_json(r.labelling);
   entry["pixel_footprint"] = r.pixel_footprint;
   entry["lod_file"] = r.lod_file;
   entry["simplify"] = simplify_stats_json(r.simplify);
@@ -88,6 +124,33 @@ nlohmann::json simplify_stats_json(const SimplifyStats& s) {
     j["refused"] = {{"bound_or_locked", r.bound_or_locked}, {"valence", r.valence}, {"topology", r.topology},
                     {"shape", r.shape}, {"legal", r.legal}, {"total", r.total()}};
   }
+  return j;
+}
+
+nlohmann::json label_counts_json(const LabelCounts& c) {
+  return {{"perceptible", c.perceptible}, {"imperceptible", c.imperceptible}, {"undisplayable", c.undisplayable}};
+}
+
+nlohmann::json label_report_json(const LabelReport& r) {
+  nlohmann::json j = {{"distance", r.distance},
+                      {"tracer", r.tracer},
+                      {"samples_per_pixel", samples_json(r.samples)},
+                      {"combine_views", r.combine_views},
+                      {"keep_unsampled_surface", r.keep_unsampled_surface},
+                      {"views", nlohmann::json::array()},
+                      {"labels", label_counts_json(r.labels)},
+                      {"outside_views", r.outside_views}};
+  if (r.mask_per_sample) j["mask_per_sample"] = true;
+  if (r.sample_grid) j["sample_grid"] = r.sample_grid;
+  if (r.automatic) j["sampling_chosen"] = r.sampling_chosen;
+  for (const ViewLabelling& v : r.views) j["views"].push_back(view_labelling_json(v));
+  if (r.per_building) {
+    j["per_building"] = nlohmann::json::array();
+    for (const BuildingLabelling& b : r.buildings) j["per_building"].push_back(building_labelling_json(b, r.automatic));
+  }
+  if (!r.labels_file.empty()) j["labels_file"] = r.labels_file;
+  if (r.markings_written) j["marking_renders"] = r.marking_renders;
+  if (r.tracer_build_seconds >= 0) j["tracer_build_seconds"] = r.tracer_build_seconds;
   return j;
 }
 

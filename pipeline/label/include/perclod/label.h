@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -145,13 +147,63 @@ struct LabelJob {
   bool overlap = true;
 };
 
+// How one labelling view (or tile) went: its first pass, with the pixels and
+// timings of its later passes added.
+struct ViewLabelling {
+  std::string view;
+  size_t rendered_pixels = 0;          // every pass's render (a grid's at its resolution)
+  long long covered_pixels = 0;        // drawn pixels of the first pass
+  double imperceptible_fraction = 0;   // of the covered pixels
+  int levels = 0;                      // DWT levels of the perception
+  LabelCounts labels;                  // this view's own labels
+  size_t unsampled_surface = 0;        // triangles keep_unsampled_surface counted
+  // Seconds per step: "render", "perceive", "trace" and with verify
+  // "trace_embree_verify", summed over the passes.
+  std::map<std::string, double> seconds;
+  std::optional<Agreement> rays_vs_id_buffer;  // traced against the renderer, at the pixel centres
+  std::optional<Agreement> octree_vs_embree;   // with verify
+  std::string sampling;                // samples auto: what this view took ("" otherwise)
+  size_t passes = 0;                   // with a render per sample: how many (0: one)
+};
+
+// How one building's own views went (per-building labelling).
+struct BuildingLabelling {
+  std::string building;
+  size_t views = 0;
+  size_t eyes_inside_other_buildings = 0;
+  double seconds = 0;
+  std::map<std::string, size_t> sampling_chosen;  // samples auto: views per setting
+};
+
+// What labelling at one distance did, as the reports give it.
+struct LabelReport {
+  double distance = 0;
+  std::string tracer;
+  int samples = 1;                     // samples per pixel, or kAutoSamples
+  std::string combine_views;           // "pooled" or "any"
+  bool keep_unsampled_surface = false;
+  bool mask_per_sample = false;        // a render per sample (or a grid)
+  int sample_grid = 0;                 // 3 or 4 for the ordered grids
+  bool automatic = false;              // samples auto (sampling_chosen applies)
+  std::map<std::string, size_t> sampling_chosen;  // samples auto: views per setting
+  std::vector<ViewLabelling> views;    // whole-model views and tiles, in order
+  bool per_building = false;           // buildings below were labelled from their own views
+  std::vector<BuildingLabelling> buildings;
+  LabelCounts labels;                  // the combined labels
+  size_t outside_views = 0;
+  std::string labels_file;             // written by write_label_outputs ("" before)
+  bool markings_written = false;
+  std::vector<std::string> marking_renders;
+  double tracer_build_seconds = -1;    // label_model: its tracer's build (< 0: not given)
+};
+
 struct LabelResult {
   std::vector<Label> labels;               // combined over views
   std::vector<IdBuffer> id_buffers;        // per labelling view and tile, when view images are written
   TriangleCounts totals;                   // summed over views, in samples (samples auto: in 1/16 px)
   std::vector<ViewRecord> views;           // whole-model views (and tiles), in job.views order
   size_t outside_views = 0;                // triangles in no view's frustum (labelled imperceptible)
-  nlohmann::json report;                   // per view: pixels, fractions, agreement, timings
+  LabelReport report;                      // per view: pixels, fractions, agreement, timings
 };
 
 // The part of `cam`'s frame a mask-per-sample pass renders: where `box`
@@ -194,10 +246,6 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
 // `scene` (as label_scene leaves it).
 void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job);
 
-// label_scene + write_label_outputs with a tracer of `tracer` kind, and the
-// report written to out.label_report(d). Returns that report.
-nlohmann::json label_model(const Scene& scene, const LabelJob& job, TracerKind tracer,
-                           const Progress& progress = {});
 
 // Where the job's eye stands: its up axis, display and distance.
 Framing framing_of(const LabelJob& job);

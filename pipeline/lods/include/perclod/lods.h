@@ -57,7 +57,7 @@ struct LodResult {
   double distance = 0;
   // label_scene's report for this distance (per view: pixels, fractions,
   // agreement, timings; the labels file and marking renders).
-  nlohmann::json labelling;
+  LabelReport labelling;
   double pixel_footprint = 0;  // metres a pixel covers at this distance
   std::string lod_file;
   SimplifyStats simplify;

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "perclod/judge.h"
+#include "perclod/label.h"
 #include "perclod/load.h"
 #include "perclod/lods.h"
 #include "perclod/simplify.h"
@@ -20,6 +21,13 @@ nlohmann::json simplify_stats_json(const SimplifyStats& stats);
 // Adds "undisplayable": "deleted" | "collapsed", "e_undisplayable" (a finite
 // bound of kept ones) and, when auto measured it, "undisplayable_exposure".
 void add_undisplayable_rule(nlohmann::json& j, const UndisplayableRule& rule);
+
+// Label counts {"perceptible", "imperceptible", "undisplayable"}.
+nlohmann::json label_counts_json(const LabelCounts& c);
+// What labelling at one distance did: the settings it ran with, per view
+// its pixels, labels, timings and agreement, per building its views, and the
+// combined labels ("labels_file" and "marking_renders" once written).
+nlohmann::json label_report_json(const LabelReport& r);
 
 // One judged view: its name, set and figures ("comparison_image" when written).
 nlohmann::json view_figures_json(const ViewFigures& v);
