@@ -5,6 +5,7 @@
 #include "common.h"
 #include "perclod/label.h"
 #include "perclod/label_model.h"
+#include "perclod/progress_text.h"
 #include "perclod/report_json.h"
 
 namespace perclod::cli {
@@ -71,7 +72,8 @@ void register_label(CLI::App& app) {
     job.closer_factor = a->closer;
     job.out = output_names_for(a->out, a->model.path);
     Scene s = a->model.load();
-    const LabelReport report = label_model(s, job, parse_tracer(a->tracer), print_progress);
+    TextProgress progress(print_progress);
+    const LabelReport report = label_model(s, job, parse_tracer(a->tracer), &progress);
     const LabelCounts& l = report.labels;
     std::fprintf(stderr, "labels: %d perceptible, %d imperceptible, %d undisplayable -> %s\n", int(l.perceptible),
                  int(l.imperceptible), int(l.undisplayable), report.labels_file.c_str());

@@ -36,7 +36,8 @@ void run_one(const RunArgs& a, const ConfigFile& f) {
     throw OptionError("--shard, --force, --jobs and --memory-budget-mb apply to a batch config ('models:'); " +
                       f.path + " names one model");
   set_error_files({c.model, a.config});
-  const ModelReport report = run_model(c, model_run(f.models.front(), f.path), c.out, print_progress);
+  TextProgress progress(print_progress);
+  const ModelReport report = run_model(c, model_run(f.models.front(), f.path), c.out, &progress);
   print_warnings(report.lods.warnings);
   if (a.json) print_json(model_report_json(report));
   const size_t over = report.lods.over_limits;

@@ -26,6 +26,7 @@
 #include "perclod/load.h"
 #include "perclod/outputs.h"
 #include "perclod/batch_summary.h"
+#include "perclod/progress_text.h"
 #include "perclod/report_html.h"
 #include "perclod/report_json.h"
 #include "perclod/run_model.h"
@@ -180,14 +181,6 @@ void publish(const std::string& partial, const std::string& final_dir) {
   fs::remove_all(aside, ec);
 }
 
-std::string format_seconds(double s) {
-  char buf[32];
-  if (s < 90) std::snprintf(buf, sizeof buf, "%.0fs", s);
-  else if (s < 5400) std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
-  else std::snprintf(buf, sizeof buf, "%dh%02dm", int(s) / 3600, (int(s) % 3600) / 60);
-  return buf;
-}
-
 // Holds an exclusive flock on a file for its lifetime (waits for it).
 class FileLock {
  public:
@@ -328,14 +321,10 @@ void init_progress(const ConfigFile& config, const std::vector<size_t>& mine, Ba
 // Logs a line about model i, with the time left when asked for.
 void say(const BatchRun& b, BatchProgress& p, size_t i, const std::string& what) {
   const ModelEntry& m = b.config.models[p.slots[i].index];
-  std::ostringstream ss;
-  ss << "[" << i + 1 << "/" << b.total << " " << m.name << "] " << what;
   std::lock_guard<std::mutex> g(p.mu);
-  if (b.eta && p.weight_done > 0) {
-    const double elapsed = since(b.t0);
-    ss << "  (about " << format_seconds(elapsed / p.weight_done * (p.weight_total - p.weight_done)) << " left)";
-  }
-  if (b.log) b.log(ss.str());
+  double left = -1;
+  if (b.eta && p.weight_done > 0) left = since(b.t0) / p.weight_done * (p.weight_total - p.weight_done);
+  if (b.log) b.log(batch_line(i, b.total, m.name, what, left));
 }
 
 // Whether the manifest old (null when none) is of a complete run of this
@@ -367,8 +356,8 @@ void build_model(const BatchRun& b, BatchProgress& p, size_t i, const ModelRun& 
       return s;
     };
     nlohmann::json man;
-    const ModelReport report =
-        run_model(c, run, partial, [&](const std::string& s) { say(b, p, i, moved(s)); }, &man);
+    TextProgress progress([&](const std::string& s) { say(b, p, i, moved(s)); });
+    const ModelReport report = run_model(c, run, partial, &progress, &man);
     // Paths in the report and outputs become relative to the model's folder.
     nlohmann::json rel = model_report_json(report);
     relocate(rel, partial + "/", "");

@@ -9,12 +9,12 @@
 
 namespace perclod {
 
-LabelReport label_model(const Scene& scene, const LabelJob& job, TracerKind kind, const Progress& progress) {
+LabelReport label_model(const Scene& scene, const LabelJob& job, TracerKind kind, LabelProgress* progress) {
   std::optional<OutputDirectoryLock> lock;
   if (!job.out.dir.empty()) lock.emplace(job.out.dir);
   check_framing(scene_bounds(scene), job.up, job.display, job.views, {job.distance});  // before any work
   std::unique_ptr<Tracer> tracer = make_tracer(scene, kind);
-  if (progress) progress(tracer_summary(*tracer));
+  if (progress) progress->tracer_built(*tracer);
   Renderer renderer;
   LabelResult r = label_scene(renderer, scene, *tracer, job, progress);
   write_label_outputs(renderer, scene, r, job);

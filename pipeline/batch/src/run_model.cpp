@@ -94,7 +94,7 @@ ModelRun model_run(const ModelEntry& model, const std::string& config_file) {
 }
 
 ModelReport run_model(const BatchConfig& config, const ModelRun& run, const std::string& dir,
-                      const Progress& progress, nlohmann::json* manifest) {
+                      ModelProgress* progress, nlohmann::json* manifest) {
   BatchConfig c = config;
   c.out = dir;
   LodJob job = lod_job(c);
@@ -104,11 +104,7 @@ ModelReport run_model(const BatchConfig& config, const ModelRun& run, const std:
   ModelReport r;
   r.model = c.model;
   Scene scene = load_scene(c.model, lo, &r.load);
-  if (progress) {
-    std::ostringstream ss;
-    ss << c.model << ": " << scene.triangle_count() << " triangles, " << scene.component_count() << " components";
-    progress(ss.str());
-  }
+  if (progress) progress->model_loaded(c.model, scene);
   std::vector<Scene> lods;
   r.lods = make_lods(scene, job, progress, &lods);
   write_text_atomic(job.label.out.report(), lod_set_json(r.lods).dump(2) + "\n");

@@ -110,7 +110,7 @@ bool eye_inside_other(const Camera& cam, const std::vector<Bounds>& box, uint32_
 class SceneLabeller {
  public:
   SceneLabeller(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& asked,
-                const Progress& progress, const EmbreeTracer* verify_tracer)
+                LabelProgress* progress, const EmbreeTracer* verify_tracer)
       : renderer_(renderer), scene_(scene), tracer_(tracer), job_(checked_job(asked)), progress_(progress),
         nt_(scene.triangle_count()), bounds_(scene_bounds(scene)), ps_(perception_for(job_)),
         depth_(finds_unsampled_surface(job_)), automatic_(job_.samples == kAutoSamples),
@@ -145,7 +145,7 @@ class SceneLabeller {
   const Scene& scene_;
   const Tracer& tracer_;
   const LabelJob job_;
-  const Progress& progress_;
+  LabelProgress* progress_;
   const size_t nt_;
   const Bounds bounds_;
   const PerceptionSettings ps_;
@@ -222,8 +222,7 @@ void SceneLabeller::on_model_view_counted(const ViewPass& vp, ViewOutcome& o) {
   } else {
     add_pass_report(res_.report.views.back(), o.report, vp.passes);
   }
-  if (progress_ && vp.pass + 1 == vp.passes)
-    progress_(progress_line(tile.name, job_.distance, res_.report.views.back()));
+  if (progress_ && vp.pass + 1 == vp.passes) progress_->view_labelled(tile.name, job_.distance, res_.report.views.back());
 }
 
 // Every pass of every whole-model view, rendering overlapped with tracing.
@@ -298,14 +297,7 @@ BuildingLabelling SceneLabeller::label_building(uint32_t b, const BuildingTriang
   pipeline.drain();
   first += own_passes.size();
   BuildingLabelling entry{buildings_.names[b], views, eyes_inside, seconds, own_chosen};
-  if (progress_) {
-    std::ostringstream ss;
-    ss.precision(3);
-    ss << "  building " << b + 1 << "/" << buildings_.names.size() << " " << buildings_.names[b] << ": " << views
-       << " views, " << seconds << " s";
-    if (eyes_inside) ss << "; " << eyes_inside << " with the eye inside another building's box";
-    progress_(ss.str());
-  }
+  if (progress_) progress_->building_labelled(b, buildings_.names.size(), entry);
   return entry;
 }
 
@@ -330,7 +322,7 @@ LabelResult SceneLabeller::finish() {
 }  // namespace
 
 LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& asked,
-                        const Progress& progress, const EmbreeTracer* verify_tracer) {
+                        LabelProgress* progress, const EmbreeTracer* verify_tracer) {
   return SceneLabeller(renderer, scene, tracer, asked, progress, verify_tracer).run();
 }
 

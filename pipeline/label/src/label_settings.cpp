@@ -92,13 +92,6 @@ PerceptionSettings perception_for(const LabelJob& job) {
   return ps;
 }
 
-std::string tracer_summary(const Tracer& tracer) {
-  char line[160];
-  std::snprintf(line, sizeof line, "%s built in %.0f ms, %zu KiB", tracer.name(), tracer.build_seconds() * 1e3,
-                tracer.memory_bytes() / 1024);
-  return line;
-}
-
 Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps) {
   const int levels = ps.levels > 0 ? ps.levels : default_levels(0.5 * ps.ppd, ps.k);
   const int align = 1 << std::min(levels, 10), margin = 12 * align;

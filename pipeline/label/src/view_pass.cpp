@@ -376,21 +376,4 @@ void add_pass_report(ViewLabelling& first, const ViewLabelling& pass, size_t pas
   first.passes = passes;
 }
 
-std::string progress_line(const std::string& name, double d, const ViewLabelling& report) {
-  std::ostringstream ss;
-  ss.precision(3);
-  const auto seconds = [&](const char* step) {
-    const auto it = report.seconds.find(step);
-    return it == report.seconds.end() ? 0.0 : it->second;
-  };
-  ss << "  " << name << " at " << d << " m: " << size_t(report.covered_pixels) << " px, "
-     << 100 * report.imperceptible_fraction << "% imperceptible";
-  if (report.passes) ss << " in the first of " << report.passes << " passes; all passes:";
-  else ss << ";";
-  ss << " render " << 1e3 * seconds("render") << " ms, perceive " << 1e3 * seconds("perceive") << " ms, trace "
-     << 1e3 * seconds("trace") << " ms";
-  if (!report.sampling.empty()) ss << " (samples " << report.sampling << ")";  // auto's choice
-  return ss.str();
-}
-
 }  // namespace perclod::detail

@@ -139,6 +139,5 @@ void add_view_passes(size_t tile, const Camera& cam, const Camera& window, const
 std::string sampling_name(const ViewSampling& vs);
 // Adds a later pass's timings to the report of the view's first pass.
 void add_pass_report(ViewLabelling& first, const ViewLabelling& pass, size_t passes);
-std::string progress_line(const std::string& name, double d, const ViewLabelling& report);
 
 }  // namespace perclod::detail

@@ -51,7 +51,7 @@ LodSet describe_job(const Scene& scene, const LodJob& job, const Tracer& tracer)
 // the job asks for (or a search or tightening tries), then write the kept one.
 class DistanceRun {
  public:
-  DistanceRun(const Scene& scene, const LodJob& job, JobTools& tools, const Progress& progress, double d)
+  DistanceRun(const Scene& scene, const LodJob& job, JobTools& tools, LodProgress* progress, double d)
       : scene_(scene), job_(job), tools_(tools), progress_(progress), d_(d) {
     lj_ = job.label;
     lj_.distance = d;
@@ -72,14 +72,11 @@ class DistanceRun {
   void write_lod(LodSet& set);
   void judge_written(LodSet& set);
   void warn(LodSet& set, const std::string& what) const { set.warnings.push_back(what); }
-  void say(const std::string& line) const {
-    if (progress_) progress_(line);
-  }
 
   const Scene& scene_;
   const LodJob& job_;
   JobTools& tools_;
-  const Progress& progress_;
+  LodProgress* progress_;
   const double d_;
   LabelJob lj_;
   LabelResult lr_;
@@ -127,10 +124,7 @@ void DistanceRun::choose_bounds() {
   so_.pixel_footprint = display_pixel_footprint(lj_.display, d_);
   if (job_.undisplayable_auto && undisplayable_auto_applies(so_)) {
     exposure_ = choose_undisplayable(so_, scene_, *tools_.tracer, lr_.labels, framing_of(lj_));
-    std::ostringstream ss;
-    ss << std::setprecision(3) << "  undisplayable triangles: " << 100 * exposure_
-       << "% of the pixels between the labelling views -> " << undisplayable_rule_text(so_);
-    say(ss.str());
+    if (progress_) progress_->undisplayable_decided(exposure_, undisplayable_rule_of(so_));
   }
   asked_ = so_;
 }
@@ -169,13 +163,7 @@ bool DistanceRun::log_try(const Judgement& f, const char* what) {
   t.worst = f.worst;
   t.met = f.met();
   r_.tries.push_back(t);
-  std::ostringstream ss;
-  ss << "  " << what << " at " << d_ << " m: e_imperceptible " << so_.bound_imperceptible_px << " px, e_perceptible "
-     << so_.bound_perceptible_px << " px, undisplayable " << undisplayable_rule_text(so_) << " -> "
-     << st_.total_after() << " triangles, worst " << 100 * f.worst.changed_fraction << "% changed, SSIM "
-     << f.worst.ssim_covered << ", silhouette " << 100 * f.worst.silhouette_mismatch << "%"
-     << (t.met ? " (met)" : "");
-  say(ss.str());
+  if (progress_) progress_->lod_tried(what, d_, t);
   return t.met;
 }
 
@@ -196,7 +184,7 @@ void DistanceRun::search_target() {
     });
     kept_try_ += size_t(l.kept + 1);
     if (l.remake) {
-      say("  fidelity target: back to the loosest bounds that met it");
+      if (progress_) progress_->looser_remade();
       attempt(fidelity_bounds(asked_, l.step));
     }
   }
@@ -219,7 +207,7 @@ void DistanceRun::tighten() {
     // the tries (its comparison pictures take up to 1.4 MB per judged
     // view, 88 views for the million-triangle facade at 56 m): the
     // simplifier and the judge are deterministic, so it is the same.
-    say("  tighten to limits: none within; the asked bounds again");
+    if (progress_) progress_->tightening_failed();
     attempt(asked_);
   }
 }
@@ -239,7 +227,7 @@ void DistanceRun::write_lod(LodSet& set) {
   if (searching_ && !target_met_) {
     std::ostringstream ss;
     ss << r_.lod_file << ": no bound meets the fidelity target at " << d_ << " m; kept the tightest (e_imperceptible "
-       << so_.bound_imperceptible_px << " px, undisplayable " << undisplayable_rule_text(so_) << ")";
+       << so_.bound_imperceptible_px << " px, undisplayable " << undisplayable_rule_text(undisplayable_rule_of(so_)) << ")";
     warn(set, ss.str());
   }
   if (st_.total_after() == 0) {
@@ -271,23 +259,12 @@ void DistanceRun::judge_written(LodSet& set) {
     warn(set, ss.str());
     ++set.over_limits;
   }
-  const WorstFigures& w = r_.fidelity.worst;
-  std::ostringstream ss;
-  ss << "  LOD " << d_ << " m: " << st_.total_before() << " -> " << st_.total_after() << " triangles ("
-     << (st_.total_before() ? 100.0 * double(st_.total_after()) / double(st_.total_before()) : 0.0)
-     << "%); worst of " << r_.views.size() << " views: " << 100 * w.changed_fraction << "% changed, SSIM "
-     << w.ssim_covered << ", silhouette " << 100 * w.silhouette_mismatch << "%; " << r_.lod_file;
-  say(ss.str());
-  if (st_.refused_counted) {  // explain: true
-    std::ostringstream stop;
-    stop << "  LOD " << d_ << " m stopped: " << refused_text(st_.refused);
-    say(stop.str());
-  }
+  if (progress_) progress_->lod_made(r_);
 }
 
 }  // namespace
 
-LodSet make_lods(const Scene& scene, const LodJob& job, const Progress& progress, std::vector<Scene>* lods) {
+LodSet make_lods(const Scene& scene, const LodJob& job, LodProgress* progress, std::vector<Scene>* lods) {
   if (job.distances.empty()) throw std::invalid_argument("no viewing distance given");
   if (job.lod_format != "obj" && job.lod_format != "glb")
     throw std::invalid_argument("LOD format must be obj or glb, not '" + job.lod_format + "'");
@@ -300,14 +277,10 @@ LodSet make_lods(const Scene& scene, const LodJob& job, const Progress& progress
   JobTools tools;
   tools.tracer = make_tracer(scene, job.tracer);
   if (job.label.verify) tools.verify_tracer = std::make_unique<EmbreeTracer>(scene, EmbreeMode::Verify);
-  if (progress) progress(tracer_summary(*tools.tracer));
+  if (progress) progress->tracer_built(*tools.tracer);
   LodSet set = describe_job(scene, job, *tools.tracer);
   for (double d : job.distances) {
-    if (progress) {
-      std::ostringstream ss;
-      ss << "distance " << d << " m";
-      progress(ss.str());
-    }
+    if (progress) progress->distance_started(d);
     Scene lod;
     set.lods.push_back(DistanceRun(scene, job, tools, progress, d).run(set, lods ? &lod : nullptr));
     if (lods) lods->push_back(std::move(lod));

@@ -67,11 +67,11 @@ UndisplayableRule undisplayable_rule_of(const SimplifyOptions& so, double exposu
 
 
 // The same in words, for progress lines and warnings.
-std::string undisplayable_rule_text(const SimplifyOptions& so) {
-  if (so.delete_undisplayable) return "deleted";
-  if (!std::isfinite(so.bound_undisplayable_px)) return "collapsed, unbounded";
+std::string undisplayable_rule_text(const UndisplayableRule& rule) {
+  if (rule.deleted) return "deleted";
+  if (!std::isfinite(rule.bound_px)) return "collapsed, unbounded";
   std::ostringstream ss;
-  ss << "collapsed within " << so.bound_undisplayable_px << " px";
+  ss << "collapsed within " << rule.bound_px << " px";
   return ss.str();
 }
 

@@ -10,6 +10,6 @@ namespace perclod {
 // label_scene + write_label_outputs with a tracer of `tracer` kind, and the
 // report (label_report_json) written to out.label_report(d). Returns the
 // report.
-LabelReport label_model(const Scene& scene, const LabelJob& job, TracerKind tracer, const Progress& progress = {});
+LabelReport label_model(const Scene& scene, const LabelJob& job, TracerKind tracer, LabelProgress* progress = nullptr);
 
 }  // namespace perclod

@@ -8,6 +8,7 @@
 
 #include "perclod/config.h"
 #include "perclod/lods.h"
+#include "perclod/progress_text.h"
 #include "perclod/report_json.h"
 
 namespace perclod {
@@ -36,6 +37,6 @@ ModelRun model_run(const ModelEntry& model, const std::string& config_file);
 // did (model_report_json gives it as JSON); `manifest`, when given, receives
 // the manifest itself. Throws on any failure (naming the file).
 ModelReport run_model(const BatchConfig& config, const ModelRun& run, const std::string& dir,
-                      const Progress& progress = {}, nlohmann::json* manifest = nullptr);
+                      ModelProgress* progress = nullptr, nlohmann::json* manifest = nullptr);
 
 }  // namespace perclod

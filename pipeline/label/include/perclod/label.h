@@ -197,6 +197,18 @@ struct LabelReport {
   double tracer_build_seconds = -1;    // label_model: its tracer's build (< 0: not given)
 };
 
+// What labelling tells while it works; perclod/progress_text.h's
+// TextProgress turns it into the progress lines `perclod` prints.
+class LabelProgress {
+ public:
+  virtual ~LabelProgress() = default;
+  virtual void tracer_built(const Tracer& tracer) = 0;
+  // A whole-model view (or tile) `view` at `distance` is labelled, all its passes.
+  virtual void view_labelled(const std::string& view, double distance, const ViewLabelling& v) = 0;
+  // Building `index` of `count` is labelled from its own views.
+  virtual void building_labelled(size_t index, size_t count, const BuildingLabelling& b) = 0;
+};
+
 struct LabelResult {
   std::vector<Label> labels;               // combined over views
   std::vector<IdBuffer> id_buffers;        // per labelling view and tile, when view images are written
@@ -235,7 +247,7 @@ Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionS
 // `verify_tracer` (job.verify only): an Embree tracer of `scene` in Verify
 // mode kept by the caller for several distances; else one is built per call.
 LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tracer, const LabelJob& job,
-                        const Progress& progress = {}, const EmbreeTracer* verify_tracer = nullptr);
+                        LabelProgress* progress = nullptr, const EmbreeTracer* verify_tracer = nullptr);
 
 // Writes out.labels(d) and, with job.write_view_images, the marking colours of
 // the combined labels: per labelling view and tile from its own render's ID
@@ -252,8 +264,5 @@ Framing framing_of(const LabelJob& job);
 
 // The job's perception settings at its display's pixel density.
 PerceptionSettings perception_for(const LabelJob& job);
-
-// "octree built in 120 ms, 4096 KiB": the progress line after a tracer build.
-std::string tracer_summary(const Tracer& tracer);
 
 }  // namespace perclod

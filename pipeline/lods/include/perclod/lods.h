@@ -88,6 +88,23 @@ struct LodSet {
   double seconds = 0;
 };
 
+// What make_lods tells while it works, besides labelling's events;
+// perclod/progress_text.h's TextProgress prints them.
+class LodProgress : public LabelProgress {
+ public:
+  virtual void distance_started(double distance) = 0;
+  // keep_undisplayable: auto measured `exposure` and chose `rule`.
+  virtual void undisplayable_decided(double exposure, const UndisplayableRule& rule) = 0;
+  // A try of a search or of tightening (`what` names which) is judged.
+  virtual void lod_tried(const char* what, double distance, const LodTry& t) = 0;
+  // The LOD of the loosest bounds that met the target is made again.
+  virtual void looser_remade() = 0;
+  // No tighter bounds were within the limits: the asked ones are made again.
+  virtual void tightening_failed() = 0;
+  // A LOD is written and judged.
+  virtual void lod_made(const LodResult& r) = 0;
+};
+
 // One LOD per distance: out.lod(d), out.labels(d), renders and marking
 // renders. Each LOD is judged from its labelling views and job.judge_views
 // (LodResult::views, and LodResult::fidelity against job.limits).
@@ -96,7 +113,7 @@ struct LodSet {
 // adds a warning per view and measure, counted in LodSet::over_limits.
 // `lods`, when given, receives each LOD's scene in job.distances order.
 // The report (out.report(), perclod/report_json.h) is the caller's to write.
-LodSet make_lods(const Scene& scene, const LodJob& job, const Progress& progress = {},
+LodSet make_lods(const Scene& scene, const LodJob& job, LodProgress* progress = nullptr,
                  std::vector<Scene>* lods = nullptr);
 
 }  // namespace perclod

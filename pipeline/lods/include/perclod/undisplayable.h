@@ -60,8 +60,8 @@ struct UndisplayableRule {
 };
 UndisplayableRule undisplayable_rule_of(const SimplifyOptions& so, double exposure = -1);
 
-// The same in words, for progress lines and warnings: "deleted",
+// A rule in words, for progress lines and warnings: "deleted",
 // "collapsed, unbounded" or "collapsed within E px".
-std::string undisplayable_rule_text(const SimplifyOptions& so);
+std::string undisplayable_rule_text(const UndisplayableRule& rule);
 
 }  // namespace perclod

@@ -1,0 +1,111 @@
+// The progress lines (perclod/progress_text.h): one per event, worded as
+// `perclod` has always printed them.
+#include "perclod/progress_text.h"
+
+#include <cstdio>
+#include <iomanip>
+#include <sstream>
+
+namespace perclod {
+
+std::string tracer_summary(const Tracer& tracer) {
+  char line[160];
+  std::snprintf(line, sizeof line, "%s built in %.0f ms, %zu KiB", tracer.name(), tracer.build_seconds() * 1e3,
+                tracer.memory_bytes() / 1024);
+  return line;
+}
+
+void TextProgress::tracer_built(const Tracer& tracer) { say(tracer_summary(tracer)); }
+
+void TextProgress::view_labelled(const std::string& view, double distance, const ViewLabelling& v) {
+  std::ostringstream ss;
+  ss.precision(3);
+  const auto seconds = [&](const char* step) {
+    const auto it = v.seconds.find(step);
+    return it == v.seconds.end() ? 0.0 : it->second;
+  };
+  ss << "  " << view << " at " << distance << " m: " << size_t(v.covered_pixels) << " px, "
+     << 100 * v.imperceptible_fraction << "% imperceptible";
+  if (v.passes) ss << " in the first of " << v.passes << " passes; all passes:";
+  else ss << ";";
+  ss << " render " << 1e3 * seconds("render") << " ms, perceive " << 1e3 * seconds("perceive") << " ms, trace "
+     << 1e3 * seconds("trace") << " ms";
+  if (!v.sampling.empty()) ss << " (samples " << v.sampling << ")";  // auto's choice
+  say(ss.str());
+}
+
+void TextProgress::building_labelled(size_t index, size_t count, const BuildingLabelling& b) {
+  std::ostringstream ss;
+  ss.precision(3);
+  ss << "  building " << index + 1 << "/" << count << " " << b.building << ": " << b.views << " views, " << b.seconds
+     << " s";
+  if (b.eyes_inside_other_buildings)
+    ss << "; " << b.eyes_inside_other_buildings << " with the eye inside another building's box";
+  say(ss.str());
+}
+
+void TextProgress::distance_started(double distance) {
+  std::ostringstream ss;
+  ss << "distance " << distance << " m";
+  say(ss.str());
+}
+
+void TextProgress::undisplayable_decided(double exposure, const UndisplayableRule& rule) {
+  std::ostringstream ss;
+  ss << std::setprecision(3) << "  undisplayable triangles: " << 100 * exposure
+     << "% of the pixels between the labelling views -> " << undisplayable_rule_text(rule);
+  say(ss.str());
+}
+
+void TextProgress::lod_tried(const char* what, double distance, const LodTry& t) {
+  std::ostringstream ss;
+  ss << "  " << what << " at " << distance << " m: e_imperceptible " << t.e_imperceptible << " px, e_perceptible "
+     << t.e_perceptible << " px, undisplayable " << undisplayable_rule_text(t.undisplayable) << " -> " << t.triangles
+     << " triangles, worst " << 100 * t.worst.changed_fraction << "% changed, SSIM " << t.worst.ssim_covered
+     << ", silhouette " << 100 * t.worst.silhouette_mismatch << "%" << (t.met ? " (met)" : "");
+  say(ss.str());
+}
+
+void TextProgress::looser_remade() { say("  fidelity target: back to the loosest bounds that met it"); }
+
+void TextProgress::tightening_failed() { say("  tighten to limits: none within; the asked bounds again"); }
+
+void TextProgress::lod_made(const LodResult& r) {
+  const SimplifyStats& st = r.simplify;
+  const WorstFigures& w = r.fidelity.worst;
+  std::ostringstream ss;
+  ss << "  LOD " << r.distance << " m: " << st.total_before() << " -> " << st.total_after() << " triangles ("
+     << (st.total_before() ? 100.0 * double(st.total_after()) / double(st.total_before()) : 0.0)
+     << "%); worst of " << r.views.size() << " views: " << 100 * w.changed_fraction << "% changed, SSIM "
+     << w.ssim_covered << ", silhouette " << 100 * w.silhouette_mismatch << "%; " << r.lod_file;
+  say(ss.str());
+  if (st.refused_counted) {  // explain: true
+    std::ostringstream stop;
+    stop << "  LOD " << r.distance << " m stopped: " << refused_text(st.refused);
+    say(stop.str());
+  }
+}
+
+void TextProgress::model_loaded(const std::string& model, const Scene& scene) {
+  std::ostringstream ss;
+  ss << model << ": " << scene.triangle_count() << " triangles, " << scene.component_count() << " components";
+  say(ss.str());
+}
+
+std::string batch_line(size_t i, size_t total, const std::string& name, const std::string& what,
+                       double seconds_left) {
+  std::ostringstream ss;
+  ss << "[" << i + 1 << "/" << total << " " << name << "] " << what;
+  if (seconds_left >= 0) ss << "  (about " << format_seconds(seconds_left) << " left)";
+  return ss.str();
+}
+
+std::string format_seconds(double s) {
+  char buf[32];
+  if (s < 90) std::snprintf(buf, sizeof buf, "%.0fs", s);
+  else if (s < 5400) std::snprintf(buf, sizeof buf, "%dm%02ds", int(s) / 60, int(s) % 60);
+  else std::snprintf(buf, sizeof buf, "%dh%02dm", int(s) / 3600, (int(s) % 3600) / 60);
+  return buf;
+}
+
+}  // namespace perclod
