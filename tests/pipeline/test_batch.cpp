@@ -269,24 +269,32 @@ TEST(BatchHash, HashesAreStableAndSeeOneByte) {
   EXPECT_NE(error_of([&] { hash_file(d / "none"); }).find("none: cannot open"), std::string::npos);
 }
 
-TEST(LodRanges, SwitchDistancesFollowThePixelRule) {
+TEST(LodRanges, EachLodServesFromItsDistanceAndItsTileSwitchesThere) {
   // Pixel angle 1 mrad: a 2 cm displacement is under a pixel beyond 20 m.
   const double angle = 1e-3, fov = 2 * std::atan(0.5);  // view height = distance
-  auto r = lod_ranges({132, 56, 427}, {0.5, 0.02, 0.02}, angle, fov, 10.0);
+  const int height = 1000;                             // px: 1 m of error is 1 px at 1,000 m
+  auto r = lod_ranges({132, 56, 427}, {0.5, 0.02, 0.02}, angle, fov, height, 10.0);
   ASSERT_EQ(r.size(), 3u);
   EXPECT_EQ(r[0].distance, 56);
   EXPECT_NEAR(r[0].switch_distance, 20, 1e-9);
-  EXPECT_NEAR(r[0].from, 20, 1e-9);           // safe closer than it was made for
-  EXPECT_NEAR(r[1].from, 132, 1e-9);          // 0.5 m -> 500 m: the perceptual judgement at 132 m stands
-  EXPECT_NEAR(r[2].from, 132, 1e-9);          // never before the previous LOD's start
+  EXPECT_NEAR(r[0].from, 20, 1e-9);   // the finest: safe closer than it was made for
+  EXPECT_NEAR(r[1].from, 132, 1e-9);  // the others from the distance they were made for
+  EXPECT_NEAR(r[2].from, 427, 1e-9);  // even where d_th (20 m) is nearer
   EXPECT_EQ(r[0].to, r[1].from);
+  EXPECT_EQ(r[1].to, r[2].from);
   EXPECT_TRUE(std::isinf(r[2].to));
   EXPECT_NEAR(r[0].screen_coverage, 10.0 / 132, 1e-12);
   EXPECT_EQ(r[2].screen_coverage, 0);
-  // Tileset errors: the finest is a leaf (0); coarser ones never smaller.
+  // Tileset errors: the finest is a leaf (0); a coarser tile's error shows
+  // kTilesetMaxScreenSpaceError pixels exactly at its own distance, so a
+  // client refines it there, and no two nested tiles share an error.
   EXPECT_EQ(r[0].geometric_error, 0);
-  EXPECT_NEAR(r[1].geometric_error, 0.5, 1e-12);
-  EXPECT_NEAR(r[2].geometric_error, 0.5, 1e-12);
+  for (size_t i = 1; i < r.size(); ++i) {
+    const double sse = r[i].geometric_error * height / (r[i].from * 2 * std::tan(fov / 2));
+    EXPECT_NEAR(sse, kTilesetMaxScreenSpaceError, 1e-9) << i;
+    EXPECT_GT(r[i].geometric_error, r[i - 1].geometric_error) << i;
+  }
+  EXPECT_NEAR(r[1].geometric_error, 132 * 16.0 / 1000, 1e-12);
 }
 
 TEST(EnuFrame, AxesAreOrthonormalAndTheOriginIsOnTheEllipsoid) {

@@ -22,3 +22,15 @@ TEST(DistanceTags, DistancesWithTheSameFileNameAreRefused) {
   }
   EXPECT_THROW(check_distinct_tags({56, 132, 56}), std::invalid_argument);
 }
+
+// Outputs are named after the model file's stem; CityJSON's "name.city.json"
+// gives "name" (not "name.city"), and only a JSON file loses ".city".
+TEST(OutputNames, ACityJsonModelIsNamedWithoutDotCity) {
+  EXPECT_EQ(model_stem("data/bldg.obj"), "bldg");
+  EXPECT_EQ(model_stem("tiles/3dbag_5910_delft.city.json"), "3dbag_5910_delft");
+  EXPECT_EQ(model_stem("tiles/B.CITY.JSON"), "B");
+  EXPECT_EQ(model_stem("a.cityjson"), "a");
+  EXPECT_EQ(model_stem("old.city.obj"), "old.city");  // not CityJSON: the stem as it is
+  EXPECT_EQ(model_stem(".city.json"), ".city");       // nothing would be left
+  EXPECT_EQ(output_names_for("out", "d/x.city.json").lod(56, "glb"), "out/x_lod_56m.glb");
+}

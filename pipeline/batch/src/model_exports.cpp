@@ -55,29 +55,29 @@ nlohmann::json label_counts(const nlohmann::json& per_label) {
 }  // namespace
 
 std::vector<LodRange> lod_ranges(const std::vector<double>& distances, const std::vector<double>& displacements,
-                                 double pixel_angle, double fov_y, double diagonal) {
+                                 double pixel_angle, double fov_y, int height_px, double diagonal) {
   if (distances.size() != displacements.size()) throw std::invalid_argument("one displacement per distance");
   std::vector<size_t> order(distances.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return distances[a] < distances[b]; });
+  const double view_height_per_metre = 2 * std::tan(fov_y / 2);
+  // Metres of geometric error per metre of distance at the switch: a tile
+  // of error e shows e * height_px / (d * view_height_per_metre) pixels.
+  const double error_per_metre = kTilesetMaxScreenSpaceError * view_height_per_metre / std::max(1, height_px);
   std::vector<LodRange> r;
   for (size_t i : order) {
     LodRange x;
     x.distance = distances[i];
     x.displacement = displacements[i];
     x.switch_distance = pixel_angle > 0 ? displacements[i] / pixel_angle : 0;
-    x.from = std::min(x.distance, x.switch_distance);
-    if (!r.empty()) x.from = std::max(x.from, r.back().from);
+    x.from = r.empty() ? std::min(x.distance, x.switch_distance) : x.distance;
+    x.geometric_error = r.empty() ? 0.0 : x.from * error_per_metre;
     r.push_back(x);
   }
-  const double view_height_per_metre = 2 * std::tan(fov_y / 2);
-  double finer_error = 0;
   for (size_t i = 0; i < r.size(); ++i) {
     r[i].to = i + 1 < r.size() ? r[i + 1].from : INFINITY;
     r[i].screen_coverage =
         std::isfinite(r[i].to) && r[i].to > 0 ? std::min(1.0, diagonal / (r[i].to * view_height_per_metre)) : 0.0;
-    finer_error = std::max(finer_error, r[i].displacement);
-    r[i].geometric_error = i == 0 ? 0.0 : finer_error;
   }
   return r;
 }
@@ -165,7 +165,19 @@ void write_tileset(const Scene& scene, const std::vector<Scene>& lods, const Lod
     const auto m = enu_to_ecef(config.origin_lat, config.origin_lon, config.origin_height);
     tile["transform"] = std::vector<double>(m.begin(), m.end());
   }
-  nlohmann::json tileset = {{"asset", {{"version", "1.1"}, {"generator", std::string("perclod ") + perclod_version()}}},
+  const DisplayProfile& display = job.label.display;
+  const nlohmann::json extras = {
+      {"perclod",
+       {{"maximum_screen_space_error", kTilesetMaxScreenSpaceError},
+        {"display", {{"name", display.name}, {"height_px", display.height}, {"fov_y_deg", display.fov_y() * 180 / kPi}}},
+        {"geometric_error",
+         "distance * maximum_screen_space_error * 2 tan(fov_y / 2) / height_px: a client with this maximum "
+         "screen-space error refines a LOD's tile when the camera is closer than the distance the LOD was made "
+         "for (docs/usage.md#export-for-viewers)"}}}};
+  nlohmann::json tileset = {{"asset",
+                             {{"version", "1.1"},
+                              {"generator", std::string("perclod ") + perclod_version()},
+                              {"extras", extras}}},
                             {"geometricError", std::max(diagonal, tile["geometricError"].get<double>())},
                             {"root", tile}};
   write_text_atomic(out.tileset(), tileset.dump(2) + "\n");
@@ -215,7 +227,8 @@ nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>&
 
   const nlohmann::json& entries = report.at("lods");
   const std::vector<double> displacements = lod_displacements(entries);
-  const std::vector<LodRange> ranges = lod_ranges(job.distances, displacements, pixel_angle, display.fov_y(), diagonal);
+  const std::vector<LodRange> ranges =
+      lod_ranges(job.distances, displacements, pixel_angle, display.fov_y(), display.height, diagonal);
 
   nlohmann::json files = {{"report", leaf(out.report())}};
   std::vector<std::string> glb(job.distances.size());

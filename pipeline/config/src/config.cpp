@@ -445,11 +445,11 @@ std::vector<std::string> expand_models(const std::string& item, const std::strin
 void name_models(std::vector<ModelEntry>& models) {
   namespace fs = std::filesystem;
   std::map<std::string, int> stems;
-  for (const auto& m : models) ++stems[fs::path(m.config.model).stem().string()];
+  for (const auto& m : models) ++stems[model_stem(m.config.model)];
   std::set<std::string> used;
   for (auto& m : models) {
     const fs::path p(m.config.model);
-    std::string name = p.stem().string();
+    std::string name = model_stem(m.config.model);
     if (stems[name] > 1 && p.has_parent_path()) name = p.parent_path().filename().string() + "_" + name;
     std::string unique = name;
     for (int k = 2; used.count(unique); ++k) unique = name + "_" + std::to_string(k);
@@ -483,7 +483,7 @@ ConfigFile load_config_file(const std::string& path) {
       throw config_error(path, "'jobs' and 'memory_budget_mb' apply only to a batch ('models:')");
     BatchConfig c = parse_model(n, path, dir);
     c.out = f.out;
-    f.models.push_back({fs::path(c.model).stem().string(), c});
+    f.models.push_back({model_stem(c.model), c});
     return f;
   }
   if (n["model"]) throw config_error(path, "give 'model' (one model) or 'models' (a batch), not both");

@@ -159,8 +159,15 @@ class CityJsonReader {
   // then sorted by name.
   static void name_picked(std::vector<Picked>& picked, const std::map<std::string, bool>& top_has_child_geometry) {
     for (auto& p : picked) {
-      for (size_t k = 0; k < p.chain.size(); ++k) p.name += (k ? "/" : "") + clean_id(p.chain[k]);
-      if (p.chain.size() == 1 && top_has_child_geometry.count(p.chain[0])) p.name += "/" + clean_id(p.chain[0]);
+      // Appended piece by piece: GCC 12 warns (-Wrestrict, falsely) on "/" + std::string here.
+      for (size_t k = 0; k < p.chain.size(); ++k) {
+        if (k) p.name += '/';
+        p.name += clean_id(p.chain[k]);
+      }
+      if (p.chain.size() == 1 && top_has_child_geometry.count(p.chain[0])) {
+        p.name += '/';
+        p.name += clean_id(p.chain[0]);
+      }
     }
     std::stable_sort(picked.begin(), picked.end(), [](const Picked& a, const Picked& b) { return a.name < b.name; });
   }

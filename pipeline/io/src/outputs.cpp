@@ -40,9 +40,18 @@ void check_distinct_tags(const std::vector<double>& distances) {
       }
 }
 
-OutputNames output_names_for(const std::string& dir, const std::string& input) {
-  return {dir, fs::path(input).stem().string()};
+std::string model_stem(const std::string& path) {
+  std::string stem = fs::path(path).stem().string();
+  const std::string city = ".city";
+  if (lower_extension(path) == ".json" && stem.size() > city.size()) {
+    std::string tail = stem.substr(stem.size() - city.size());
+    for (auto& ch : tail) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+    if (tail == city) stem.resize(stem.size() - city.size());
+  }
+  return stem;
 }
+
+OutputNames output_names_for(const std::string& dir, const std::string& input) { return {dir, model_stem(input)}; }
 
 std::string OutputNames::file(const std::string& suffix) const { return dir + "/" + stem + suffix; }
 

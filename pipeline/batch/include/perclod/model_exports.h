@@ -13,18 +13,29 @@
 
 namespace perclod {
 
-// The serving range of each LOD (sorted by distance; docs/usage.md#manifest):
-// vd = its largest vertex displacement (metres), its switch distance
-// d_th = vd / (pixel angle) (Belblidia's d_th = f * vd / ps), serving from
-// min(d, d_th) (never before the previous LOD's start) up to the next LOD's
-// start (the last: no end, to = infinity).
+// The maximum screen-space error (pixels) the tileset's errors are set for:
+// CesiumJS's default. A client using another refines each tile at
+// (its maximum / this) times the distances below.
+constexpr double kTilesetMaxScreenSpaceError = 16;
+
+// The serving range of each LOD (sorted by distance;
+// docs/usage.md#which-distances-a-lod-serves): a LOD made for distance d
+// serves from d up to the next LOD's d (the last: no end, to = infinity);
+// the finest also closer, from min(d, d_th). vd is its largest vertex
+// displacement (metres) and d_th = vd / (pixel angle) its switch distance
+// (Belblidia's d_th = f * vd / ps), where vd shrinks under a pixel.
+// A tile's geometricError is from * S * 2 tan(fov_y / 2) / height_px
+// (S = kTilesetMaxScreenSpaceError; the finest is a leaf, 0): a 3D Tiles
+// client with maximum screen-space error S, on the display the LODs were
+// made for, refines a LOD's tile exactly when the camera comes closer than
+// the distance that LOD was made for.
 struct LodRange {
   double distance = 0, displacement = 0, switch_distance = 0, from = 0, to = 0;
   double screen_coverage = 0;  // model diagonal / screen height at `to` (0 for the last)
-  double geometric_error = 0;  // tileset: largest displacement of this LOD and every finer one (finest: 0)
+  double geometric_error = 0;  // tileset: the error that switches at `from` (finest: 0)
 };
 std::vector<LodRange> lod_ranges(const std::vector<double>& distances, const std::vector<double>& displacements,
-                                 double pixel_angle, double fov_y, double diagonal);
+                                 double pixel_angle, double fov_y, int height_px, double diagonal);
 
 // The local east-north-up frame at a WGS84 point, as the column-major 4x4
 // transform (ENU metres -> ECEF metres) 3D Tiles takes.

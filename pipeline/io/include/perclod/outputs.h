@@ -51,6 +51,10 @@ std::string batch_summary_file(const std::string& out, int shard, int shards);
 // The extension of `path` lower-cased, with its dot: ".obj", "" for none.
 std::string lower_extension(const std::string& path);
 
+// A model file's name without its extension, and without the ".city" of
+// CityJSON's "name.city.json" (so "name", not "name.city", names its outputs).
+std::string model_stem(const std::string& path);
+
 // Names in `dir` after the stem of `input` (the model or image file): out/bldg_...
 OutputNames output_names_for(const std::string& dir, const std::string& input);
 
