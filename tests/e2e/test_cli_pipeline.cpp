@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "cli_util.h"
 #include "perclod/labels_io.h"
@@ -530,6 +531,20 @@ TEST(CliPipeline, RunWithoutDebugImagesWritesNoneAndTheSameResults) {
     for (size_t v = 0; v < a["lod_vs_original"].size(); ++v)
       for (const char* key : {"view", "drawn_pixels", "changed_pixels", "ssim_covered", "coverage_changed_pixels"})
         EXPECT_EQ(a["lod_vs_original"][v][key], b["lod_vs_original"][v][key]) << key;
+  }
+  // The report pages link only files that exist: without debug images no
+  // render, marking or comparison picture is linked.
+  for (const char* name : {"with", "without"}) {
+    const std::string page = bytes(out / name / "bldg_4018215_report.html");
+    const std::regex link("(?:src|href)=\"([^\"#:]+)\"");
+    size_t images = 0;
+    for (auto it = std::sregex_iterator(page.begin(), page.end(), link); it != std::sregex_iterator(); ++it) {
+      const std::string target = (*it)[1].str();
+      EXPECT_TRUE(fs::exists(out / name / target)) << name << ": " << target;
+      images += target.size() > 4 && target.compare(target.size() - 4, 4, ".png") == 0;
+    }
+    if (std::string(name) == "with") EXPECT_GT(images, 10u);
+    else EXPECT_EQ(images, 0u);
   }
   fs::remove_all(out);
 }

@@ -208,6 +208,24 @@ TEST(ReportHtml, ImagesAreRelativeNamesOfFilesThePipelineWrites) {
   EXPECT_TRUE(has(html, "No LOD-beside-original pictures in this report"));
 }
 
+// With debug_images: false the labelling writes no render ("view_images":
+// false, no marking): the page links none, and shows no empty view boxes.
+TEST(ReportHtml, LinksNoRenderTheLabellingDidNotWrite) {
+  const OutputNames n{"out", "bldg"};
+  json report = small_report(n);
+  for (auto& lod : report["lods"]) {
+    lod["view_images"] = false;
+    lod["marking_renders"] = json::array();
+  }
+  const std::string html = model_report_html(report, n);
+  EXPECT_TRUE(attributes(html, "src").empty());
+  EXPECT_FALSE(has(html, "Labelling views: render and marking"));
+  // The markings alone, when they were written, are still shown.
+  report["lods"][0]["marking_renders"] = {n.view("front", 56, "_marking.png")};
+  const std::vector<std::string> srcs = attributes(model_report_html(report, n), "src");
+  EXPECT_EQ(srcs, std::vector<std::string>{"bldg_front_56m_marking.png"});
+}
+
 TEST(ReportHtml, ShowsEveryJudgedViewsComparisonPictureBySet) {
   const OutputNames n{"out", "bldg"};
   json report = small_report(n);

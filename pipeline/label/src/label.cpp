@@ -177,6 +177,7 @@ void SceneLabeller::begin_report() {
   r.mask_per_sample = job_.mask_per_sample || grid;
   r.sample_grid = grid;
   r.automatic = automatic_;
+  r.view_images = write_files_ && job_.write_view_images;
 }
 
 // The whole model's views framed into tiles, each tile's sampling and passes.

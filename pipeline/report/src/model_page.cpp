@@ -116,6 +116,10 @@ std::string images_section(const json& lod, double d, const OutputNames& names) 
   std::map<std::string, std::string> marking;  // file name -> path in the report
   for (const auto& m : list(lod, "marking_renders"))
     if (m.is_string()) marking[file_name(m.get<std::string>())] = m.get<std::string>();
+  // The renders were written unless the labelling says not (reports from
+  // before the key have them).
+  const json* written = member(lod, "view_images");
+  const bool renders = !written || !written->is_boolean() || written->get<bool>();
   std::vector<std::string> order;
   std::map<std::string, std::vector<std::string>> tiles;
   for (const auto& v : list(lod, "views")) {
@@ -123,6 +127,7 @@ std::string images_section(const json& lod, double d, const OutputNames& names) 
     if (!tiles.count(base)) order.push_back(base);
     tiles[base].push_back(view);
   }
+  if (!renders && marking.empty()) order.clear();  // debug_images: false: no picture of a labelling view
   if (!order.empty()) {
     s << "<h3>Labelling views: render and marking</h3>\n<p class=\"muted\">Marking colours: "
          "<span class=\"swatch\" style=\"background:#0f0\"></span>perceptible "
@@ -137,7 +142,7 @@ std::string images_section(const json& lod, double d, const OutputNames& names) 
       if (it != marking.end()) s << image(relative(it->second, names), caption);
     };
     for (const std::string& tile : tiles[base]) {
-      s << image(relative(names.view(tile, d, ".png"), names), tile + " render");
+      if (renders) s << image(relative(names.view(tile, d, ".png"), names), tile + " render");
       if (tile != base) marking_of(tile, "_marking.png", tile + " marking");  // a tile's own marking
     }
     marking_of(base, "_marking.png", base + " marking");

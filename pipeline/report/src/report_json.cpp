@@ -137,6 +137,7 @@ nlohmann::json label_report_json(const LabelReport& r) {
                       {"samples_per_pixel", samples_json(r.samples)},
                       {"combine_views", r.combine_views},
                       {"keep_unsampled_surface", r.keep_unsampled_surface},
+                      {"view_images", r.view_images},
                       {"views", nlohmann::json::array()},
                       {"labels", label_counts_json(r.labels)},
                       {"outside_views", r.outside_views}};

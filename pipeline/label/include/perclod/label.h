@@ -185,6 +185,7 @@ struct LabelReport {
   bool mask_per_sample = false;        // a render per sample (or a grid)
   int sample_grid = 0;                 // 3 or 4 for the ordered grids
   bool automatic = false;              // samples auto (sampling_chosen applies)
+  bool view_images = false;            // each view's render <stem>_<view>_<d>m.png was written
   std::map<std::string, size_t> sampling_chosen;  // samples auto: views per setting
   std::vector<ViewLabelling> views;    // whole-model views and tiles, in order
   bool per_building = false;           // buildings below were labelled from their own views
