@@ -19,22 +19,24 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // ---- reading the report ----------------------------------------------------
 
+// j[key] when j is an object holding it, else nullptr.
 const json* member(const json& j, const char* key);
-
+// A number member, NaN when missing or not a number.
 double num(const json& j, const char* key);
-
+// A member as text: a string as it is, any other value as its JSON; "" when missing.
 std::string str(const json& j, const char* key);
-
+// A member, or an empty object when missing.
 const json& sub(const json& j, const char* key);
-
+// An array member, an empty array when missing or not an array.
 const json& list(const json& j, const char* key);
 
 // ---- formatting -----------------------------------------------------------
 
+// v with `decimals` decimals, or a dash for NaN.
 std::string fixed(double v, int decimals);
-
+// v rounded to a whole number, or a dash for NaN.
 std::string count(double v);
-
+// A fraction as a percentage ("1.25&nbsp;%"), or a dash.
 std::string percent(double fraction, int decimals = 2);
 
 // The labelling's samples per pixel: the number, or "auto" with what the
