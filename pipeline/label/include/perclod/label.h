@@ -254,8 +254,8 @@ LabelResult label_scene(Renderer& renderer, const Scene& scene, const Tracer& tr
 // the combined labels: per labelling view and tile from its own render's ID
 // buffer (out.view(tile, d, "_marking.png"), no second render), and with
 // job.marking_near a render of each view from d * closer_factor
-// ("_marking_near.png"); records their paths in result.report ("labels_file",
-// "marking_renders") and releases result.id_buffers. `renderer` must hold
+// ("_marking_near.png"); records their paths in result.report (labels_file,
+// marking_renders) and releases result.id_buffers. `renderer` must hold
 // `scene` (as label_scene leaves it).
 void write_label_outputs(Renderer& renderer, const Scene& scene, LabelResult& result, const LabelJob& job);
 
