@@ -79,8 +79,15 @@ TEST(AtomicWrites, AFullDiskLeavesNoPngGlbOrTextUnderItsFinalName) {
   {
     FileSizeLimit limit(4096);
     EXPECT_THROW(write_png(png, 128, 128, 3, px.data()), std::runtime_error);
+    // 100 boxes: well over the limit in either format (a GLB holds only the
+    // vertices triangles use).
     Scene big = test::box();
-    for (int i = 0; i < 2000; ++i) big.positions.push_back(float(i)), big.positions.push_back(0), big.positions.push_back(0);
+    const Scene one = test::box();
+    for (int i = 1; i < 100; ++i) {
+      const uint32_t base = uint32_t(big.vertex_count());
+      for (size_t k = 0; k < one.positions.size(); ++k) big.positions.push_back(one.positions[k] + (k % 3 ? 0.f : 2.f * i));
+      for (uint32_t v : one.indices) big.indices.push_back(base + v);
+    }
     EXPECT_THROW(export_scene(big, glb), std::runtime_error);
     EXPECT_THROW(export_scene(big, obj), std::runtime_error);
     try {

@@ -1,6 +1,8 @@
 // Batch configs, shards, LOD ranges, the ENU frame and the GLB exports.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -348,6 +350,82 @@ TEST(GlbExport, ComponentsAreNodesAndTheOffsetLoadsBack) {
     const double lo = bb.lo[a] + back.offset[a];
     EXPECT_NEAR(lo, s.offset[a], 1e-3) << a;
   }
+}
+
+// The GLB's JSON chunk.
+nlohmann::json glb_json(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
+  return nlohmann::json::parse(bytes.substr(20, json_len));
+}
+
+// The floats of a VEC3 float accessor of a GLB (its binary chunk).
+std::vector<float> glb_floats(const std::string& path, const nlohmann::json& g, int accessor) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
+  const size_t bin = 20 + json_len + 8;
+  const auto& a = g["accessors"][accessor];
+  const auto& v = g["bufferViews"][a["bufferView"].get<int>()];
+  std::vector<float> f(3 * a["count"].get<size_t>());
+  std::memcpy(f.data(), bytes.data() + bin + v.value("byteOffset", size_t(0)), f.size() * sizeof(float));
+  return f;
+}
+
+// Every primitive has its own POSITION and unit NORMALs (so viewers light
+// it): a box's corners split at its 90 degree edges (24 vertices, normals
+// along the axes), a finely faceted cylinder's stay shared (smooth), and
+// materials of one colour are one glTF material.
+TEST(GlbExport, PrimitivesHaveTheirOwnVerticesAndNormalsSplitAtCreases) {
+  test::TempDir d("glbnormals");
+  Scene box = test::box();
+  box.materials = {{"wall_a", {0.8f, 0.8f, 0.8f}}, {"wall_b", {0.8f, 0.8f, 0.8f}}, {"roof", {0.9f, 0.1f, 0.1f}}};
+  box.material.assign(box.triangle_count(), 0);
+  for (size_t t = 0; t < box.triangle_count(); t += 2) box.material[t] = 1;  // same colour, another name
+  box.material[0] = 2;
+  export_scene(box, d / "box.glb");
+  auto g = glb_json(d / "box.glb");
+  EXPECT_EQ(g["materials"].size(), 2u);  // grey (wall_a and wall_b) and red
+  size_t vertices = 0;
+  for (const auto& prim : g["meshes"][0]["primitives"]) {
+    ASSERT_TRUE(prim["attributes"].contains("NORMAL"));
+    const auto& pos = g["accessors"][prim["attributes"]["POSITION"].get<int>()];
+    const auto& nrm = g["accessors"][prim["attributes"]["NORMAL"].get<int>()];
+    EXPECT_EQ(pos["count"], nrm["count"]);
+    EXPECT_TRUE(pos.contains("min") && pos.contains("max"));
+    vertices += pos["count"].get<size_t>();
+  }
+  // Grey: 11 triangles on 6 faces, red: the other half of face 0. Each
+  // face's corners are vertices of their own: 5 x 4 + 3 grey, 3 red.
+  EXPECT_EQ(vertices, 5u * 4u + 3u + 3u);
+  Scene back = load_scene(d / "box.glb");  // assimp reads the normals and the triangles back
+  EXPECT_EQ(back.triangle_count(), box.triangle_count());
+
+  // A cylinder of 64 facets (5.6 degrees apart) and no caps: smooth, so its
+  // 128 vertices stay 128, and every normal is horizontal and of unit length.
+  Scene cyl;
+  const int n = 64;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * kPi * i / n;
+    for (float z : {0.f, 3.f}) cyl.positions.insert(cyl.positions.end(), {float(std::cos(a)), float(std::sin(a)), z});
+  }
+  for (uint32_t i = 0; i < uint32_t(n); ++i) {
+    const uint32_t j = (i + 1) % uint32_t(n);
+    cyl.indices.insert(cyl.indices.end(), {2 * i, 2 * j, 2 * j + 1, 2 * i, 2 * j + 1, 2 * i + 1});
+  }
+  export_scene(cyl, d / "cyl.glb", ExportOptions{true});
+  g = glb_json(d / "cyl.glb");
+  ASSERT_EQ(g["meshes"][0]["primitives"].size(), 1u);
+  EXPECT_EQ(g["accessors"][g["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>()]["count"], 128);
+  const std::vector<float> nrm =
+      glb_floats(d / "cyl.glb", g, g["meshes"][0]["primitives"][0]["attributes"]["NORMAL"].get<int>());
+  for (size_t v = 0; v < nrm.size(); v += 3) {
+    EXPECT_NEAR(std::hypot(nrm[v], nrm[v + 1], nrm[v + 2]), 1, 1e-5);
+    EXPECT_NEAR(nrm[v + 1], 0, 1e-5);  // Z-up turned to glTF's Y: the axis is Y, normals horizontal
+  }
+  Scene smooth = load_scene(d / "cyl.glb");
+  EXPECT_EQ(smooth.triangle_count(), 128u);
 }
 
 TEST(GlbExport, ZUpSourcesAreTurnedToGltfYUp) {

@@ -40,7 +40,6 @@ inline Scene box() {
   return s;
 }
 
-// Whether text contains part.
 // What `f` throws (its what()), "" when it throws nothing.
 inline std::string error_of(const std::function<void()>& f) {
   try {
@@ -51,6 +50,7 @@ inline std::string error_of(const std::function<void()>& f) {
   return "";
 }
 
+// Whether text contains part.
 inline bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // The LoadError message load_scene gives for path, or "" when it loads.

@@ -2,7 +2,9 @@
 #include "perclod/export.h"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <numeric>
@@ -47,6 +49,11 @@ Material material_in_slot(const Scene& s, size_t slot) {
 std::string component_name(const Scene& s, uint32_t c) {
   return c < s.component_names.size() ? s.component_names[c] : "component_" + std::to_string(c);
 }
+
+// GLB normals: corners of a vertex whose faces turn by more than this get
+// vertices of their own, so edges stay sharp and fine facets shade smoothly
+// (docs/usage.md#export-for-viewers).
+constexpr double kCreaseDeg = 30;
 
 // Triangles ordered by component, then material, so each group is written once.
 std::vector<uint32_t> triangle_order(const Scene& s) {
@@ -112,47 +119,28 @@ class GlbBuilder {
     return int(model_.nodes.size() - 1);
   }
 
-  // One mesh for the triangles `order` lists (consecutive runs of one
-  // material become one primitive each), or -1 when it is empty.
-  int add_mesh(const Scene& s, int positions, const std::vector<uint32_t>& order, size_t begin, size_t end,
-               const std::string& name) {
+  // One mesh for the triangles order[begin, end): a primitive per material
+  // (materials of equal colour are one), each with vertices, normals and
+  // indices of its own; -1 when the range is empty.
+  int add_mesh(const Scene& s, const std::vector<uint32_t>& order, size_t begin, size_t end, const std::string& name) {
     tinygltf::Mesh mesh;
     mesh.name = name;
-    for (size_t i = begin; i < end;) {
-      const uint32_t slot = material_slot(s, order[i]);
-      std::vector<uint32_t> idx;
-      for (; i < end && material_slot(s, order[i]) == slot; ++i)
-        idx.insert(idx.end(), &s.indices[3 * size_t(order[i])], &s.indices[3 * size_t(order[i])] + 3);
+    std::map<int, std::vector<uint32_t>> by_material;  // glTF material -> its triangles, in order
+    for (size_t i = begin; i < end; ++i) by_material[material(s, material_slot(s, order[i]))].push_back(order[i]);
+    for (const auto& [mat, tris] : by_material) {
+      const PrimitiveVertices pv = primitive_vertices(s, tris);
       tinygltf::Primitive prim;
-      prim.attributes["POSITION"] = positions;
-      prim.indices = add_accessor(idx.data(), idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
-                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, idx.size(), TINYGLTF_TYPE_SCALAR);
-      prim.material = material(s, slot);
+      prim.attributes["POSITION"] = add_vec3(pv.pos, true);
+      prim.attributes["NORMAL"] = add_vec3(pv.nrm, false);
+      prim.indices = add_accessor(pv.idx.data(), pv.idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
+                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, pv.idx.size(), TINYGLTF_TYPE_SCALAR);
+      prim.material = mat;
       prim.mode = TINYGLTF_MODE_TRIANGLES;
       mesh.primitives.push_back(prim);
     }
     if (mesh.primitives.empty()) return -1;
     model_.meshes.push_back(mesh);
     return int(model_.meshes.size() - 1);
-  }
-
-  // The scene's positions as one accessor (bounds over every vertex).
-  int add_positions(const Scene& s) {
-    std::vector<float> p(s.positions.size());
-    for (size_t v = 0; v < s.vertex_count(); ++v) {
-      const auto t = turn(std::array<double, 3>{s.positions[3 * v], s.positions[3 * v + 1], s.positions[3 * v + 2]});
-      for (int a = 0; a < 3; ++a) p[3 * v + a] = float(t[a]);
-    }
-    const int acc = add_accessor(p.data(), p.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER,
-                                 TINYGLTF_COMPONENT_TYPE_FLOAT, s.vertex_count(), TINYGLTF_TYPE_VEC3);
-    auto& a = model_.accessors[size_t(acc)];
-    a.minValues = {0, 0, 0}, a.maxValues = {0, 0, 0};
-    for (size_t v = 0; v < s.vertex_count(); ++v)
-      for (int k = 0; k < 3; ++k) {
-        a.minValues[k] = v ? std::min(a.minValues[k], double(p[3 * v + k])) : double(p[3 * v + k]);
-        a.maxValues[k] = v ? std::max(a.maxValues[k], double(p[3 * v + k])) : double(p[3 * v + k]);
-      }
-    return acc;
   }
 
   int add_node(const std::string& name, int mesh) {
@@ -187,6 +175,93 @@ class GlbBuilder {
     return z_up_ ? std::array<double, 3>{v[0], v[2], -v[1]} : v;
   }
 
+  // A primitive's own vertices: each corner of `tris` gets the vertex of its
+  // source vertex and normal group. A vertex's corners share a normal while
+  // their faces' normals are within kCreaseDeg of the group's first face;
+  // past it they get a vertex of their own (a facade's edge stays sharp, a
+  // turned column's facets shade smoothly). A group's normal is the sum of
+  // its faces' area-weighted normals, in glTF's frame.
+  struct PrimitiveVertices {
+    std::vector<float> pos, nrm;
+    std::vector<uint32_t> idx;
+  };
+  PrimitiveVertices primitive_vertices(const Scene& s, const std::vector<uint32_t>& tris) const {
+    struct Group {
+      std::array<double, 3> first{}, sum{};
+      uint32_t out = 0;
+    };
+    const double cos_crease = std::cos(kCreaseDeg * kPi / 180);
+    std::map<uint32_t, std::vector<Group>> groups;  // source vertex -> its normal groups
+    std::vector<std::pair<uint32_t, uint32_t>> corner(3 * tris.size());  // (source vertex, group)
+    PrimitiveVertices pv;
+    for (size_t i = 0; i < tris.size(); ++i) {
+      std::array<std::array<double, 3>, 3> p;
+      for (int k = 0; k < 3; ++k) p[k] = turned_position(s, s.indices[3 * size_t(tris[i]) + k]);
+      const std::array<double, 3> n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+      const std::array<double, 3> u = unit(n);
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = s.indices[3 * size_t(tris[i]) + k];
+        std::vector<Group>& gs = groups[v];
+        // A degenerate face (no normal) joins the vertex's first group.
+        size_t g = 0;
+        while (g < gs.size() && u != kZero && gs[g].first != kZero && dot(gs[g].first, u) < cos_crease) ++g;
+        if (g == gs.size()) {
+          gs.push_back({u, {0, 0, 0}, uint32_t(pv.pos.size() / 3)});
+          for (int a = 0; a < 3; ++a) pv.pos.push_back(float(p[k][a]));
+        } else if (gs[g].first == kZero) {
+          gs[g].first = u;  // a group a degenerate face opened takes the first real normal
+        }
+        for (int a = 0; a < 3; ++a) gs[g].sum[a] += n[a];
+        corner[3 * i + size_t(k)] = {v, uint32_t(g)};
+      }
+    }
+    pv.nrm.resize(pv.pos.size());
+    for (const auto& [v, gs] : groups)
+      for (const Group& g : gs) {
+        std::array<double, 3> n = unit(g.sum);
+        if (n == kZero) n = g.first != kZero ? g.first : std::array<double, 3>{0, 1, 0};  // only degenerate faces
+        for (int a = 0; a < 3; ++a) pv.nrm[3 * size_t(g.out) + a] = float(n[a]);
+      }
+    pv.idx.reserve(corner.size());
+    for (const auto& [v, g] : corner) pv.idx.push_back(groups[v][g].out);
+    return pv;
+  }
+
+  std::array<double, 3> turned_position(const Scene& s, uint32_t v) const {
+    return turn({s.positions[3 * size_t(v)], s.positions[3 * size_t(v) + 1], s.positions[3 * size_t(v) + 2]});
+  }
+  static constexpr std::array<double, 3> kZero{0, 0, 0};
+  static std::array<double, 3> sub(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+  }
+  static std::array<double, 3> cross(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  }
+  static double dot(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  }
+  static std::array<double, 3> unit(const std::array<double, 3>& a) {
+    const double l = std::sqrt(dot(a, a));
+    return l > 0 && std::isfinite(l) ? std::array<double, 3>{a[0] / l, a[1] / l, a[2] / l} : kZero;
+  }
+
+  // A float VEC3 accessor of `data`, with min and max when `bounds` (glTF
+  // requires them for POSITION).
+  int add_vec3(const std::vector<float>& data, bool bounds) {
+    const size_t n = data.size() / 3;
+    const int acc = add_accessor(data.data(), data.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER,
+                                 TINYGLTF_COMPONENT_TYPE_FLOAT, n, TINYGLTF_TYPE_VEC3);
+    if (!bounds) return acc;
+    auto& a = model_.accessors[size_t(acc)];
+    a.minValues = {data[0], data[1], data[2]}, a.maxValues = a.minValues;
+    for (size_t v = 1; v < n; ++v)
+      for (int k = 0; k < 3; ++k) {
+        a.minValues[k] = std::min(a.minValues[k], double(data[3 * v + k]));
+        a.maxValues[k] = std::max(a.maxValues[k], double(data[3 * v + k]));
+      }
+    return acc;
+  }
+
   int add_accessor(const void* data, size_t bytes, int target, int component_type, size_t count, int type) {
     const size_t off = buffer_.data.size();
     const auto* b = static_cast<const unsigned char*>(data);
@@ -202,11 +277,12 @@ class GlbBuilder {
     return int(model_.accessors.size() - 1);
   }
 
-  // One glTF material per (scene, slot), made on first use.
+  // One glTF material per colour (the first slot's name), made on first use:
+  // a CityJSON district's thousands of appearance materials are a few colours.
   int material(const Scene& s, uint32_t slot) {
-    const auto key = std::make_pair(&s, slot);
-    if (auto it = materials_.find(key); it != materials_.end()) return it->second;
     const Material sm = material_in_slot(s, slot);
+    const auto key = std::array<float, 3>{sm.color[0], sm.color[1], sm.color[2]};
+    if (auto it = materials_.find(key); it != materials_.end()) return it->second;
     tinygltf::Material m;
     m.name = sm.name;
     m.pbrMetallicRoughness.baseColorFactor = {sm.color[0], sm.color[1], sm.color[2], 1.0};
@@ -218,7 +294,7 @@ class GlbBuilder {
   bool z_up_;
   tinygltf::Model model_;
   tinygltf::Buffer buffer_;
-  std::map<std::pair<const Scene*, uint32_t>, int> materials_;
+  std::map<std::array<float, 3>, int> materials_;
 };
 
 // One GLB of one scene: root node (the offset) -> a node per component, each
@@ -229,14 +305,13 @@ void export_glb(const Scene& s, const std::string& path, const ExportOptions& op
   const std::vector<uint32_t> order = triangle_order(s);
   // glTF accessors and buffer views hold at least one element: a scene
   // without triangles (an empty LOD) is the root node alone.
-  const int positions = order.empty() ? -1 : b.add_positions(s);
   std::vector<int> children;
   for (size_t i = 0; i < order.size();) {
     const uint32_t comp = s.component_of(order[i]);
     size_t end = i;
     while (end < order.size() && s.component_of(order[end]) == comp) ++end;
     const std::string name = component_name(s, comp);
-    children.push_back(b.add_node(name, b.add_mesh(s, positions, order, i, end, name)));
+    children.push_back(b.add_node(name, b.add_mesh(s, order, i, end, name)));
     i = end;
   }
   b.node(root).children = children;
@@ -262,7 +337,7 @@ void export_lods_glb(const std::vector<const Scene*>& lods, const std::vector<st
   for (size_t i = 0; i < lods.size(); ++i) {
     const Scene& s = *lods[i];
     const std::vector<uint32_t> order = triangle_order(s);
-    const int mesh = order.empty() ? -1 : b.add_mesh(s, b.add_positions(s), order, 0, order.size(), names[i]);
+    const int mesh = b.add_mesh(s, order, 0, order.size(), names[i]);
     lod_nodes.push_back(b.add_node(names[i], mesh));
     // Each LOD keeps its own offset; the root holds the finest one's.
     tinygltf::Node& n = b.node(lod_nodes.back());

@@ -2,8 +2,10 @@
 // OBJ (+ MTL with material colours, one group per component; coordinates
 // written in double as position + offset, in the source's axes) or GLB
 // (float positions; the offset, in double, as the translation of a root node
-// whose children are one node per component; glTF's +Y up, so a Z-up source
-// is turned (x, y, z) -> (x, z, -y)). Atomic: written to a temporary file, renamed.
+// whose children are one node per component, each with a primitive per
+// material colour holding its own vertices and NORMALs, split where faces
+// turn by more than 30 degrees; glTF's +Y up, so a Z-up source is turned
+// (x, y, z) -> (x, z, -y)). Atomic: written to a temporary file, renamed.
 #pragma once
 
 #include <string>
