@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <unordered_map>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -191,7 +192,7 @@ class GlbBuilder {
       uint32_t out = 0;
     };
     const double cos_crease = std::cos(kCreaseDeg * kPi / 180);
-    std::map<uint32_t, std::vector<Group>> groups;  // source vertex -> its normal groups
+    std::unordered_map<uint32_t, std::vector<Group>> groups;  // source vertex -> its normal groups
     std::vector<std::pair<uint32_t, uint32_t>> corner(3 * tris.size());  // (source vertex, group)
     PrimitiveVertices pv;
     for (size_t i = 0; i < tris.size(); ++i) {
