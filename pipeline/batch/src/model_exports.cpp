@@ -22,6 +22,7 @@
 
 #include "batch_util.h"
 #include "perclod/export.h"
+#include "perclod/report_json.h"
 #include "perclod/run_model.h"
 
 namespace perclod {
@@ -43,13 +44,6 @@ nlohmann::json box_volume(const Bounds& b, const std::array<double, 3>& offset, 
   std::array<double, 3> c, half;
   for (int a = 0; a < 3; ++a) c[a] = 0.5 * (l[a] + h[a]), half[a] = std::max(0.5 * std::abs(h[a] - l[a]), 1e-3);
   return {{"box", {c[0], c[1], c[2], half[0], 0, 0, 0, half[1], 0, 0, 0, half[2]}}};
-}
-
-nlohmann::json label_counts(const nlohmann::json& per_label) {
-  return {{"perceptible", per_label.at("perceptible")},
-          {"imperceptible", per_label.at("imperceptible")},
-          {"undisplayable", per_label.at("undisplayable")},
-          {"total", per_label.at("total")}};
 }
 
 }  // namespace
@@ -104,13 +98,11 @@ double bounds_diagonal(const Bounds& bounds) {
   return std::sqrt(diagonal);
 }
 
-// Each LOD's largest displacement in metres, in the report's order.
-std::vector<double> lod_displacements(const nlohmann::json& entries) {
+// Each LOD's largest displacement in metres, in the job's distance order.
+std::vector<double> lod_displacements(const std::vector<LodResult>& lods) {
   std::vector<double> displacements;
-  for (const auto& e : entries) {
-    const auto& s = e.at("simplify");
-    displacements.push_back(s.at("max_displacement_rel").get<double>() * s.at("bbox_diagonal").get<double>());
-  }
+  for (const LodResult& r : lods)
+    displacements.push_back(r.simplify.max_displacement_rel * r.simplify.bbox_diagonal);
   return displacements;
 }
 
@@ -184,13 +176,13 @@ void write_tileset(const Scene& scene, const std::vector<Scene>& lods, const Lod
   files["tileset"] = leaf(out.tileset());
 }
 
-// One LOD's manifest entry from its report entry e: the distances it serves,
-// its figures, its files (glb: its GLB with a tileset, else null) and its times.
-nlohmann::json manifest_lod(const LodRange& r, const nlohmann::json& e, const std::string* glb) {
+// One LOD's manifest entry: the distances it serves, its figures, its files
+// (glb: its GLB with a tileset, else null) and its times.
+nlohmann::json manifest_lod(const LodRange& r, const LodResult& e, const std::string* glb) {
   nlohmann::json views = nlohmann::json::array();
-  for (const auto& v : e.at("lod_vs_original"))
-    views.push_back({{"view", v.at("view")}, {"set", v.at("set")}, {"changed_fraction", v.at("changed_fraction")},
-                     {"ssim_covered", v.at("ssim_covered")}, {"silhouette_mismatch", v.at("silhouette_mismatch")}});
+  for (const ViewFigures& v : e.views)
+    views.push_back({{"view", v.view}, {"set", v.set}, {"changed_fraction", v.changed_fraction},
+                     {"ssim_covered", v.ssim_covered}, {"silhouette_mismatch", v.silhouette_mismatch}});
   nlohmann::json l = {
       {"distance", r.distance},
       {"serves", {{"from", r.from}, {"to", std::isfinite(r.to) ? nlohmann::json(r.to) : nlohmann::json(nullptr)}}},
@@ -198,17 +190,15 @@ nlohmann::json manifest_lod(const LodRange& r, const nlohmann::json& e, const st
       {"max_displacement_m", r.displacement},
       {"screen_coverage", r.screen_coverage},
       {"geometric_error", r.geometric_error},
-      {"pixel_footprint", e.at("pixel_footprint")},
-      {"file", leaf(e.at("lod_file").get<std::string>())},
-      {"triangles", label_counts(e.at("simplify").at("triangles_after"))},
-      {"triangles_before", label_counts(e.at("simplify").at("triangles_before"))},
-      {"fidelity", {{"worst", e.at("fidelity").at("worst")},
-                    {"limits", e.at("fidelity").at("limits")},
-                    {"over_limits", e.at("fidelity").at("over_limits").size()},
+      {"pixel_footprint", e.pixel_footprint},
+      {"file", leaf(e.lod_file)},
+      {"triangles", triangles_per_label_json(e.simplify.triangles_after)},
+      {"triangles_before", triangles_per_label_json(e.simplify.triangles_before)},
+      {"fidelity", {{"worst", worst_figures_json(e.fidelity.worst)},
+                    {"limits", fidelity_limits_json(e.fidelity.limits)},
+                    {"over_limits", e.fidelity.over_limits.size()},
                     {"views", views}}},
-      {"seconds", {{"total", e.value("seconds", 0.0)},
-                   {"simplify", e.at("simplify").value("seconds", 0.0)},
-                   {"compare", e.value("seconds_compare", 0.0)}}}};
+      {"seconds", {{"total", e.seconds}, {"simplify", e.simplify.seconds}, {"compare", e.seconds_compare}}}};
   if (glb) l["glb"] = leaf(*glb);
   return l;
 }
@@ -216,7 +206,7 @@ nlohmann::json manifest_lod(const LodRange& r, const nlohmann::json& e, const st
 }  // namespace
 
 nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>& lods, const LodJob& job,
-                                   const BatchConfig& config, const ModelRun& run, const nlohmann::json& report) {
+                                   const BatchConfig& config, const ModelRun& run, const ModelReport& report) {
   const OutputNames& out = job.label.out;
   const auto t0 = Clock::now();
   const ExportOptions eo{job.label.up == UpAxis::Z};
@@ -225,7 +215,7 @@ nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>&
   const DisplayProfile& display = job.label.display;
   const double pixel_angle = display_pixel_footprint(display, 1.0);  // metres per pixel at 1 m
 
-  const nlohmann::json& entries = report.at("lods");
+  const std::vector<LodResult>& entries = report.lods.lods;
   const std::vector<double> displacements = lod_displacements(entries);
   const std::vector<LodRange> ranges =
       lod_ranges(job.distances, displacements, pixel_angle, display.fov_y(), display.height, diagonal);
@@ -262,8 +252,8 @@ nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>&
                    {"fov_y_deg", display.fov_y() * 180 / kPi}, {"pixel_angle", pixel_angle}}},
       {"lods", lod_list},
       {"files", files},
-      {"timings", {{"load", report.contains("load") ? report["load"].value("seconds", 0.0) : 0.0},
-                   {"lods", report.value("seconds", 0.0)},
+      {"timings", {{"load", report.load.seconds},
+                   {"lods", report.lods.seconds},
                    {"exports", since(t0)}}}};
   if (config.crs_origin)
     manifest["crs_origin"] = {{"lat", config.origin_lat}, {"lon", config.origin_lon}, {"height", config.origin_height}};

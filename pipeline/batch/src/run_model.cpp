@@ -111,7 +111,7 @@ ModelReport run_model(const BatchConfig& config, const ModelRun& run, const std:
   r.manifest_file = leaf(job.label.out.manifest());
   const nlohmann::json report = model_report_json(r);
   write_model_report_html(report, job.label.out);
-  nlohmann::json m = write_model_exports(scene, lods, job, c, run, report);
+  nlohmann::json m = write_model_exports(scene, lods, job, c, run, r);
   if (manifest) *manifest = std::move(m);
   return r;
 }

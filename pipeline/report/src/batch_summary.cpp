@@ -1,16 +1,15 @@
 // A batch's summary as JSON (perclod/batch_summary.h).
 #include "perclod/batch_summary.h"
 
+#include "perclod/report_json.h"
+
 namespace perclod {
 namespace {
 
 nlohmann::json lod_summary_json(const LodSummary& l) {
-  nlohmann::json worst = nlohmann::json::object();
-  if (l.worst)
-    worst = {{"changed_fraction", l.worst->changed_fraction},
-             {"ssim_covered", l.worst->ssim_covered},
-             {"silhouette_mismatch", l.worst->silhouette_mismatch}};
-  return {{"distance", l.distance}, {"triangles", l.triangles}, {"worst", std::move(worst)}};
+  return {{"distance", l.distance},
+          {"triangles", l.triangles},
+          {"worst", l.worst ? worst_figures_json(*l.worst) : nlohmann::json::object()}};
 }
 
 nlohmann::json model_outcome_json(const ModelOutcome& m) {

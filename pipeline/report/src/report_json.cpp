@@ -45,18 +45,12 @@ nlohmann::json building_labelling_json(const BuildingLabelling& b, bool automati
   return j;
 }
 
-nlohmann::json worst_json(const WorstFigures& w) {
-  return {{"changed_fraction", w.changed_fraction},
-          {"ssim_covered", w.ssim_covered},
-          {"silhouette_mismatch", w.silhouette_mismatch}};
-}
-
 nlohmann::json try_json(const LodTry& t) {
   nlohmann::json j = {{"e_imperceptible", t.e_imperceptible},
                       {"e_perceptible", t.e_perceptible},
                       {"triangles", t.triangles},
                       {"seconds_simplify", t.seconds_simplify},
-                      {"worst", worst_json(t.worst)},
+                      {"worst", worst_figures_json(t.worst)},
                       {"met", t.met}};
   add_undisplayable_rule(j, t.undisplayable);
   if (t.kept) j["kept"] = true;
@@ -90,12 +84,8 @@ nlohmann::json lod_json(const LodResult& r) {
 }  // namespace
 
 nlohmann::json simplify_stats_json(const SimplifyStats& s) {
-  auto per_label = [](const std::array<size_t, 3>& n) {
-    return nlohmann::json{{"perceptible", n[0]}, {"imperceptible", n[1]}, {"undisplayable", n[2]},
-                          {"total", n[0] + n[1] + n[2]}};
-  };
-  nlohmann::json j = {{"triangles_before", per_label(s.triangles_before)},
-                      {"triangles_after", per_label(s.triangles_after)},
+  nlohmann::json j = {{"triangles_before", triangles_per_label_json(s.triangles_before)},
+                      {"triangles_after", triangles_per_label_json(s.triangles_after)},
                       {"total_before", s.total_before()},
                       {"total_after", s.total_after()},
                       {"vertices_before", s.vertices_before},
@@ -175,15 +165,26 @@ nlohmann::json view_figures_json(const ViewFigures& v) {
   return j;
 }
 
+nlohmann::json triangles_per_label_json(const std::array<size_t, 3>& n) {
+  return {{"perceptible", n[0]}, {"imperceptible", n[1]}, {"undisplayable", n[2]}, {"total", n[0] + n[1] + n[2]}};
+}
+
+nlohmann::json worst_figures_json(const WorstFigures& w) {
+  return {{"changed_fraction", w.changed_fraction},
+          {"ssim_covered", w.ssim_covered},
+          {"silhouette_mismatch", w.silhouette_mismatch}};
+}
+
+nlohmann::json fidelity_limits_json(const FidelityLimits& l) {
+  return {{"max_changed", l.max_changed}, {"max_silhouette", l.max_silhouette}, {"min_ssim", l.min_ssim}};
+}
+
 nlohmann::json judgement_json(const Judgement& j) {
   nlohmann::json over = nlohmann::json::array();
   for (const OverLimit& o : j.over_limits)
     over.push_back({{"view", o.view}, {"set", o.set}, {"measure", o.measure}, {"value", o.value}, {"limit", o.limit}});
-  return {{"worst", worst_json(j.worst)},
-          {"limits",
-           {{"max_changed", j.limits.max_changed},
-            {"max_silhouette", j.limits.max_silhouette},
-            {"min_ssim", j.limits.min_ssim}}},
+  return {{"worst", worst_figures_json(j.worst)},
+          {"limits", fidelity_limits_json(j.limits)},
           {"over_limits", std::move(over)}};
 }
 

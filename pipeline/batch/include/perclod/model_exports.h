@@ -46,6 +46,6 @@ std::array<double, 16> enu_to_ecef(double lat_deg, double lon_deg, double height
 // config.tileset, and always <stem>_manifest.json (last: its presence marks
 // the outputs complete). File names in them are relative to the folder.
 nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>& lods, const LodJob& job,
-                                   const BatchConfig& config, const ModelRun& run, const nlohmann::json& report);
+                                   const BatchConfig& config, const ModelRun& run, const ModelReport& report);
 
 }  // namespace perclod

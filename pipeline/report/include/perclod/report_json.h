@@ -3,6 +3,8 @@
 // `perclod simplify --json` prints. The one place a result becomes JSON.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <nlohmann/json.hpp>
 
 #include "perclod/judge.h"
@@ -17,6 +19,9 @@ namespace perclod {
 // SimplifyStats: triangles per label before and after, vertices, what was
 // removed, timings, and with explain the refused half-edges.
 nlohmann::json simplify_stats_json(const SimplifyStats& stats);
+// Triangles per label (SimplifyStats::triangles_before/after):
+// {"perceptible", "imperceptible", "undisplayable", "total"}.
+nlohmann::json triangles_per_label_json(const std::array<size_t, 3>& n);
 
 // Adds "undisplayable": "deleted" | "collapsed", "e_undisplayable" (a finite
 // bound of kept ones) and, when auto measured it, "undisplayable_exposure".
@@ -33,6 +38,10 @@ nlohmann::json label_report_json(const LabelReport& r);
 nlohmann::json view_figures_json(const ViewFigures& v);
 // {"worst": {...}, "limits": {...}, "over_limits": [{"view", "set", "measure", "value", "limit"}]}
 nlohmann::json judgement_json(const Judgement& j);
+// {"changed_fraction", "ssim_covered", "silhouette_mismatch"}
+nlohmann::json worst_figures_json(const WorstFigures& w);
+// {"max_changed", "max_silhouette", "min_ssim"}
+nlohmann::json fidelity_limits_json(const FidelityLimits& l);
 
 // The run report of make_lods: the model, display, tracer, and per LOD its
 // labelling report, bounds, tries, figures per view and judgement.
