@@ -19,6 +19,9 @@
 #define TINYGLTF_IMPLEMENTATION
 #include <tiny_gltf.h>
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
 #include "perclod/outputs.h"
 
 namespace perclod {
@@ -187,8 +190,9 @@ class GlbBuilder {
     std::vector<uint32_t> idx;
   };
   PrimitiveVertices primitive_vertices(const Scene& s, const std::vector<uint32_t>& tris) const {
+    using V = Eigen::Vector3d;
     struct Group {
-      std::array<double, 3> first{}, sum{};
+      V first = V::Zero(), sum = V::Zero();
       uint32_t out = 0;
     };
     const double cos_crease = std::cos(kCreaseDeg * kPi / 180);
@@ -196,31 +200,31 @@ class GlbBuilder {
     std::vector<std::pair<uint32_t, uint32_t>> corner(3 * tris.size());  // (source vertex, group)
     PrimitiveVertices pv;
     for (size_t i = 0; i < tris.size(); ++i) {
-      std::array<std::array<double, 3>, 3> p;
+      V p[3];
       for (int k = 0; k < 3; ++k) p[k] = turned_position(s, s.indices[3 * size_t(tris[i]) + k]);
-      const std::array<double, 3> n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
-      const std::array<double, 3> u = unit(n);
+      const V n = (p[1] - p[0]).cross(p[2] - p[0]);
+      const V u = unit_or_zero(n);
       for (int k = 0; k < 3; ++k) {
         const uint32_t v = s.indices[3 * size_t(tris[i]) + k];
         std::vector<Group>& gs = groups[v];
         // A degenerate face (no normal) joins the vertex's first group.
         size_t g = 0;
-        while (g < gs.size() && u != kZero && gs[g].first != kZero && dot(gs[g].first, u) < cos_crease) ++g;
+        while (g < gs.size() && !u.isZero(0) && !gs[g].first.isZero(0) && gs[g].first.dot(u) < cos_crease) ++g;
         if (g == gs.size()) {
-          gs.push_back({u, {0, 0, 0}, uint32_t(pv.pos.size() / 3)});
+          gs.push_back({u, V::Zero(), uint32_t(pv.pos.size() / 3)});
           for (int a = 0; a < 3; ++a) pv.pos.push_back(float(p[k][a]));
-        } else if (gs[g].first == kZero) {
+        } else if (gs[g].first.isZero(0)) {
           gs[g].first = u;  // a group a degenerate face opened takes the first real normal
         }
-        for (int a = 0; a < 3; ++a) gs[g].sum[a] += n[a];
+        gs[g].sum += n;
         corner[3 * i + size_t(k)] = {v, uint32_t(g)};
       }
     }
     pv.nrm.resize(pv.pos.size());
     for (const auto& [v, gs] : groups)
       for (const Group& g : gs) {
-        std::array<double, 3> n = unit(g.sum);
-        if (n == kZero) n = g.first != kZero ? g.first : std::array<double, 3>{0, 1, 0};  // only degenerate faces
+        V n = unit_or_zero(g.sum);
+        if (n.isZero(0)) n = g.first.isZero(0) ? V(0, 1, 0) : g.first;  // only degenerate faces
         for (int a = 0; a < 3; ++a) pv.nrm[3 * size_t(g.out) + a] = float(n[a]);
       }
     pv.idx.reserve(corner.size());
@@ -228,22 +232,14 @@ class GlbBuilder {
     return pv;
   }
 
-  std::array<double, 3> turned_position(const Scene& s, uint32_t v) const {
-    return turn({s.positions[3 * size_t(v)], s.positions[3 * size_t(v) + 1], s.positions[3 * size_t(v) + 2]});
+  Eigen::Vector3d turned_position(const Scene& s, uint32_t v) const {
+    const auto t = turn({s.positions[3 * size_t(v)], s.positions[3 * size_t(v) + 1], s.positions[3 * size_t(v) + 2]});
+    return {t[0], t[1], t[2]};
   }
-  static constexpr std::array<double, 3> kZero{0, 0, 0};
-  static std::array<double, 3> sub(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-  }
-  static std::array<double, 3> cross(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  }
-  static double dot(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-  }
-  static std::array<double, 3> unit(const std::array<double, 3>& a) {
-    const double l = std::sqrt(dot(a, a));
-    return l > 0 && std::isfinite(l) ? std::array<double, 3>{a[0] / l, a[1] / l, a[2] / l} : kZero;
+  // a / |a|, or zero for a zero or non-finite a (a degenerate face).
+  static Eigen::Vector3d unit_or_zero(const Eigen::Vector3d& a) {
+    const double l = a.norm();
+    return l > 0 && std::isfinite(l) ? Eigen::Vector3d(a / l) : Eigen::Vector3d::Zero();
   }
 
   // A float VEC3 accessor of `data`, with min and max when `bounds` (glTF
