@@ -317,7 +317,31 @@ TEST(EnuFrame, AxesAreOrthonormalAndTheOriginIsOnTheEllipsoid) {
   EXPECT_LT(r, 6378137.0 + 400 + 1);
 }
 
-TEST(GlbExport, ComponentsAreNodesAndTheOffsetLoadsBack) {
+// The GLB's JSON chunk.
+nlohmann::json glb_json(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
+  return nlohmann::json::parse(bytes.substr(20, json_len));
+}
+
+// The floats of a float SCALAR or VEC3 accessor of a GLB (its binary chunk).
+std::vector<float> glb_floats(const std::string& path, const nlohmann::json& g, int accessor) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
+  const size_t bin = 20 + json_len + 8;
+  const auto& a = g["accessors"][accessor];
+  const auto& v = g["bufferViews"][a["bufferView"].get<int>()];
+  std::vector<float> f((a["type"] == "VEC3" ? 3 : 1) * a["count"].get<size_t>());
+  std::memcpy(f.data(), bytes.data() + bin + v.value("byteOffset", size_t(0)), f.size() * sizeof(float));
+  return f;
+}
+
+// Components are not nodes (a district would be thousands of draw calls) but
+// feature ids: one node, one primitive per material colour, each vertex's
+// component in _FEATURE_ID_0 (EXT_mesh_features), named by the mesh's extras.
+TEST(GlbExport, ComponentsAreFeatureIdsOfOnePrimitivePerMaterialAndTheOffsetLoadsBack) {
   test::TempDir d("glbexport");
   Scene s = test::box();
   Scene two = test::box();
@@ -331,16 +355,22 @@ TEST(GlbExport, ComponentsAreNodesAndTheOffsetLoadsBack) {
   s.offset = {6780.5, 4035.25, 400};
   const std::string path = d / "two.glb";
   export_scene(s, path);
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  ASSERT_GT(bytes.size(), 20u);
-  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
-  auto gltf = nlohmann::json::parse(bytes.substr(20, json_len));
-  ASSERT_EQ(gltf["nodes"].size(), 3u);
+  const auto gltf = glb_json(path);
+  ASSERT_EQ(gltf["nodes"].size(), 2u);
   EXPECT_EQ(gltf["nodes"][0]["translation"], (std::vector<double>{6780.5, 4035.25, 400}));  // exact, in double
-  EXPECT_EQ(gltf["nodes"][0]["children"], (std::vector<int>{1, 2}));
-  EXPECT_EQ(gltf["nodes"][1]["name"], "bldg_1/wall");
-  EXPECT_EQ(gltf["nodes"][2]["name"], "bldg_1/roof");
+  EXPECT_EQ(gltf["nodes"][0]["children"], (std::vector<int>{1}));
+  ASSERT_EQ(gltf["meshes"].size(), 1u);
+  ASSERT_EQ(gltf["meshes"][0]["primitives"].size(), 1u);  // one material
+  EXPECT_EQ(gltf["meshes"][0]["extras"]["feature_names"], (std::vector<std::string>{"bldg_1/wall", "bldg_1/roof"}));
+  EXPECT_EQ(gltf["extensionsUsed"], (std::vector<std::string>{"EXT_mesh_features"}));
+  const auto& prim = gltf["meshes"][0]["primitives"][0];
+  EXPECT_EQ(prim["extensions"]["EXT_mesh_features"]["featureIds"][0]["featureCount"], 2);
+  EXPECT_EQ(prim["extensions"]["EXT_mesh_features"]["featureIds"][0]["attribute"], 0);
+  // Each box's 24 crease vertices carry its component: the first box's 0, the second's 1.
+  const std::vector<float> ids = glb_floats(path, gltf, prim["attributes"]["_FEATURE_ID_0"].get<int>());
+  const std::vector<float> pos = glb_floats(path, gltf, prim["attributes"]["POSITION"].get<int>());
+  ASSERT_EQ(ids.size(), 48u);
+  for (size_t v = 0; v < ids.size(); ++v) EXPECT_EQ(ids[v], pos[3 * v] > 1.5f ? 1.f : 0.f) << v;
   // Back through assimp: the same triangles, the offset restored (assimp is
   // float: at UTM coordinates it would lose decimetres, here under a millimetre).
   Scene back = load_scene(path);
@@ -350,27 +380,6 @@ TEST(GlbExport, ComponentsAreNodesAndTheOffsetLoadsBack) {
     const double lo = bb.lo[a] + back.offset[a];
     EXPECT_NEAR(lo, s.offset[a], 1e-3) << a;
   }
-}
-
-// The GLB's JSON chunk.
-nlohmann::json glb_json(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
-  return nlohmann::json::parse(bytes.substr(20, json_len));
-}
-
-// The floats of a VEC3 float accessor of a GLB (its binary chunk).
-std::vector<float> glb_floats(const std::string& path, const nlohmann::json& g, int accessor) {
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
-  const size_t bin = 20 + json_len + 8;
-  const auto& a = g["accessors"][accessor];
-  const auto& v = g["bufferViews"][a["bufferView"].get<int>()];
-  std::vector<float> f(3 * a["count"].get<size_t>());
-  std::memcpy(f.data(), bytes.data() + bin + v.value("byteOffset", size_t(0)), f.size() * sizeof(float));
-  return f;
 }
 
 // Every primitive has its own POSITION and unit NORMALs (so viewers light
@@ -454,7 +463,7 @@ TEST(GlbExport, AllLodsInOneFileWithMsftLod) {
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const uint32_t json_len = *reinterpret_cast<const uint32_t*>(bytes.data() + 12);
   auto gltf = nlohmann::json::parse(bytes.substr(20, json_len));
-  EXPECT_EQ(gltf["extensionsUsed"], (std::vector<std::string>{"MSFT_lod"}));
+  EXPECT_EQ(gltf["extensionsUsed"], (std::vector<std::string>{"MSFT_lod", "EXT_mesh_features"}));
   const auto& lod0 = gltf["nodes"][1];
   EXPECT_EQ(lod0["name"], "lod_56m");
   EXPECT_EQ(lod0["extensions"]["MSFT_lod"]["ids"], (std::vector<int>{2}));

@@ -1,7 +1,11 @@
 // Loader: every triangle arrives with the right component; bad files give their documented errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <filesystem>
 
 #include "perclod/export.h"
@@ -111,6 +115,38 @@ TEST(Load, LargeOffsetIsRemovedInDoubleAndRestoredOnExport) {
   for (size_t v = 0; v < s.vertex_count(); ++v)
     for (int a = 0; a < 3; ++a)
       EXPECT_NEAR(double(t.positions[3 * v + a]) + t.offset[a], double(s.positions[3 * v + a]) + s.offset[a], 1e-5);
+}
+
+// OBJ carries the GLB's normals: a `vn` per normal group (a box: one per
+// corner of each face, 24, each along an axis) and "v//vn" corners, and loads
+// back with its triangles and components.
+TEST(Export, ObjHasNormalsSplitAtCreases) {
+  test::TempDir dir("export-vn");
+  Scene box = test::box();
+  export_scene(box, dir / "box.obj");
+  std::ifstream in(dir / "box.obj");
+  std::vector<std::array<double, 3>> normals;
+  size_t faces = 0;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream ls(line);
+    std::string tag;
+    ls >> tag;
+    if (tag == "vn") {
+      std::array<double, 3> n;
+      ls >> n[0] >> n[1] >> n[2];
+      normals.push_back(n);
+    } else if (tag == "f") {
+      ++faces;
+      for (std::string c; ls >> c;) EXPECT_NE(c.find("//"), std::string::npos) << line;
+    }
+  }
+  EXPECT_EQ(faces, 12u);
+  ASSERT_EQ(normals.size(), 24u);
+  for (const auto& n : normals) {
+    EXPECT_NEAR(std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]), 1, 1e-6);  // a unit axis
+    EXPECT_NEAR(std::max({std::abs(n[0]), std::abs(n[1]), std::abs(n[2])}), 1, 1e-6);
+  }
+  EXPECT_EQ(load_scene(dir / "box.obj").triangle_count(), 12u);
 }
 
 // A scene without component or material arrays (Scene's contract: one

@@ -70,6 +70,73 @@ std::vector<uint32_t> triangle_order(const Scene& s) {
   return order;
 }
 
+// The vertices a viewer needs to light `tris` as perclod renders them: each
+// corner gets the vertex of its source vertex, component and normal group.
+// A vertex's corners share a normal while their faces' normals are within
+// kCreaseDeg of the group's first face; past it they get a vertex of their
+// own (a facade's edge stays sharp, a turned column's facets shade
+// smoothly). A group's normal is the sum of its faces' area-weighted
+// normals, in the source's axes.
+struct CreaseVertices {
+  std::vector<uint32_t> source, component;  // per vertex: its source vertex and component
+  std::vector<Eigen::Vector3f> normal;      // per vertex: unit length
+  std::vector<uint32_t> corner;             // per corner of tris: its vertex
+};
+
+Eigen::Vector3d source_position(const Scene& s, uint32_t v) {
+  return {s.positions[3 * size_t(v)], s.positions[3 * size_t(v) + 1], s.positions[3 * size_t(v) + 2]};
+}
+// a / |a|, or zero for a zero or non-finite a (a degenerate face).
+Eigen::Vector3d unit_or_zero(const Eigen::Vector3d& a) {
+  const double l = a.norm();
+  return l > 0 && std::isfinite(l) ? Eigen::Vector3d(a / l) : Eigen::Vector3d::Zero();
+}
+
+CreaseVertices crease_vertices(const Scene& s, const std::vector<uint32_t>& tris) {
+  using V = Eigen::Vector3d;
+  struct Group {
+    V first = V::Zero(), sum = V::Zero();
+    uint32_t component = 0, out = 0;
+  };
+  const double cos_crease = std::cos(kCreaseDeg * kPi / 180);
+  std::unordered_map<uint32_t, std::vector<Group>> groups;  // source vertex -> its normal groups
+  CreaseVertices cv;
+  cv.corner.reserve(3 * tris.size());
+  std::vector<std::pair<uint32_t, uint32_t>> corner(3 * tris.size());  // (source vertex, group)
+  for (size_t i = 0; i < tris.size(); ++i) {
+    const uint32_t* f = &s.indices[3 * size_t(tris[i])];
+    const V n = (source_position(s, f[1]) - source_position(s, f[0])).cross(source_position(s, f[2]) - source_position(s, f[0]));
+    const V u = unit_or_zero(n);
+    const uint32_t comp = s.component_of(tris[i]);
+    for (int k = 0; k < 3; ++k) {
+      std::vector<Group>& gs = groups[f[k]];
+      // A degenerate face (no normal) joins the vertex's first group of its component.
+      size_t g = 0;
+      while (g < gs.size() && (gs[g].component != comp ||
+                               (!u.isZero(0) && !gs[g].first.isZero(0) && gs[g].first.dot(u) < cos_crease)))
+        ++g;
+      if (g == gs.size()) {
+        gs.push_back({u, V::Zero(), comp, uint32_t(cv.source.size())});
+        cv.source.push_back(f[k]);
+        cv.component.push_back(comp);
+      } else if (gs[g].first.isZero(0)) {
+        gs[g].first = u;  // a group a degenerate face opened takes the first real normal
+      }
+      gs[g].sum += n;
+      corner[3 * i + size_t(k)] = {f[k], uint32_t(g)};
+    }
+  }
+  cv.normal.resize(cv.source.size());
+  for (const auto& [v, gs] : groups)
+    for (const Group& g : gs) {
+      V n = unit_or_zero(g.sum);
+      if (n.isZero(0)) n = g.first.isZero(0) ? V(0, 0, 1) : g.first;  // only degenerate faces
+      cv.normal[g.out] = n.cast<float>();
+    }
+  for (const auto& [v, g] : corner) cv.corner.push_back(groups[v][g].out);
+  return cv;
+}
+
 void export_obj(const Scene& s, const std::string& path) {
   fs::path p(path);
   std::string mtl_name = p.stem().string() + ".mtl";
@@ -87,8 +154,18 @@ void export_obj(const Scene& s, const std::string& path) {
     for (int a = 0; a < 3; ++a) out += ' ', append_double(out, double(s.positions[3 * v + a]) + s.offset[a]);
     out += '\n';
   }
+  // Normals as the GLB has them (the same crease rule): a `vn` per vertex
+  // normal group, each corner "v//vn".
+  const std::vector<uint32_t> order = triangle_order(s);
+  const CreaseVertices cv = crease_vertices(s, order);
+  for (const Eigen::Vector3f& n : cv.normal) {
+    out += "vn";
+    for (int a = 0; a < 3; ++a) out += ' ', append_double(out, n[a]);
+    out += '\n';
+  }
   uint32_t comp = UINT32_MAX, mat = UINT32_MAX;
-  for (uint32_t t : triangle_order(s)) {
+  for (size_t i = 0; i < order.size(); ++i) {
+    const uint32_t t = order[i];
     if (s.component_of(t) != comp) {
       comp = s.component_of(t);
       out += "g " + obj_name(component_name(s, comp)) + "\n";
@@ -99,7 +176,9 @@ void export_obj(const Scene& s, const std::string& path) {
       out += "usemtl " + obj_name(material_in_slot(s, mat).name) + "\n";
     }
     out += 'f';
-    for (int k = 0; k < 3; ++k) out += ' ', out += std::to_string(s.indices[3 * size_t(t) + k] + 1);
+    for (int k = 0; k < 3; ++k)
+      out += ' ', out += std::to_string(s.indices[3 * size_t(t) + k] + 1), out += "//",
+          out += std::to_string(cv.corner[3 * i + size_t(k)] + 1);
     out += '\n';
   }
   write_text_atomic((p.parent_path() / mtl_name).string(), mtl);
@@ -123,28 +202,52 @@ class GlbBuilder {
     return int(model_.nodes.size() - 1);
   }
 
-  // One mesh for the triangles order[begin, end): a primitive per material
-  // (materials of equal colour are one), each with vertices, normals and
-  // indices of its own; -1 when the range is empty.
-  int add_mesh(const Scene& s, const std::vector<uint32_t>& order, size_t begin, size_t end, const std::string& name) {
+  // One mesh of a scene's triangles: a primitive per material (materials of
+  // equal colour are one), each with vertices, normals, feature ids (the
+  // component) and indices of its own; -1 for a scene without triangles.
+  int add_mesh(const Scene& s, const std::string& name) {
     tinygltf::Mesh mesh;
     mesh.name = name;
     std::map<int, std::vector<uint32_t>> by_material;  // glTF material -> its triangles, in order
-    for (size_t i = begin; i < end; ++i) by_material[material(s, material_slot(s, order[i]))].push_back(order[i]);
-    for (const auto& [mat, tris] : by_material) {
-      const PrimitiveVertices pv = primitive_vertices(s, tris);
-      tinygltf::Primitive prim;
-      prim.attributes["POSITION"] = add_vec3(pv.pos, true);
-      prim.attributes["NORMAL"] = add_vec3(pv.nrm, false);
-      prim.indices = add_accessor(pv.idx.data(), pv.idx.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
-                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, pv.idx.size(), TINYGLTF_TYPE_SCALAR);
-      prim.material = mat;
-      prim.mode = TINYGLTF_MODE_TRIANGLES;
-      mesh.primitives.push_back(prim);
-    }
+    for (uint32_t t : triangle_order(s)) by_material[material(s, material_slot(s, t))].push_back(t);
+    for (const auto& [mat, tris] : by_material) mesh.primitives.push_back(primitive(s, tris, mat));
     if (mesh.primitives.empty()) return -1;
+    // Feature ids index these names (EXT_mesh_features keeps no names itself).
+    tinygltf::Value::Array names;
+    for (uint32_t c = 0; c < std::max<size_t>(1, s.component_count()); ++c)
+      names.push_back(tinygltf::Value(component_name(s, c)));
+    mesh.extras = tinygltf::Value(tinygltf::Value::Object{{"feature_names", tinygltf::Value(names)}});
     model_.meshes.push_back(mesh);
     return int(model_.meshes.size() - 1);
+  }
+
+  // One primitive of `tris`: POSITION and NORMAL turned to glTF's frame, the
+  // component of each vertex as its EXT_mesh_features feature id.
+  tinygltf::Primitive primitive(const Scene& s, const std::vector<uint32_t>& tris, int mat) {
+    const CreaseVertices cv = crease_vertices(s, tris);
+    std::vector<float> pos, nrm, feature(cv.component.begin(), cv.component.end());
+    pos.reserve(3 * cv.source.size()), nrm.reserve(3 * cv.source.size());
+    for (size_t v = 0; v < cv.source.size(); ++v) {
+      const auto p = turn(source_position(s, cv.source[v]));
+      const auto n = turn(cv.normal[v].cast<double>());
+      for (int a = 0; a < 3; ++a) pos.push_back(float(p[a])), nrm.push_back(float(n[a]));
+    }
+    tinygltf::Primitive prim;
+    prim.attributes["POSITION"] = add_vec3(pos, true);
+    prim.attributes["NORMAL"] = add_vec3(nrm, false);
+    prim.attributes["_FEATURE_ID_0"] = add_accessor(feature.data(), feature.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER,
+                                                    TINYGLTF_COMPONENT_TYPE_FLOAT, feature.size(), TINYGLTF_TYPE_SCALAR);
+    prim.indices = add_accessor(cv.corner.data(), cv.corner.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER,
+                                TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, cv.corner.size(), TINYGLTF_TYPE_SCALAR);
+    prim.material = mat;
+    prim.mode = TINYGLTF_MODE_TRIANGLES;
+    std::sort(feature.begin(), feature.end());
+    const auto count = std::unique(feature.begin(), feature.end()) - feature.begin();
+    tinygltf::Value::Object ids{{"featureCount", tinygltf::Value(int(count))}, {"attribute", tinygltf::Value(0)}};
+    prim.extensions["EXT_mesh_features"] = tinygltf::Value(tinygltf::Value::Object{
+        {"featureIds", tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(ids)})}});
+    uses_features_ = true;
+    return prim;
   }
 
   int add_node(const std::string& name, int mesh) {
@@ -167,6 +270,7 @@ class GlbBuilder {
     if (!buffer_.data.empty()) model_.buffers.push_back(buffer_);  // a buffer holds at least one byte
     model_.asset.version = "2.0";
     model_.asset.generator = "perclod";
+    if (uses_features_) model_.extensionsUsed.push_back("EXT_mesh_features");
     std::ostringstream glb;
     tinygltf::TinyGLTF gltf;
     if (!gltf.WriteGltfSceneToStream(&model_, glb, false, true) || !glb)
@@ -178,69 +282,7 @@ class GlbBuilder {
   std::array<double, 3> turn(const std::array<double, 3>& v) const {
     return z_up_ ? std::array<double, 3>{v[0], v[2], -v[1]} : v;
   }
-
-  // A primitive's own vertices: each corner of `tris` gets the vertex of its
-  // source vertex and normal group. A vertex's corners share a normal while
-  // their faces' normals are within kCreaseDeg of the group's first face;
-  // past it they get a vertex of their own (a facade's edge stays sharp, a
-  // turned column's facets shade smoothly). A group's normal is the sum of
-  // its faces' area-weighted normals, in glTF's frame.
-  struct PrimitiveVertices {
-    std::vector<float> pos, nrm;
-    std::vector<uint32_t> idx;
-  };
-  PrimitiveVertices primitive_vertices(const Scene& s, const std::vector<uint32_t>& tris) const {
-    using V = Eigen::Vector3d;
-    struct Group {
-      V first = V::Zero(), sum = V::Zero();
-      uint32_t out = 0;
-    };
-    const double cos_crease = std::cos(kCreaseDeg * kPi / 180);
-    std::unordered_map<uint32_t, std::vector<Group>> groups;  // source vertex -> its normal groups
-    std::vector<std::pair<uint32_t, uint32_t>> corner(3 * tris.size());  // (source vertex, group)
-    PrimitiveVertices pv;
-    for (size_t i = 0; i < tris.size(); ++i) {
-      V p[3];
-      for (int k = 0; k < 3; ++k) p[k] = turned_position(s, s.indices[3 * size_t(tris[i]) + k]);
-      const V n = (p[1] - p[0]).cross(p[2] - p[0]);
-      const V u = unit_or_zero(n);
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t v = s.indices[3 * size_t(tris[i]) + k];
-        std::vector<Group>& gs = groups[v];
-        // A degenerate face (no normal) joins the vertex's first group.
-        size_t g = 0;
-        while (g < gs.size() && !u.isZero(0) && !gs[g].first.isZero(0) && gs[g].first.dot(u) < cos_crease) ++g;
-        if (g == gs.size()) {
-          gs.push_back({u, V::Zero(), uint32_t(pv.pos.size() / 3)});
-          for (int a = 0; a < 3; ++a) pv.pos.push_back(float(p[k][a]));
-        } else if (gs[g].first.isZero(0)) {
-          gs[g].first = u;  // a group a degenerate face opened takes the first real normal
-        }
-        gs[g].sum += n;
-        corner[3 * i + size_t(k)] = {v, uint32_t(g)};
-      }
-    }
-    pv.nrm.resize(pv.pos.size());
-    for (const auto& [v, gs] : groups)
-      for (const Group& g : gs) {
-        V n = unit_or_zero(g.sum);
-        if (n.isZero(0)) n = g.first.isZero(0) ? V(0, 1, 0) : g.first;  // only degenerate faces
-        for (int a = 0; a < 3; ++a) pv.nrm[3 * size_t(g.out) + a] = float(n[a]);
-      }
-    pv.idx.reserve(corner.size());
-    for (const auto& [v, g] : corner) pv.idx.push_back(groups[v][g].out);
-    return pv;
-  }
-
-  Eigen::Vector3d turned_position(const Scene& s, uint32_t v) const {
-    const auto t = turn({s.positions[3 * size_t(v)], s.positions[3 * size_t(v) + 1], s.positions[3 * size_t(v) + 2]});
-    return {t[0], t[1], t[2]};
-  }
-  // a / |a|, or zero for a zero or non-finite a (a degenerate face).
-  static Eigen::Vector3d unit_or_zero(const Eigen::Vector3d& a) {
-    const double l = a.norm();
-    return l > 0 && std::isfinite(l) ? Eigen::Vector3d(a / l) : Eigen::Vector3d::Zero();
-  }
+  std::array<double, 3> turn(const Eigen::Vector3d& v) const { return turn(std::array<double, 3>{v[0], v[1], v[2]}); }
 
   // A float VEC3 accessor of `data`, with min and max when `bounds` (glTF
   // requires them for POSITION).
@@ -289,29 +331,20 @@ class GlbBuilder {
   }
 
   bool z_up_;
+  bool uses_features_ = false;
   tinygltf::Model model_;
   tinygltf::Buffer buffer_;
   std::map<std::array<float, 3>, int> materials_;
 };
 
-// One GLB of one scene: root node (the offset) -> a node per component, each
-// with a mesh of one primitive per material.
+// One GLB of one scene: root node (the offset) -> one node whose mesh has a
+// primitive per material colour, components told apart by feature ids.
 void export_glb(const Scene& s, const std::string& path, const ExportOptions& options) {
   GlbBuilder b(options.z_up);
   const int root = b.add_root(s, "model");
-  const std::vector<uint32_t> order = triangle_order(s);
   // glTF accessors and buffer views hold at least one element: a scene
   // without triangles (an empty LOD) is the root node alone.
-  std::vector<int> children;
-  for (size_t i = 0; i < order.size();) {
-    const uint32_t comp = s.component_of(order[i]);
-    size_t end = i;
-    while (end < order.size() && s.component_of(order[end]) == comp) ++end;
-    const std::string name = component_name(s, comp);
-    children.push_back(b.add_node(name, b.add_mesh(s, order, i, end, name)));
-    i = end;
-  }
-  b.node(root).children = children;
+  if (const int mesh = b.add_mesh(s, "model"); mesh >= 0) b.node(root).children = {b.add_node("model", mesh)};
   b.write({root}, path);
 }
 
@@ -333,9 +366,7 @@ void export_lods_glb(const std::vector<const Scene*>& lods, const std::vector<st
   std::vector<int> lod_nodes;
   for (size_t i = 0; i < lods.size(); ++i) {
     const Scene& s = *lods[i];
-    const std::vector<uint32_t> order = triangle_order(s);
-    const int mesh = b.add_mesh(s, order, 0, order.size(), names[i]);
-    lod_nodes.push_back(b.add_node(names[i], mesh));
+    lod_nodes.push_back(b.add_node(names[i], b.add_mesh(s, names[i])));
     // Each LOD keeps its own offset; the root holds the finest one's.
     tinygltf::Node& n = b.node(lod_nodes.back());
     std::array<double, 3> d;

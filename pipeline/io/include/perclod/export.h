@@ -1,11 +1,14 @@
 // perclod/export.h - a Scene to a file, with the source offset restored.
 // OBJ (+ MTL with material colours, one group per component; coordinates
-// written in double as position + offset, in the source's axes) or GLB
-// (float positions; the offset, in double, as the translation of a root node
-// whose children are one node per component, each with a primitive per
-// material colour holding its own vertices and NORMALs, split where faces
-// turn by more than 30 degrees; glTF's +Y up, so a Z-up source is turned
-// (x, y, z) -> (x, z, -y)). Atomic: written to a temporary file, renamed.
+// written in double as position + offset, in the source's axes; a `vn` per
+// vertex normal) or GLB (float positions; the offset, in double, as the
+// translation of a root node holding one mesh with a primitive per material
+// colour, each with its own vertices, NORMALs and, as the EXT_mesh_features
+// feature id, each vertex's component; the mesh's extras.feature_names name
+// the ids; glTF's +Y up, so a Z-up source is turned (x, y, z) -> (x, z, -y)).
+// Normals of both are split where faces turn by more than 30 degrees
+// (docs/usage.md#export-for-viewers). Atomic: written to a temporary file,
+// renamed.
 #pragma once
 
 #include <string>
