@@ -107,6 +107,43 @@ TEST(LodFidelity, SeesNoChangeInTheOriginalAndSeesARemovedPart) {
   EXPECT_GT(total(missing, &ViewFigures::coverage_changed_pixels), 10000u);
 }
 
+// The perceptual floor: moving the original a quarter pixel is visible
+// (every facade has a floor above 0), the original against itself is 0x it,
+// a LOD without its perceptible triangles is many times over it, and
+// judge_views flags that only when max_visible is set.
+TEST(LodFidelity, VisibleDifferenceIsMeasuredAgainstTheQuarterPixelFloor) {
+  Renderer renderer;
+  Labelled l = label_building(renderer);
+  measure_floors(renderer, l.scene, l.result.views, judge_settings_of(l.job));
+  for (const ViewRecord& v : l.result.views) EXPECT_GT(v.visible_floor, 0.5) << v.view;
+  for (const ViewFigures& v : compare_lod_views(renderer, l.scene, l.result.views, judge_settings_of(l.job))) {
+    EXPECT_EQ(v.visible_difference, 0.0) << v.view;
+    EXPECT_EQ(v.visible_ratio, 0.0) << v.view;
+  }
+  Scene cut = l.scene;
+  cut.indices.clear();
+  cut.component.clear();
+  cut.material.clear();
+  for (size_t t = 0; t < l.scene.triangle_count(); ++t) {
+    if (l.result.labels[t] == Label::Perceptible) continue;
+    for (int k = 0; k < 3; ++k) cut.indices.push_back(l.scene.indices[3 * t + k]);
+    if (!l.scene.component.empty()) cut.component.push_back(l.scene.component[t]);
+    if (!l.scene.material.empty()) cut.material.push_back(l.scene.material[t]);
+  }
+  const std::vector<ViewFigures> missing = compare_lod_views(renderer, cut, l.result.views, judge_settings_of(l.job));
+  for (const ViewFigures& v : missing) {
+    EXPECT_GT(v.visible_ratio, 2.0) << v.view;
+    EXPECT_NEAR(v.visible_ratio, v.visible_difference / v.visible_floor, 1e-9) << v.view;
+  }
+  EXPECT_TRUE(judge_views(missing, FidelityLimits{1, 1, 0, 0}).met());  // no visible limit
+  const Judgement j = judge_views(missing, FidelityLimits{1, 1, 0, 1.0});
+  ASSERT_EQ(j.over_limits.size(), missing.size());
+  EXPECT_EQ(j.over_limits[0].measure, "visible_ratio");
+  double worst = 0;
+  for (const ViewFigures& v : missing) worst = std::max(worst, v.visible_ratio);
+  EXPECT_EQ(j.worst.visible_ratio, worst);
+}
+
 TEST(LodFidelity, PaperLodAt56mHoldsAFractionOfTheInputAndLooksAlike) {
   Renderer renderer;
   Labelled l = label_building(renderer);

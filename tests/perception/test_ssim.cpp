@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -101,4 +103,20 @@ TEST(Ssim, AReusedScratchGivesTheSameMeans) {
     EXPECT_EQ(ssim_mean(a.data(), b.data(), w, h, nullptr, &scratch), ssim_mean(a.data(), b.data(), w, h, nullptr))
         << w << "x" << h;
   }
+}
+
+// visible_difference: 0 for images within the threshold of each other; the
+// RMS of the excess over the threshold, in thresholds, over the region.
+TEST(VisibleDifference, RmsOfTheExcessOverTheThresholdInTheRegion) {
+  const std::vector<float> a = {10, 10, 10, 10}, b = {10.5f, 13, 10, 40};
+  EXPECT_EQ(perclod::visible_difference(a.data(), a.data(), a.size(), nullptr, 1.0), 0.0);
+  // Excesses 0, 2, 0, 29 over 4 pixels.
+  EXPECT_NEAR(perclod::visible_difference(a.data(), b.data(), 4, nullptr, 1.0), std::sqrt((4.0 + 841.0) / 4), 1e-9);
+  const std::vector<uint8_t> region = {1, 1, 1, 0};  // the 40 left out
+  EXPECT_NEAR(perclod::visible_difference(a.data(), b.data(), 4, region.data(), 1.0), std::sqrt(4.0 / 3), 1e-9);
+  // In thresholds: threshold 2 -> excesses 0, 1, 0, 28, divided by 2.
+  EXPECT_NEAR(perclod::visible_difference(a.data(), b.data(), 4, nullptr, 2.0), std::sqrt((1.0 + 784.0) / 4) / 2, 1e-9);
+  const std::vector<uint8_t> none = {0, 0, 0, 0};
+  EXPECT_EQ(perclod::visible_difference(a.data(), b.data(), 4, none.data(), 1.0), 0.0);
+  EXPECT_THROW(perclod::visible_difference(a.data(), b.data(), 4, nullptr, 0.0), std::invalid_argument);
 }

@@ -176,4 +176,14 @@ struct SsimScratch {
 double ssim_mean(const float* a, const float* b, int w, int h, const uint8_t* region,
                  SsimScratch* scratch = nullptr);
 
+// How visible the difference between two vision-simulated images is (the
+// `simulated` of two PerceptionResults of one size): over the n pixels where
+// region[i] != 0 (all when region is null), the root mean square of each
+// pixel's difference beyond the detection threshold, in thresholds:
+//   sqrt(mean(max(0, |a - b| - threshold)^2)) / threshold.
+// 0 when no pixel differs by more than the threshold (or the region is
+// empty). The judge sets a LOD's figure beside the same figure for the
+// original moved by a quarter pixel (docs/usage.md#judging-a-lod).
+double visible_difference(const float* a, const float* b, size_t n, const uint8_t* region, double threshold);
+
 }  // namespace perclod

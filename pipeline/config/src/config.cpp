@@ -276,6 +276,9 @@ void read_limits(const YAML::Node& n, const std::string& path, BatchConfig& c) {
     throw config_error(path, "'max_silhouette' must be a fraction in [0, 1]");
   c.min_ssim = get<double>(n, path, "min_ssim", c.min_ssim);
   if (!(c.min_ssim >= 0 && c.min_ssim <= 1)) throw config_error(path, "'min_ssim' must be within [0, 1]");
+  c.max_visible = get<double>(n, path, "max_visible", c.max_visible);
+  if (!(c.max_visible >= 0 && std::isfinite(c.max_visible)))
+    throw config_error(path, "'max_visible' must be a finite number >= 0 (times the perceptual floor; 0: no limit)");
   c.strict = get<bool>(n, path, "strict", c.strict);
   c.tighten_to_limits = get<bool>(n, path, "tighten_to_limits", c.tighten_to_limits);
   if (n["tighten_to_limits"] && c.simplify != "fidelity")
@@ -301,6 +304,9 @@ void read_fidelity_target(const YAML::Node& n, const std::string& path, BatchCon
   c.target_min_ssim = get<double>(t, path, "min_ssim", c.min_ssim);
   if (!(c.target_min_ssim >= 0 && c.target_min_ssim <= 1))
     throw config_error(path, "'fidelity_target': min_ssim must be within [0, 1]");
+  c.target_max_visible = get<double>(t, path, "max_visible", c.max_visible);
+  if (!(c.target_max_visible >= 0 && std::isfinite(c.target_max_visible)))
+    throw config_error(path, "'fidelity_target': max_visible must be a finite number >= 0");
 }
 
 // The mode's own settings (k, target, the undisplayable rule) and the LOD format.
@@ -595,6 +601,7 @@ const std::map<std::string, HashWriter>& hash_writers() {
       // Joins only when set, so the hashes of configs without it (and the
       // batches a manifest resumes) stay what they were before the key.
       {"min_ssim", [](const BatchConfig& c, json& s) { if (c.min_ssim > 0) s["min_ssim"] = c.min_ssim; }},
+      {"max_visible", [](const BatchConfig& c, json& s) { if (c.max_visible > 0) s["max_visible"] = c.max_visible; }},
       // Joins in fidelity mode, where it decides: a manifest redoes fidelity
       // LODs made before tightening existed (some would now be tighter).
       {"tighten_to_limits",
@@ -609,6 +616,7 @@ const std::map<std::string, HashWriter>& hash_writers() {
          if (c.fidelity_target) {
            target = {{"max_changed", c.target_max_changed}, {"max_silhouette", c.target_max_silhouette}};
            if (c.target_min_ssim > 0) target["min_ssim"] = c.target_min_ssim;
+           if (c.target_max_visible > 0) target["max_visible"] = c.target_max_visible;
          }
          s["fidelity_target"] = target;
        }},
@@ -685,11 +693,13 @@ LodJob lod_job(const BatchConfig& c) {
   job.limits.max_changed = c.max_changed;
   job.limits.max_silhouette = c.max_silhouette;
   job.limits.min_ssim = c.min_ssim;
+  job.limits.max_visible = c.max_visible;
   job.fidelity_target = c.fidelity_target;
   job.tighten_to_limits = c.tighten_to_limits;
   job.target.max_changed = c.target_max_changed;
   job.target.max_silhouette = c.target_max_silhouette;
   job.target.min_ssim = c.target_min_ssim;
+  job.target.max_visible = c.target_max_visible;
   job.lod_format = c.format;
   return job;
 }

@@ -111,6 +111,9 @@ const std::vector<SettingSpec> kConfigSettings = {
      kAnyLevel, nullptr},
     {"min_ssim", "number", "0 (no limit)", "0..1", "Lowest covered-region SSIM of a judged view", kHashed,
      kAnyLevel, nullptr},
+    {"max_visible", "number (x floor)", "0 (no limit)", ">= 0",
+     "Limit on a judged view's visible difference over its perceptual floor (docs/usage.md#judging-a-lod)",
+     kHashed, kAnyLevel, nullptr},
     {"strict", "boolean", "false", "",
      "Fail (exit 1, after every output is written) when a LOD exceeds max_changed or max_silhouette, or falls "
      "below min_ssim, in any judged view",
@@ -132,6 +135,8 @@ const std::vector<SettingSpec> kConfigSettings = {
      "The search's limit on silhouette mismatch", kHashed, kAnyLevel, nullptr},
     {"fidelity_target.min_ssim", "number", "min_ssim", "0..1", "The search's lowest SSIM", kHashed, kAnyLevel,
      nullptr},
+    {"fidelity_target.max_visible", "number (x floor)", "max_visible", ">= 0",
+     "The search's limit on visible difference over the floor", kHashed, kAnyLevel, nullptr},
     {"cityjson_lod", "string", "\"\" (each object's highest)", "a LOD such as 2, 2.2, 3",
      "CityJSON: the LOD geometry to read, e.g. 2 or 2.2", kHashed, kAnyLevel, nullptr},
     {"crs_origin", "mapping", "(none: source coordinates)", "lat and lon required",

@@ -144,6 +144,8 @@ struct ViewComparer {
     // Both luminances on the same 8-bit grid, so an unchanged LOD scores 1.
     for (auto* lum : {&original.luminance, &pr.luminance})
       for (float& l : *lum) l = std::round(std::clamp(l, 0.f, 255.f));
+    const double visible = visible_difference(pr.simulated.data(), original.simulated.data(), n,
+                                              drawn_mask.data(), ps.threshold);
     const double ssim = ssim_mean(original.luminance.data(), pr.luminance.data(), img.width, img.height,
                                   drawn_mask.data(), &ssim_scratch);
     if (picture)
@@ -159,6 +161,9 @@ struct ViewComparer {
     f.coverage_changed_pixels = coverage_changed;
     f.silhouette_mismatch = covered_original ? double(coverage_changed) / double(covered_original)
                                              : (coverage_changed ? 1.0 : 0.0);
+    f.visible_difference = visible;
+    f.visible_floor = v.visible_floor;
+    f.visible_ratio = v.visible_floor < 0 ? 0.0 : visible / std::max(v.visible_floor, kMinVisibleFloor);
     return f;
   }
 };
@@ -194,6 +199,31 @@ std::vector<ViewFigures> compare_lod_views(Renderer& renderer, const Scene& lod,
   return views;
 }
 
+void measure_floors(Renderer& renderer, const Scene& original, std::vector<ViewRecord>& records,
+                    const JudgeSettings& how) {
+  renderer.set_scene(original);
+  RenderOutput img;
+  std::vector<uint8_t> rgb, background, region;
+  PerceptionResult shifted, unshifted;
+  for (ViewRecord& v : records) {
+    Camera c = v.camera;
+    c.shift_x += kFloorShiftPx / std::sqrt(2.0), c.shift_y += kFloorShiftPx / std::sqrt(2.0);
+    renderer.render(c, img);
+    background_of(img, background);
+    perceive_into(img.rgb.data(), img.width, img.height, how.perception, nullptr, shifted);
+    v.render_into(rgb);
+    perceive_into(rgb.data(), img.width, img.height, how.perception, nullptr, unshifted);
+    region.assign(background.size(), 0);
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const size_t i = size_t(y) * size_t(img.width) + size_t(x);
+        region[i] = !background[i] || !v.background_at(x, y);
+      }
+    v.visible_floor = visible_difference(shifted.simulated.data(), unshifted.simulated.data(), region.size(),
+                                         region.data(), how.perception.threshold);
+  }
+}
+
 Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimits& limits) {
   Judgement j;
   j.limits = limits;
@@ -202,6 +232,7 @@ Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimit
     w.changed_fraction = std::max(w.changed_fraction, v.changed_fraction);
     w.silhouette_mismatch = std::max(w.silhouette_mismatch, v.silhouette_mismatch);
     w.ssim_covered = std::min(w.ssim_covered, v.ssim_covered);
+    w.visible_ratio = std::max(w.visible_ratio, v.visible_ratio);
     auto flag = [&](const char* measure, double value, double limit, bool over_limit) {
       if (over_limit) j.over_limits.push_back({v.view, v.set, measure, value, limit});
     };
@@ -209,6 +240,7 @@ Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimit
     flag("ssim_covered", v.ssim_covered, limits.min_ssim, v.ssim_covered < limits.min_ssim);
     flag("silhouette_mismatch", v.silhouette_mismatch, limits.max_silhouette,
          v.silhouette_mismatch > limits.max_silhouette);
+    flag("visible_ratio", v.visible_ratio, limits.max_visible, limits.max_visible > 0 && v.visible_ratio > limits.max_visible);
   }
   return j;
 }

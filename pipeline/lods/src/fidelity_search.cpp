@@ -50,8 +50,9 @@ bool worth_tightening(const Judgement& judged, const FidelityLimits& limits) {
   if (judged.met()) return false;
   const WorstFigures& w = judged.worst;
   const bool ssim_within = limits.min_ssim <= 0 || 1 - w.ssim_covered <= kTightenReach * (1 - limits.min_ssim);
+  const bool visible_within = limits.max_visible <= 0 || w.visible_ratio <= kTightenReach * limits.max_visible;
   return w.changed_fraction <= kTightenReach * limits.max_changed &&
-         w.silhouette_mismatch <= kTightenReach * limits.max_silhouette && ssim_within;
+         w.silhouette_mismatch <= kTightenReach * limits.max_silhouette && ssim_within && visible_within;
 }
 
 Tightening tighten_to_limits(const SimplifyOptions& asked, const Judgement& judged, const FidelityLimits& limits,

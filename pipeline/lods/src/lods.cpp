@@ -141,6 +141,9 @@ Judgement DistanceRun::attempt(const SimplifyOptions& o) {
   if (!held_out_recorded_) {
     std::vector<ViewRecord> held = record_views(tools_.renderer, scene_, job_.judge_views, framing_of(lj_), "held_out");
     std::move(held.begin(), held.end(), std::back_inserter(judged_));
+    const auto t_floor = Clock::now();
+    measure_floors(tools_.renderer, scene_, judged_, judge_settings_of(lj_));
+    r_.seconds_compare += since(t_floor);
     held_out_recorded_ = true;
   }
   const auto t_cmp = Clock::now();
@@ -252,10 +255,16 @@ void DistanceRun::judge_written(LodSet& set) {
   for (const OverLimit& o : r_.fidelity.over_limits) {
     std::ostringstream ss;
     ss.precision(3);
-    const bool ssim = o.measure == "ssim_covered";  // a figure, not a fraction
+    const bool figure = o.measure == "ssim_covered" || o.measure == "visible_ratio";  // not a fraction
     ss << r_.lod_file << ": from view " << o.view << " (" << o.set << ") " << o.measure << " is ";
-    if (ssim) ss << std::setprecision(4) << o.value << " (limit " << o.limit << ")";
+    if (figure) ss << std::setprecision(4) << o.value << " (limit " << o.limit << ")";
     else ss << 100 * o.value << "% (limit " << 100 * o.limit << "%)";
+    // How visible the change is beside moving the original a quarter pixel,
+    // so a reader can tell a real change from aliasing.
+    if (o.measure != "visible_ratio")
+      for (const ViewFigures& v : r_.views)
+        if (v.view == o.view && v.set == o.set && v.visible_floor >= 0)
+          ss << std::setprecision(2) << "; visible difference " << v.visible_ratio << "x the quarter-pixel floor";
     warn(set, ss.str());
     ++set.over_limits;
   }

@@ -62,7 +62,8 @@ void TextProgress::lod_tried(const char* what, double distance, const LodTry& t)
   ss << "  " << what << " at " << distance << " m: e_imperceptible " << t.e_imperceptible << " px, e_perceptible "
      << t.e_perceptible << " px, undisplayable " << undisplayable_rule_text(t.undisplayable) << " -> " << t.triangles
      << " triangles, worst " << 100 * t.worst.changed_fraction << "% changed, SSIM " << t.worst.ssim_covered
-     << ", silhouette " << 100 * t.worst.silhouette_mismatch << "%" << (t.met ? " (met)" : "");
+     << ", silhouette " << 100 * t.worst.silhouette_mismatch << "%, visible " << t.worst.visible_ratio
+     << "x the floor" << (t.met ? " (met)" : "");
   say(ss.str());
 }
 
@@ -77,7 +78,8 @@ void TextProgress::lod_made(const LodResult& r) {
   ss << "  LOD " << r.distance << " m: " << st.total_before() << " -> " << st.total_after() << " triangles ("
      << (st.total_before() ? 100.0 * double(st.total_after()) / double(st.total_before()) : 0.0)
      << "%); worst of " << r.views.size() << " views: " << 100 * w.changed_fraction << "% changed, SSIM "
-     << w.ssim_covered << ", silhouette " << 100 * w.silhouette_mismatch << "%; " << r.lod_file;
+     << w.ssim_covered << ", silhouette " << 100 * w.silhouette_mismatch << "%, visible " << w.visible_ratio
+     << "x the floor; " << r.lod_file;
   say(ss.str());
   if (st.refused_counted) {  // explain: true
     std::ostringstream stop;

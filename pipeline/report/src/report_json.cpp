@@ -160,7 +160,10 @@ nlohmann::json view_figures_json(const ViewFigures& v) {
                       {"ssim_covered", v.ssim_covered},
                       {"covered_pixels_original", v.covered_pixels_original},
                       {"coverage_changed_pixels", v.coverage_changed_pixels},
-                      {"silhouette_mismatch", v.silhouette_mismatch}};
+                      {"silhouette_mismatch", v.silhouette_mismatch},
+                      {"visible_difference", v.visible_difference},
+                      {"visible_floor", v.visible_floor},
+                      {"visible_ratio", v.visible_ratio}};
   if (!v.comparison_image.empty()) j["comparison_image"] = v.comparison_image;
   return j;
 }
@@ -172,11 +175,15 @@ nlohmann::json triangles_per_label_json(const std::array<size_t, 3>& n) {
 nlohmann::json worst_figures_json(const WorstFigures& w) {
   return {{"changed_fraction", w.changed_fraction},
           {"ssim_covered", w.ssim_covered},
-          {"silhouette_mismatch", w.silhouette_mismatch}};
+          {"silhouette_mismatch", w.silhouette_mismatch},
+          {"visible_ratio", w.visible_ratio}};
 }
 
 nlohmann::json fidelity_limits_json(const FidelityLimits& l) {
-  return {{"max_changed", l.max_changed}, {"max_silhouette", l.max_silhouette}, {"min_ssim", l.min_ssim}};
+  return {{"max_changed", l.max_changed},
+          {"max_silhouette", l.max_silhouette},
+          {"min_ssim", l.min_ssim},
+          {"max_visible", l.max_visible}};
 }
 
 nlohmann::json judgement_json(const Judgement& j) {

@@ -54,6 +54,7 @@ struct BatchConfig {
   double max_changed = 0.02;         // limits every judged view is held to
   double max_silhouette = 0.01;
   double min_ssim = 0;               // lowest covered-region SSIM of a judged view (0: no limit)
+  double max_visible = 0;            // visible difference over the perceptual floor (0: no limit)
   bool strict = false;               // a LOD over a limit fails the run (after every output is written)
   // fidelity_target: {max_changed, max_silhouette, min_ssim}: search
   // e_imperceptible per distance for the fewest triangles within these
@@ -65,7 +66,7 @@ struct BatchConfig {
   // Collapse modes: also count why each half-edge left was not collapsed
   // (SimplifyOptions::explain_stop; the report's simplify.refused).
   bool explain = false;
-  double target_max_changed = 0.02, target_max_silhouette = 0.01, target_min_ssim = 0;
+  double target_max_changed = 0.02, target_max_silhouette = 0.01, target_min_ssim = 0, target_max_visible = 0;
   std::string cityjson_lod;          // CityJSON input: the LOD geometry to read ("" = each object's highest)
   double memory_mb = 0;              // batch: this model's peak memory for memory_budget_mb (0 = estimate_memory_mb)
   bool tileset = true;               // also write the all-LOD GLB, a GLB per LOD and a 3D Tiles tileset.json

@@ -37,6 +37,21 @@ JudgeSettings judge_settings_of(const LabelJob& job);
 std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
                                      const Framing& framing, const std::string& set = "held_out");
 
+// The perceptual floor a view's LOD is judged against: the visible
+// difference (perclod/perception.h) between the original's render and the
+// original's render with the camera moved by this many pixels (along the
+// image diagonal) - a change no viewer would call a different model.
+constexpr double kFloorShiftPx = 0.25;
+// Measures each record's visible_floor: renders `original` (uploading it to
+// `renderer`) from each record's camera moved by kFloorShiftPx and compares
+// both renders' vision-simulated images over the pixels either draws.
+void measure_floors(Renderer& renderer, const Scene& original, std::vector<ViewRecord>& records,
+                    const JudgeSettings& how);
+// A floor below this many thresholds counts as this much: a view where a
+// shift changes nothing (a blank or flat one) judges any visible change as
+// far over its floor, not as infinitely over.
+constexpr double kMinVisibleFloor = 0.01;
+
 // One judged view: how the LOD's render differs from the original's.
 struct ViewFigures {
   std::string view;                 // view name (with "_t<i>" for a tile)
@@ -48,6 +63,9 @@ struct ViewFigures {
   size_t covered_pixels_original = 0;
   size_t coverage_changed_pixels = 0;  // drawn in exactly one of the two
   double silhouette_mismatch = 0;   // coverage_changed_pixels / covered_pixels_original
+  double visible_difference = 0;    // perclod/perception.h's, over the drawn pixels (thresholds)
+  double visible_floor = -1;        // the view's floor (< 0: not measured)
+  double visible_ratio = 0;         // visible_difference / max(floor, kMinVisibleFloor); 0 when unmeasured
   std::string comparison_image;     // the picture's file, when make_lods writes one
   bool operator==(const ViewFigures&) const = default;
 };
@@ -62,6 +80,10 @@ struct ViewFigures {
 //  * silhouette_mismatch: pixels drawn in exactly one of the two, over the
 //    pixels the original draws (1 when the original draws none and the LOD
 //    some).
+//  * visible_difference: how visible the two vision-simulated images'
+//    difference is over the pixels drawn in either (visible_difference of
+//    perclod/perception.h), and visible_ratio, that over the record's floor
+//    (measure_floors): 1 = as visible as moving the original a quarter pixel.
 // Uploads `lod` to `renderer`.
 // `pictures`, when given, receives per view a picture of the region either
 // render draws (scaled to 240-400 px): the original's luminance | the LOD's |
@@ -76,6 +98,7 @@ struct FidelityLimits {
   double max_changed = 0.02;      // changed_fraction
   double max_silhouette = 0.01;   // silhouette_mismatch
   double min_ssim = 0;            // ssim_covered (0: no limit)
+  double max_visible = 0;         // visible_ratio (0: no limit)
 };
 
 // The worst of each figure over the judged views.
@@ -83,12 +106,13 @@ struct WorstFigures {
   double changed_fraction = 0;
   double ssim_covered = 1;        // the lowest
   double silhouette_mismatch = 0;
+  double visible_ratio = 0;
 };
 
 // A view's figure over its limit (an SSIM is over when below min_ssim).
 struct OverLimit {
   std::string view, set;
-  std::string measure;  // "changed_fraction", "ssim_covered" or "silhouette_mismatch"
+  std::string measure;  // "changed_fraction", "ssim_covered", "silhouette_mismatch" or "visible_ratio"
   double value = 0, limit = 0;
 };
 

@@ -31,6 +31,9 @@ struct ViewRecord {
   std::vector<bool> background;            // true where no triangle was drawn (a bit each)
   uint8_t background_rgb[3] = {255, 255, 255};  // the colour of an undrawn pixel
   std::string set = "labelling";           // "labelling" or "held_out"
+  // The judge's perceptual floor for this view (measure_floors): how visible
+  // moving the original by a quarter pixel is; < 0 until measured.
+  double visible_floor = -1;
 
   // Index into the kept arrays of image pixel (x, y), or -1 outside them.
   long kept(int x, int y) const {
