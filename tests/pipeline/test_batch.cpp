@@ -396,6 +396,10 @@ TEST(GlbExport, PrimitivesHaveTheirOwnVerticesAndNormalsSplitAtCreases) {
   export_scene(box, d / "box.glb");
   auto g = glb_json(d / "box.glb");
   EXPECT_EQ(g["materials"].size(), 2u);  // grey (wall_a and wall_b) and red
+  for (const auto& m : g["materials"]) {  // rough dielectrics, not glTF's default metal
+    EXPECT_EQ(m["pbrMetallicRoughness"]["metallicFactor"], 0.0);
+    EXPECT_EQ(m["pbrMetallicRoughness"].value("roughnessFactor", 1.0), 1.0);
+  }
   size_t vertices = 0;
   for (const auto& prim : g["meshes"][0]["primitives"]) {
     ASSERT_TRUE(prim["attributes"].contains("NORMAL"));

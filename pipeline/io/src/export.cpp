@@ -325,6 +325,10 @@ class GlbBuilder {
     tinygltf::Material m;
     m.name = sm.name;
     m.pbrMetallicRoughness.baseColorFactor = {sm.color[0], sm.color[1], sm.color[2], 1.0};
+    // glTF's defaults are metal (metallicFactor 1): a wall is a rough
+    // dielectric, lit like perclod's own renders, not a dark mirror.
+    m.pbrMetallicRoughness.metallicFactor = 0.0;
+    m.pbrMetallicRoughness.roughnessFactor = 1.0;
     m.doubleSided = true;
     model_.materials.push_back(m);
     return materials_[key] = int(model_.materials.size() - 1);
