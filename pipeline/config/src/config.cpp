@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "perclod/crs.h"
 #include "perclod/outputs.h"
 #include "perclod/settings.h"
 #include "perclod/views.h"
@@ -356,6 +357,24 @@ void read_distances(const YAML::Node& n, const std::string& path, BatchConfig& c
   }
 }
 
+// crs: an EPSG code PROJ can place (as "EPSG:N"), or none; not with crs_origin.
+void read_crs(const YAML::Node& n, const std::string& path, BatchConfig& c) {
+  const YAML::Node v = n["crs"];
+  if (!v) return;
+  if (!v.IsScalar()) throw config_error(path, "'crs' must be an EPSG code such as EPSG:7415, or none");
+  if (c.crs_origin) throw config_error(path, "give 'crs' (the model's CRS) or 'crs_origin' (a WGS84 point), not both");
+  if (v.Scalar() == "none") {
+    c.crs = "none";
+    return;
+  }
+  try {
+    check_crs(v.Scalar());
+  } catch (const std::invalid_argument& e) {
+    throw config_error(path, std::string("'crs': ") + e.what());
+  }
+  c.crs = epsg_code(v.Scalar());
+}
+
 // What is written besides the LODs, and how a batch schedules the model.
 void read_outputs(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   c.memory_mb = get<double>(n, path, "memory_mb", c.memory_mb);
@@ -377,6 +396,7 @@ void read_outputs(const YAML::Node& n, const std::string& path, BatchConfig& c) 
     if (!(std::abs(c.origin_lat) <= 90) || !(std::abs(c.origin_lon) <= 180) || !std::isfinite(c.origin_height))
       throw config_error(path, "'crs_origin': lat must be within [-90, 90], lon within [-180, 180] degrees");
   }
+  read_crs(n, path, c);
 }
 
 BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std::filesystem::path& dir) {

@@ -99,6 +99,8 @@ const std::map<std::string, HashWriter>& hash_writers() {
          s["fidelity_target"] = target;
        }},
       {"cityjson_lod", [](const BatchConfig& c, json& s) { s["cityjson_lod"] = c.cityjson_lod; }},
+      // Joins when set, so the hashes of configs without it stay.
+      {"crs", [](const BatchConfig& c, json& s) { if (!c.crs.empty()) s["crs"] = c.crs; }},
       {"crs_origin",
        [](const BatchConfig& c, json& s) {
          s["crs_origin"] = c.crs_origin ? json{{"lat", c.origin_lat}, {"lon", c.origin_lon}, {"height", c.origin_height}}
