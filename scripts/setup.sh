@@ -21,6 +21,8 @@ PACKAGES=(
   nlohmann-json3-dev      # JSON reports
   libcli11-dev            # command line
   zlib1g-dev              # packs the views and ID buffers a run keeps
+  libproj-dev proj-data   # PROJ: a model's CRS (crs:, CityJSON referenceSystem) into the tileset's ECEF transform
+  proj-bin                # cs2cs: the tests' reference positions
   libmeshoptimizer-dev    # peer simplifier for benchmarks
   clang libclang-rt-dev   # ASan/UBSan and libFuzzer stages (build-asan/); the runtimes are only a Recommends of clang
   python3 python3-matplotlib  # charts in scripts/

@@ -80,6 +80,7 @@ const std::map<std::string, Sample>& samples() {
       {"fidelity_target.min_ssim", {"fidelity_target: {min_ssim: 0.9}", "fidelity_target: {min_ssim: 0.8}"}},
       {"fidelity_target.max_visible", {"fidelity_target: {max_visible: 1}", "fidelity_target: {max_visible: 0.5}"}},
       {"cityjson_lod", {"cityjson_lod: \"2\"", ""}},
+      {"crs", {"crs: EPSG:28992", ""}},
       {"crs_origin", {"crs_origin: {lat: 48.7, lon: 11.4}", ""}},
       {"crs_origin.lat", {"crs_origin: {lat: 48.7, lon: 11.4}", "crs_origin: {lat: 48.8, lon: 11.4}"}},
       {"crs_origin.lon", {"crs_origin: {lat: 48.7, lon: 11.4}", "crs_origin: {lat: 48.7, lon: 11.5}"}},
@@ -186,7 +187,7 @@ TEST(Settings, SettingsJsonHoldsTheHashedKeys) {
   Folder f;
   const nlohmann::json s = settings_json(
       f.load("min_ssim: 0.9\nmax_visible: 1\nmask_per_sample: true\ne_undisplayable: 4\nexplain: true\n"
-             "fidelity_target: {min_ssim: 0.95}\ncrs_origin: {lat: 1, lon: 2}\ndisplay: screen.yaml",
+             "fidelity_target: {min_ssim: 0.95}\ncrs: EPSG:28992\ndisplay: screen.yaml",
              false)
           .models.at(0)
           .config);

@@ -190,7 +190,7 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   const std::string base = "model: m.obj\ndistances: [56]\n";
   expect_error(load_batch_config, write("typo.yaml", base + "verfy: true\n"), "unknown key 'verfy' (did you mean 'verify'?)");
   expect_error(load_batch_config, write("typo2.yaml", base + "colour: red\n"),
-               "known keys: cityjson_lod, combine_views, crs_origin, debug_images, display");
+               "known keys: cityjson_lod, combine_views, crs, crs_origin, debug_images, display");
   expect_error(load_batch_config, write("dup.yaml", base + "model: other.obj\n"), "'model' appears twice");
   expect_error(load_batch_config, write("qem.yaml", base + "simplify: qem\n"), "needs 'target'");
   expect_error(load_batch_config, write("target0.yaml", base + "simplify: qem\ntarget: 0\n"), "'target'");

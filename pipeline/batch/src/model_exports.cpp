@@ -89,7 +89,60 @@ std::array<double, 16> enu_to_ecef(double lat_deg, double lon_deg, double height
           x,        y,        z,  1};
 }
 
+std::optional<CrsFrame> model_crs_frame(const BatchConfig& config, const LoadReport& load, const Scene& scene) {
+  if (config.crs_origin || config.crs == "none") return std::nullopt;
+  const bool from_file = config.crs.empty();
+  if (from_file && load.reference_system.empty()) return std::nullopt;
+  const std::string code = from_file ? epsg_code(load.reference_system) : config.crs;
+  const std::string what = from_file ? "its metadata.referenceSystem '" + load.reference_system + "'" : "crs";
+  if (code.empty())
+    throw std::runtime_error(config.model + ": " + what +
+                             " is no EPSG code perclod reads; set 'crs' in the config (or 'crs: none' to keep source "
+                             "coordinates)");
+  try {
+    return crs_frame(code, scene.offset, config.scale);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(config.model + ": " + what + ": " + e.what());
+  }
+}
+
+std::array<double, 16> crs_transform(const CrsFrame& f, const std::array<double, 3>& centre, UpAxis up) {
+  // The source axis and sign of each tileset axis (to_tiles_frame): Z up
+  // keeps them; Y up has tileset (x, y, z) = source (x, -z, y).
+  using Axis = std::pair<int, double>;
+  const std::array<Axis, 3> from = up == UpAxis::Z ? std::array<Axis, 3>{Axis{0, 1}, Axis{1, 1}, Axis{2, 1}}
+                                                   : std::array<Axis, 3>{Axis{0, 1}, Axis{2, -1}, Axis{1, 1}};
+  std::array<double, 16> m{};
+  for (int k = 0; k < 3; ++k)
+    for (int r = 0; r < 3; ++r) m[4 * k + r] = from[k].second * f.axes[from[k].first][r];
+  // The centre lands on the frame's origin: origin + J (p - centre).
+  for (int r = 0; r < 3; ++r) {
+    m[12 + r] = f.origin[r];
+    for (int i = 0; i < 3; ++i) m[12 + r] -= f.axes[i][r] * centre[i];
+  }
+  m[15] = 1;
+  return m;
+}
+
 namespace {
+
+// The manifest's record of where the CRS placed the model: the code, where it
+// came from, the centre in source coordinates and in WGS84, and PROJ's
+// transformations (position, accuracy; heights).
+nlohmann::json crs_json(const CrsFrame& f, const BatchConfig& config, const std::array<double, 3>& centre) {
+  nlohmann::json j = {
+      {"code", f.code},
+      {"name", f.name},
+      {"from", config.crs.empty() ? "model file" : "config"},
+      {"centre", centre},
+      {"wgs84", {{"lat", f.lat}, {"lon", f.lon}, {"height", f.height}}},
+      {"operation", f.operation},
+      {"accuracy_m", f.accuracy_m >= 0 ? nlohmann::json(f.accuracy_m) : nlohmann::json(nullptr)},
+      {"ballpark", f.ballpark},
+      {"heights_as_ellipsoidal", f.height_ballpark}};
+  if (!f.height_operation.empty()) j["height_operation"] = f.height_operation;
+  return j;
+}
 
 // The length of a bounding box's diagonal.
 double bounds_diagonal(const Bounds& bounds) {
@@ -135,8 +188,8 @@ void write_lod_glbs(const std::vector<Scene>& lods, const LodJob& job, const std
 
 // The 3D Tiles 1.1 tileset over the per-LOD GLBs, written and named in files.
 void write_tileset(const Scene& scene, const std::vector<Scene>& lods, const LodJob& job, const BatchConfig& config,
-                   const std::vector<LodRange>& ranges, const std::vector<std::string>& glb, const Bounds& bounds,
-                   double diagonal, nlohmann::json& files) {
+                   const std::optional<CrsFrame>& frame, const std::vector<LodRange>& ranges,
+                   const std::vector<std::string>& glb, const Bounds& bounds, double diagonal, nlohmann::json& files) {
   const OutputNames& out = job.label.out;
   // 3D Tiles 1.1: the coarsest LOD is the root, each finer one its only
   // child (REPLACE refinement); the finest is the leaf (geometricError 0).
@@ -153,7 +206,10 @@ void write_tileset(const Scene& scene, const std::vector<Scene>& lods, const Lod
   }
   // The root's volume must hold every descendant: the original's bounds.
   tile["boundingVolume"] = box_volume(bounds, scene.offset, job.label.up);
-  if (config.crs_origin) {
+  if (frame) {
+    const auto m = crs_transform(*frame, scene.offset, job.label.up);
+    tile["transform"] = std::vector<double>(m.begin(), m.end());
+  } else if (config.crs_origin) {
     const auto m = enu_to_ecef(config.origin_lat, config.origin_lon, config.origin_height);
     tile["transform"] = std::vector<double>(m.begin(), m.end());
   }
@@ -207,7 +263,8 @@ nlohmann::json manifest_lod(const LodRange& r, const LodResult& e, const std::st
 }  // namespace
 
 nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>& lods, const LodJob& job,
-                                   const BatchConfig& config, const ModelRun& run, const ModelReport& report) {
+                                   const BatchConfig& config, const ModelRun& run, const ModelReport& report,
+                                   const std::optional<CrsFrame>& frame) {
   const OutputNames& out = job.label.out;
   const auto t0 = Clock::now();
   const ExportOptions eo{job.label.up == UpAxis::Z};
@@ -225,7 +282,7 @@ nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>&
   std::vector<std::string> glb(job.distances.size());
   if (config.tileset) {
     write_lod_glbs(lods, job, ranges, eo, glb, files);
-    write_tileset(scene, lods, job, config, ranges, glb, bounds, diagonal, files);
+    write_tileset(scene, lods, job, config, frame, ranges, glb, bounds, diagonal, files);
   }
   if (fs::exists(out.report_html())) files["report_html"] = leaf(out.report_html());
 
@@ -256,6 +313,7 @@ nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>&
       {"timings", {{"load", report.load.seconds},
                    {"lods", report.lods.seconds},
                    {"exports", since(t0)}}}};
+  if (frame) manifest["crs"] = crs_json(*frame, config, scene.offset);
   if (config.crs_origin)
     manifest["crs_origin"] = {{"lat", config.origin_lat}, {"lon", config.origin_lon}, {"height", config.origin_height}};
   write_text_atomic(out.manifest(), manifest.dump(2) + "\n");

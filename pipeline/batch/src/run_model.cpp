@@ -104,6 +104,8 @@ ModelReport run_model(const BatchConfig& config, const ModelRun& run, const std:
   ModelReport r;
   r.model = c.model;
   Scene scene = load_scene(c.model, lo, &r.load);
+  // Placed before the long work: a CRS PROJ cannot place fails now, naming the file.
+  const std::optional<CrsFrame> frame = model_crs_frame(c, r.load, scene);
   if (progress) progress->model_loaded(c.model, scene);
   std::vector<Scene> lods;
   r.lods = make_lods(scene, job, progress, &lods);
@@ -111,7 +113,7 @@ ModelReport run_model(const BatchConfig& config, const ModelRun& run, const std:
   r.manifest_file = leaf(job.label.out.manifest());
   const nlohmann::json report = model_report_json(r);
   write_model_report_html(report, job.label.out);
-  nlohmann::json m = write_model_exports(scene, lods, job, c, run, r);
+  nlohmann::json m = write_model_exports(scene, lods, job, c, run, r, frame);
   if (manifest) *manifest = std::move(m);
   return r;
 }

@@ -139,7 +139,13 @@ const std::vector<SettingSpec> kConfigSettings = {
      "The search's limit on visible difference over the floor", kHashed, kAnyLevel, nullptr},
     {"cityjson_lod", "string", "\"\" (each object's highest)", "a LOD such as 2, 2.2, 3",
      "CityJSON: the LOD geometry to read, e.g. 2 or 2.2", kHashed, kAnyLevel, nullptr},
-    {"crs_origin", "mapping", "(none: source coordinates)", "lat and lon required",
+    {"crs", "string", "(none: a CityJSON file's referenceSystem, else source coordinates)",
+     "an EPSG code: EPSG:7415, 7415, urn:ogc:def:crs:EPSG::7415, https://www.opengis.net/def/crs/EPSG/0/7415; "
+     "none; not with crs_origin",
+     "The model's coordinate reference system: PROJ places the tileset by it (none: source coordinates; "
+     "docs/usage.md#export-for-viewers)",
+     kHashed, kAnyLevel, nullptr},
+    {"crs_origin", "mapping", "(none: source coordinates)", "lat and lon required; not with crs",
      "Place the tileset at this WGS84 point (docs/usage.md#export-for-viewers)", kHashed, kAnyLevel, nullptr},
     {"crs_origin.lat", "number (degrees)", "(required)", "-90..90", "Latitude of the model's origin", kHashed,
      kAnyLevel, nullptr},

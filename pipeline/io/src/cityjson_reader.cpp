@@ -71,6 +71,7 @@ class CityJsonReader {
 
   RawModel read() {
     check_type();
+    rep_.reference_system = reference_system();
     read_vertices();
     read_templates();
     const Json* objects = member(doc_, "CityObjects");
@@ -108,6 +109,14 @@ class CityJsonReader {
       fail(path_, "not a CityJSON file (its top-level \"type\" is " +
                       (doc_.is_object() && doc_.contains("type") ? json_excerpt(doc_["type"]) : std::string("missing")) +
                       ", not \"CityJSON\"); perclod reads .json files as CityJSON only");
+  }
+
+  // metadata.referenceSystem as written (a string), else its JSON; "" when absent.
+  std::string reference_system() const {
+    const Json* meta = member(doc_, "metadata");
+    const Json* rs = meta ? member(*meta, "referenceSystem") : nullptr;
+    if (!rs || rs->is_null()) return {};
+    return rs->is_string() ? rs->get<std::string>() : rs->dump();
   }
 
   // Pass 1: each object's geometries at the chosen LOD, and its ancestry

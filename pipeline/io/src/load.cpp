@@ -174,6 +174,7 @@ nlohmann::json load_report_json(const LoadReport& r) {
                                {"cityjson_objects_without_lod", r.cityjson_objects_without_lod},
                                {"cityjson_geometries_unsupported", r.cityjson_geometries_unsupported}})
     if (n) j[key] = n;
+  if (!r.reference_system.empty()) j["reference_system"] = r.reference_system;
   return j;
 }
 

@@ -1,13 +1,17 @@
 // perclod/model_exports.h - the files a viewer loads for one model: the
 // manifest (which distances each LOD serves), a GLB per LOD, the all-LOD GLB
-// (MSFT_lod) and a 3D Tiles 1.1 tileset placed by an ENU frame.
+// (MSFT_lod) and a 3D Tiles 1.1 tileset placed on the Earth by the model's
+// CRS (PROJ) or by an ENU frame at crs_origin.
 #pragma once
 
 #include <array>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <vector>
 
 #include "perclod/config.h"
+#include "perclod/crs.h"
+#include "perclod/load.h"
 #include "perclod/lods.h"
 #include "perclod/run_model.h"
 
@@ -41,11 +45,25 @@ std::vector<LodRange> lod_ranges(const std::vector<double>& distances, const std
 // transform (ENU metres -> ECEF metres) 3D Tiles takes.
 std::array<double, 16> enu_to_ecef(double lat_deg, double lon_deg, double height);
 
+// Where a model's CRS places it: the frame of config.crs, else of the
+// CityJSON file's referenceSystem (load.reference_system), at the centre of
+// its bounding box (scene.offset); none with crs_origin, crs: none, or no CRS.
+// Throws std::runtime_error naming the model file and the code when the
+// file's referenceSystem is no EPSG code or PROJ cannot place the centre.
+std::optional<CrsFrame> model_crs_frame(const BatchConfig& config, const LoadReport& load, const Scene& scene);
+
+// The tileset root's transform (column-major) for a model placed by `frame`,
+// whose point is `centre` (model units, source axes): the tileset's +Z-up
+// coordinates (source coordinates, turned as `up` says) to ECEF.
+std::array<double, 16> crs_transform(const CrsFrame& frame, const std::array<double, 3>& centre, UpAxis up);
+
 // Writes beside the report in job.label.out: a GLB per LOD (when the LODs are
 // OBJ), <stem>_lods.glb (MSFT_lod), <stem>_tileset.json (3D Tiles 1.1) when
 // config.tileset, and always <stem>_manifest.json (last: its presence marks
 // the outputs complete). File names in them are relative to the folder.
+// `frame` (model_crs_frame) places the tileset and enters the manifest.
 nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>& lods, const LodJob& job,
-                                   const BatchConfig& config, const ModelRun& run, const ModelReport& report);
+                                   const BatchConfig& config, const ModelRun& run, const ModelReport& report,
+                                   const std::optional<CrsFrame>& frame);
 
 }  // namespace perclod

@@ -72,6 +72,11 @@ struct BatchConfig {
   bool tileset = true;               // also write the all-LOD GLB, a GLB per LOD and a 3D Tiles tileset.json
   bool debug_images = true;          // per-view PNGs: renders, perception images, markings, LOD-vs-original pictures
   bool marking_near = false;         // also the marking from d/4 (one more full render per view and distance)
+  // crs: the model's CRS as an EPSG code ("EPSG:7415", checked with PROJ;
+  // perclod/crs.h), "none" (source coordinates, a CityJSON file's
+  // referenceSystem ignored), or "" (unset: a CityJSON file's referenceSystem,
+  // else source coordinates). Not with crs_origin.
+  std::string crs;
   // crs_origin: {lat, lon, height}: the model's coordinates are metres east,
   // north, up of this point (WGS84 degrees, ellipsoidal metres); the tileset
   // is placed there by a local ENU transform.

@@ -24,7 +24,8 @@
 // Colours: the appearance's material diffuseColor where a surface has one
 // (the "default-theme-material", else the first theme), else the semantic
 // surface type (RoofSurface red, WallSurface light grey, GroundSurface dark,
-// Window blue, Door brown...), else the default.
+// Window blue, Door brown...), else the default. The file's
+// metadata.referenceSystem goes out in LoadReport::reference_system.
 //
 // Components: an OBJ's o/g groups, assimp's nodes/meshes (CityJSON: above); where one has at
 // most one, the connected parts after welding equal positions.
@@ -75,13 +76,18 @@ struct LoadReport {
   // MultiLineString) or unknown (skipped).
   size_t cityjson_objects_without_lod = 0;
   size_t cityjson_geometries_unsupported = 0;
+  // CityJSON: the file's metadata.referenceSystem as it is written
+  // ("urn:ogc:def:crs:EPSG::7415"; a value that is not a string as its JSON),
+  // "" when it has none. The config's `crs` reads it (perclod/crs.h).
+  std::string reference_system;
   double seconds = 0;
 };
 
 Scene load_scene(const std::string& path, const LoadOptions& options = {}, LoadReport* report = nullptr);
 
 // The report as `info --json` and the run report print it ("polygons_fanned"
-// only when some polygon was fanned).
+// only when some polygon was fanned, "reference_system" only when the file
+// has one).
 nlohmann::json load_report_json(const LoadReport& report);
 
 // Mesh statistics for `perclod info`.
