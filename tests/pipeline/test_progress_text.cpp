@@ -24,11 +24,11 @@ TEST(ProgressText, ALodLineGivesCountsWorstFiguresAndWhyItStopped) {
   r.simplify.triangles_before = {10, 70, 20};
   r.simplify.triangles_after = {10, 30, 0};
   r.views.resize(3);
-  r.fidelity.worst = {0.0125, 0.99, 0.001};
+  r.fidelity.worst = {0.0125, 0.99, 0.001, 0.75};
   l.progress.lod_made(r);
   ASSERT_EQ(l.got.size(), 1u);
   EXPECT_EQ(l.got[0], "  LOD 56 m: 100 -> 40 triangles (40%); worst of 3 views: 1.25% changed, SSIM 0.99, "
-                      "silhouette 0.1%; out/m_lod_56m.obj");
+                      "silhouette 0.1%, visible 0.75x the floor; out/m_lod_56m.obj");
   r.simplify.refused_counted = true;
   r.simplify.refused.shape = 2;
   l.progress.lod_made(r);
@@ -41,12 +41,13 @@ TEST(ProgressText, ATryNamesItsBoundsAndWhetherItMet) {
   LodTry t;
   t.e_imperceptible = 8, t.e_perceptible = 0.5, t.triangles = 1234;
   t.undisplayable = {false, 4, -1};
-  t.worst = {0.02, 0.98, 0.005};
+  t.worst = {0.02, 0.98, 0.005, 1.5};
   t.met = true;
   l.progress.lod_tried("fidelity target", 132, t);
   ASSERT_EQ(l.got.size(), 1u);
   EXPECT_EQ(l.got[0], "  fidelity target at 132 m: e_imperceptible 8 px, e_perceptible 0.5 px, undisplayable "
-                      "collapsed within 4 px -> 1234 triangles, worst 2% changed, SSIM 0.98, silhouette 0.5% (met)");
+                      "collapsed within 4 px -> 1234 triangles, worst 2% changed, SSIM 0.98, silhouette 0.5%, visible 1.5x "
+                      "the floor (met)");
 }
 
 TEST(ProgressText, AViewLineSumsItsPassesAndNamesAutosChoice) {
