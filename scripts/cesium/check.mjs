@@ -40,6 +40,7 @@ const DISTANCE_TOLERANCE = 1e-3; // Cesium's distance to the root's box vs the p
 const MIN_SHADE_SPREAD = 10; // relit: grey levels between the 5th and 95th percentile of the change
 
 class UsageError extends Error {}
+const usedShotDirs = new Set();
 
 function parseArgs(argv) {
   const o = { folders: [], json: null, shots: null, chromium: null, timeout: 60, forceUnlit: false };
@@ -137,6 +138,50 @@ function planViews(manifest) {
   return views;
 }
 
+// The JSON chunk of a GLB.
+function glbJson(file) {
+  const b = fs.readFileSync(file);
+  if (b.length < 20 || b.readUInt32LE(0) !== 0x46546c67 || b.readUInt32LE(16) !== 0x4e4f534a) {
+    throw new Error(`${file}: not a GLB with a JSON chunk`);
+  }
+  return JSON.parse(b.subarray(20, 20 + b.readUInt32LE(12)).toString("utf8"));
+}
+
+// What a renderer needs to light the content the way perclod means it,
+// read from each tile's GLB: every primitive has normals, and no material is
+// metallic (glTF's metallicFactor is 1 when absent: a PBR client such as
+// CesiumJS then draws the surface as rough metal, with no diffuse light, so
+// its brightness follows the view direction, not the light's).
+function checkContents(model) {
+  const dir = path.dirname(model.tilesetPath);
+  const out = { glbs: [], problems: [] };
+  for (let tile = model.tileset.root; tile; tile = (tile.children || [])[0]) {
+    const uri = tile.content && tile.content.uri;
+    if (!uri || !uri.endsWith(".glb")) continue;
+    const j = glbJson(path.join(dir, decodeURIComponent(uri)));
+    let primitives = 0;
+    let withoutNormals = 0;
+    for (const mesh of j.meshes || []) {
+      for (const p of mesh.primitives || []) {
+        ++primitives;
+        if (!p.attributes || p.attributes.NORMAL === undefined) ++withoutNormals;
+      }
+    }
+    const metallic = (j.materials || [])
+      .map((m) => ({ name: m.name || "(unnamed)", metallic: (m.pbrMetallicRoughness || {}).metallicFactor ?? 1.0 }))
+      .filter((m) => m.metallic > 0);
+    out.glbs.push({ glb: uri, primitives, without_normals: withoutNormals, materials: (j.materials || []).length,
+      metallic_materials: metallic });
+    if (withoutNormals) out.problems.push(`${uri}: ${withoutNormals} of ${primitives} primitives have no NORMAL (drawn unlit)`);
+    if (metallic.length) {
+      out.problems.push(`${uri}: ${metallic.length} of ${(j.materials || []).length} materials are metallic ` +
+        `(${metallic.slice(0, 3).map((m) => `"${m.name}" metallicFactor ${m.metallic}`).join(", ")}; absent means 1): ` +
+        `CesiumJS draws them as rough metal, lit by reflection only; perclod means matte (metallicFactor 0)`);
+    }
+  }
+  return out;
+}
+
 function contentType(file) {
   const types = {
     ".html": "text/html; charset=utf-8", ".js": "text/javascript; charset=utf-8", ".mjs": "text/javascript",
@@ -190,9 +235,15 @@ function savePng(dataUrl, file) {
   fs.writeFileSync(file, Buffer.from(dataUrl.slice(dataUrl.indexOf(",") + 1), "base64"));
 }
 
-async function checkModel(browser, origin, model, o, shots) {
+async function checkModel(browser, origin, model, o, shotsRoot) {
   const m = model.manifest;
   const name = (m.model && m.model.name) || path.basename(model.manifestPath, "_manifest.json");
+  // Each model's screenshots in a folder of its own (two folders may hold
+  // models of the same name).
+  let shots = path.join(shotsRoot, name);
+  for (let k = 2; usedShotDirs.has(shots); ++k) shots = path.join(shotsRoot, `${name}-${k}`);
+  usedShotDirs.add(shots);
+  fs.mkdirSync(shots, { recursive: true });
   const display = m.display || {};
   const extras = (((model.tileset.asset || {}).extras || {}).perclod) || {};
   const problems = [];
@@ -205,6 +256,8 @@ async function checkModel(browser, origin, model, o, shots) {
   if (extras.display && extras.display.height_px !== height) {
     problems.push(`tileset display height ${extras.display.height_px} px is not the manifest's ${height} px`);
   }
+  const contents = checkContents(model);
+  problems.push(...contents.problems);
   const box = model.tileset.root && model.tileset.root.boundingVolume && model.tileset.root.boundingVolume.box;
   if (!box) throw new Error(`${model.tilesetPath}: the root has no bounding box`);
 
@@ -260,7 +313,7 @@ async function checkModel(browser, origin, model, o, shots) {
       relight: v.kind === "oblique" ? RELIGHT : null,
     });
     r.view_ms = Date.now() - started;
-    const tag = `${name}_${v.kind}_${fmt(v.distance)}m`;
+    const tag = `${v.kind}_${fmt(v.distance)}m`;
     const shot = path.join(shots, `${tag}.png`);
     savePng(r.png, shot);
     delete r.png;
@@ -297,6 +350,7 @@ async function checkModel(browser, origin, model, o, shots) {
     maximum_screen_space_error: mse,
     root_transform: model.tileset.root.transform || null,
     setup,
+    contents: contents.glbs,
     views: results,
     console_errors: consoleErrors,
     console_warnings: consoleWarnings,

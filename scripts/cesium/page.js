@@ -84,8 +84,8 @@ function readPixels(withPng) {
   return { w, h, data, png: withPng ? canvas.toDataURL("image/png") : null };
 }
 
-// Model pixels: those that differ from the background by more than a few
-// levels (the background is one flat colour: no sky, globe or sun).
+// Model pixels: those that differ from the background by more than 24 levels
+// in a channel (the background is one flat colour: no sky, globe or sun).
 function modelMask(px) {
   const bg = state.background;
   const n = px.w * px.h;
@@ -189,7 +189,9 @@ window.perclodSetup = async function (o) {
   state.widget = widget;
   state.scene = scene;
   scene.fog.enabled = false;
-  scene.backgroundColor = new C.Color(1.0, 0.0, 1.0, 1.0);
+  // A flat pale blue: no sky box or atmosphere, and far enough from any
+  // grey, white or roof colour to tell the model's pixels from it.
+  scene.backgroundColor = C.Color.fromBytes(184, 209, 237, 255);
   scene.screenSpaceCameraController.enableInputs = false;
   widget.clock.shouldAnimate = false;
   widget.resize();
@@ -335,7 +337,6 @@ window.perclodView = async function (view) {
     state.widget.render();
     const right = modelMask(readPixels());
     state.scene.light = first;
-    state.widget.render();
     const delta = [];
     for (let i = 0; i < left.mask.length; ++i) {
       if (left.mask[i] && right.mask[i]) delta.push(right.luma[i] - left.luma[i]);
