@@ -173,11 +173,13 @@ function checkContents(model) {
     out.glbs.push({ glb: uri, primitives, without_normals: withoutNormals, materials: (j.materials || []).length,
       metallic_materials: metallic });
     if (withoutNormals) out.problems.push(`${uri}: ${withoutNormals} of ${primitives} primitives have no NORMAL (drawn unlit)`);
-    if (metallic.length) {
-      out.problems.push(`${uri}: ${metallic.length} of ${(j.materials || []).length} materials are metallic ` +
-        `(${metallic.slice(0, 3).map((m) => `"${m.name}" metallicFactor ${m.metallic}`).join(", ")}; absent means 1): ` +
-        `CesiumJS draws them as rough metal, lit by reflection only; perclod means matte (metallicFactor 0)`);
-    }
+  }
+  const metallicGlbs = out.glbs.filter((g) => g.metallic_materials.length);
+  if (metallicGlbs.length) {
+    const names = [...new Set(metallicGlbs.flatMap((g) => g.metallic_materials.map((m) => `"${m.name}" ${m.metallic}`)))];
+    out.problems.push(`metallic materials in ${metallicGlbs.length} of ${out.glbs.length} GLBs (metallicFactor ` +
+      `${names.slice(0, 4).join(", ")}${names.length > 4 ? ", ..." : ""}; absent means 1): CesiumJS draws them as ` +
+      `rough metal, lit by reflection only, where perclod renders matte colours (metallicFactor 0)`);
   }
   return out;
 }
