@@ -447,6 +447,11 @@ async function main() {
   const passed = report.models.reduce((n, m) => n + m.views.filter((v) => v.pass).length, 0);
   console.log(`check_cesium: ${status === 0 ? "OK" : "FAILED"}: ${passed} of ${views} views passed on ${report.models.length} ` +
     `model(s) in ${report.seconds.toFixed(1)} s; screenshots in ${shots}${o.json ? `; results in ${o.json}` : ""}`);
+  // The plain count test runners close with (scripts/test.sh adds it up):
+  // each view, and each model's problems outside the views as one check.
+  const modelChecks = report.models.length;
+  const modelFailed = report.models.filter((m) => m.problems.length).length;
+  console.log(`${passed + modelChecks - modelFailed} passed, ${views - passed + modelFailed} failed`);
   return status;
 }
 
