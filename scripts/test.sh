@@ -7,11 +7,15 @@
 #   fuzz    libFuzzer smoke: the targets in tests/fuzz/ for FUZZ_SECONDS
 #           (default 15) from their committed seeds (scripts/fuzz.sh);
 #           fuzz_assimp replays its seeds only (see stage_fuzz)
+#   cesium  the demo's LODs in a real client: a run of configs/demo.yaml
+#           into a temporary folder, then scripts/check_cesium.sh on it
+#           (CesiumJS in headless Chromium; installs Debian chromium and the
+#           pinned npm packages if missing; docs/clients.md)
 # Every stage runs even when an earlier one failed; the last line is
 # `N passed, N failed` over all of them (ctest's tests, fuzz targets, and a
 # stage that failed before its checks counts as one failure), and the exit
 # status is non-zero when anything failed.
-# Usage: scripts/test.sh [--normal-only | --asan-only | --fuzz-only]
+# Usage: scripts/test.sh [--normal-only | --asan-only | --fuzz-only | --cesium-only]
 set -euo pipefail
 self="$(cd "$(dirname "$0")" && pwd)/$(basename "$0")"
 cd "$(dirname "$0")/.."
@@ -72,14 +76,29 @@ stage_fuzz() {
   scripts/fuzz.sh --no-build --seconds "${FUZZ_SECONDS:-15}" --seed 1 --parallel 3 fuzz_obj fuzz_labels fuzz_yaml
 }
 
-stages=(normal asan fuzz)
+stage_cesium() {
+  scripts/setup.sh
+  local work
+  work=$(mktemp -d /tmp/test-cesium.XXXXXX)
+  # The demo config with its paths made absolute and its output in $work;
+  # no debug images (the check reads only the GLBs, tileset and manifest).
+  sed -e "s#^model: #model: $PWD/configs/#" -e "s#^display: #display: $PWD/configs/#" \
+      -e "s#^out: .*#out: $work/out#" -e "s#^debug_images: .*#debug_images: false#" \
+      configs/demo.yaml >"$work/demo.yaml"
+  build/perclod run "$work/demo.yaml" >"$work/run.log" 2>&1 || { tail -20 "$work/run.log"; return 1; }
+  scripts/check_cesium.sh --json "$work/cesium.json" --shots "$work/shots" "$work/out"
+  rm -rf "$work"  # kept when the check failed (set -e): screenshots and results
+}
+
+stages=(normal asan fuzz cesium)
 case "${1:-}" in
   "") ;;
   --normal-only) stages=(normal) ;;
   --asan-only) stages=(asan) ;;
   --fuzz-only) stages=(fuzz) ;;
+  --cesium-only) stages=(cesium) ;;
   --stage) "stage_$2"; exit ;;  # internal: one stage, in its own process so set -e holds
-  *) echo "usage: scripts/test.sh [--normal-only | --asan-only | --fuzz-only]" >&2; exit 2 ;;
+  *) echo "usage: scripts/test.sh [--normal-only | --asan-only | --fuzz-only | --cesium-only]" >&2; exit 2 ;;
 esac
 
 passed=0
@@ -94,7 +113,8 @@ for s in "${stages[@]}"; do
   rc=${PIPESTATUS[0]}
   set -e
   secs=$(($(date +%s) - start))
-  # ctest: "100% tests passed, 0 tests failed out of 153"; fuzz.sh: "4 passed, 0 failed".
+  # ctest: "100% tests passed, 0 tests failed out of 153"; fuzz.sh and
+  # check_cesium: "4 passed, 0 failed".
   if c=$(grep -oE '[0-9]+ tests failed out of [0-9]+' "$log" | tail -1) && [[ -n "$c" ]]; then
     f=${c%% *}; total=${c##* }; p=$((total - f))
   elif c=$(grep -oE '^[0-9]+ passed, [0-9]+ failed$' "$log" | tail -1) && [[ -n "$c" ]]; then
