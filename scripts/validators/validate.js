@@ -244,7 +244,7 @@ function checkTileset(file, externalTilesets) {
   }
   if (finite(tileset.geometricError) && finite(tileset.root.geometricError) && tileset.root.geometricError > tileset.geometricError)
     add('warning', 'TILESET_ERROR_BELOW_ROOT', '/geometricError',
-      `the tileset geometricError ${tileset.geometricError} is below its root's ${tileset.root.geometricError}: a client would show the root tile from farther than it refines into it`);
+      `the tileset geometricError ${tileset.geometricError} (the error of drawing none of it) is below its root tile's ${tileset.root.geometricError} (the error of drawing the root alone): drawing nothing would count as more accurate than the coarsest level`);
   if (!['ADD', 'REPLACE'].includes(tileset.root.refine))
     add('error', 'ROOT_REFINE', '/root/refine', `the root tile's refine is ${JSON.stringify(tileset.root.refine)}, not "ADD" or "REPLACE" (required at the root)`);
 
@@ -294,7 +294,10 @@ function checkTileset(file, externalTilesets) {
               if (finite(ext.geometricError) && finite(tile.geometricError) && ext.geometricError > tile.geometricError)
                 add('warning', 'EXTERNAL_TILESET_ERROR', `${pointer}/content/uri`,
                   `${uri}'s geometricError ${ext.geometricError} is above the referencing tile's ${tile.geometricError}`);
-              if (vol && ext.root.boundingVolume && !ext.root.transform) {
+              // The external root's box, through its own transform, in this
+              // tile's frame, must lie in this tile's volume.
+              const extTransform = finiteArray(ext.root.transform, 16) ? ext.root.transform : mat4Identity();
+              if (vol && !vol.region && ext.root.boundingVolume) {
                 const inner = ext.root.boundingVolume.box ?? null;
                 if (inner) {
                   const pts = [];
@@ -304,18 +307,17 @@ function checkTileset(file, externalTilesets) {
                       const s = (i >> k) & 1 ? 1 : -1;
                       for (let a = 0; a < 3; ++a) p[a] += s * inner[3 + 3 * k + a];
                     }
-                    pts.push(p);
+                    pts.push(mat4Point(extTransform, p));
                   }
                   const out = outside(vol, pts);
-                  if (out > 1e-3 * Math.max(1, Math.hypot(...inner.slice(3, 12))))
+                  if (out > 1e-4 * Math.max(1, Math.hypot(...inner.slice(3, 12))) + 1e-3)
                     add('warning', 'EXTERNAL_TILESET_OUTSIDE_VOLUME', `${pointer}/boundingVolume`,
                       `${uri}'s root box reaches ${out.toPrecision(4)} m out of this tile's bounding volume`);
                 }
               }
               const c = ext.root.boundingVolume && volumeCentre(ext.root.boundingVolume);
               if (c) {
-                const t = ext.root.transform && finiteArray(ext.root.transform, 16) ? mat4Mul(transform, ext.root.transform) : transform;
-                centres.push({ pointer: `${pointer} -> ${uri}`, centre: mat4Point(t, c) });
+                centres.push({ pointer: `${pointer} -> ${uri}`, centre: mat4Point(mat4Mul(transform, extTransform), c) });
               }
             }
           } catch (e) {
