@@ -221,6 +221,21 @@ const finiteArray = (a, n) => Array.isArray(a) && a.length === n && a.every(fini
 // WGS84's semi-minor axis less 100 km: a centre nearer the Earth's centre
 // than this is drawn deep inside the Earth by a globe client.
 const INSIDE_EARTH_M = 6356752.3 - 100000;
+// A placed model further than this above or below the ellipsoid is misplaced.
+const OFF_SURFACE_M = 10000;
+
+// ECEF metres -> [latitude deg, longitude deg, ellipsoidal height m] (WGS84).
+function wgs84Geodetic([x, y, z]) {
+  const a = 6378137.0, f = 1 / 298.257223563, e2 = f * (2 - f);
+  const lon = Math.atan2(y, x), p = Math.hypot(x, y);
+  let lat = Math.atan2(z, p * (1 - e2)), h = 0;
+  for (let i = 0; i < 10; ++i) {
+    const n = a / Math.sqrt(1 - e2 * Math.sin(lat) ** 2);
+    h = p / Math.cos(lat) - n;
+    lat = Math.atan2(z, p * (1 - (e2 * n) / (n + h)));
+  }
+  return [(lat * 180) / Math.PI, (lon * 180) / Math.PI, h];
+}
 
 // Checks one tileset file; external tilesets it references are followed for
 // placement and errors (each is also checked as a file of its own).
@@ -351,6 +366,22 @@ function checkTileset(file, externalTilesets) {
   // projected coordinates). Reported once per tileset, as information: the
   // format allows it, but a globe client shows nothing there.
   const inside = centres.filter((c) => Math.hypot(...c.centre) < INSIDE_EARTH_M);
+  const placed = centres.filter((c) => Math.hypot(...c.centre) >= INSIDE_EARTH_M);
+  if (placed.length) {
+    // Where the first content lands (WGS84), to compare with the source
+    // CRS's position (e.g. PROJ's cs2cs); far from the surface is a warning.
+    const [lat, lon, h] = wgs84Geodetic(placed[0].centre);
+    add('info', 'PLACEMENT', placed[0].pointer,
+      `content volume centred at latitude ${lat.toFixed(7)}, longitude ${lon.toFixed(7)}, ${h.toFixed(2)} m above the WGS84 ellipsoid`);
+    for (const c of placed) {
+      const [, , hc] = wgs84Geodetic(c.centre);
+      if (Math.abs(hc) > OFF_SURFACE_M) {
+        add('warning', 'PLACED_OFF_THE_SURFACE', c.pointer,
+          `content volume centred ${(hc / 1000).toFixed(1)} km ${hc > 0 ? 'above' : 'below'} the WGS84 ellipsoid: the transform and the coordinates do not agree`);
+        break;
+      }
+    }
+  }
   if (inside.length) {
     const r = Math.max(...inside.map((c) => Math.hypot(...c.centre)));
     add('info', 'NOT_GEOREFERENCED', inside[0].pointer,
