@@ -197,6 +197,8 @@ class FileLock {
   int fd_;
 };
 
+}  // namespace
+
 // <out>/tileset.json: one child per complete model folder (external tilesets).
 void write_batch_tileset(const std::string& out) {
   nlohmann::json children = nlohmann::json::array();
@@ -255,14 +257,20 @@ void write_batch_tileset(const std::string& out) {
   }
   double c[3], r = 0;
   for (int a = 0; a < 3; ++a) c[a] = 0.5 * (lo[a] + hi[a]), r += 0.25 * (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  // The root's error: at least each child's and the batch's diameter. The
+  // tileset's own error (that of drawing nothing) is the same, never below
+  // the root's, as in a model's tileset.
+  const double root_error = std::max(error, 2 * std::sqrt(r));
   nlohmann::json ts = {{"asset", {{"version", "1.1"}, {"generator", std::string("perclod ") + perclod_version()}}},
-                       {"geometricError", 2 * std::sqrt(r)},
+                       {"geometricError", root_error},
                        {"root", {{"boundingVolume", {{"sphere", {c[0], c[1], c[2], std::sqrt(r)}}}},
-                                 {"geometricError", std::max(error, 2 * std::sqrt(r))},
+                                 {"geometricError", root_error},
                                  {"refine", "ADD"},
                                  {"children", children}}}};
   write_text_atomic(batch_tileset_file(out), ts.dump(2) + "\n");
 }
+
+namespace {
 
 // <out>/index.html from every shard's summary batch_<i>_of_<n>.json on disk
 // (the shards of one split: each lists its own models).

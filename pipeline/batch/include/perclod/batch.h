@@ -42,6 +42,13 @@ std::vector<size_t> shard_indices(size_t count, int shard, int shards);
 // framed in many tiles needs far more, and its entry's memory_mb says so).
 double estimate_memory_mb(const std::string& model_file);
 
+// Writes <out>/tileset.json (3D Tiles 1.1) over every model folder in out
+// that holds a <name>_tileset.json: one child per model, its content that
+// tileset (an external tileset), ADD refinement. Its geometricError and its
+// root's are the larger of the batch's bounding-sphere diameter and every
+// model tileset's geometricError. Writes nothing when no folder has one.
+void write_batch_tileset(const std::string& out);
+
 // Runs the batch; `log` receives progress lines ("[i/n name] ..."; with an
 // estimate of the time left when `eta` is set). Returns what it did with
 // each model, also written (batch_summary_json) to
