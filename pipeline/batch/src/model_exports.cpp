@@ -141,6 +141,7 @@ nlohmann::json crs_json(const CrsFrame& f, const BatchConfig& config, const std:
       {"ballpark", f.ballpark},
       {"heights_as_ellipsoidal", f.height_ballpark}};
   if (!f.height_operation.empty()) j["height_operation"] = f.height_operation;
+  if (!f.height_fallback.empty()) j["height_fallback"] = f.height_fallback;
   return j;
 }
 

@@ -151,6 +151,12 @@ class Placer {
       if (!horizontal_crs_) throw std::invalid_argument(code + ": PROJ gives no horizontal part of it");
       horizontal = horizontal_crs_.get();
       height_ = transformation(ctx, crs, "EPSG:4979", code);
+      // Heights above the EGM96 geoid (EPSG:5773; Debian's proj-data has
+      // its grid), for when the CRS's own geoid grid is missing.
+      if (Pj egm96(proj_create(ctx, "EPSG:4326+5773")); egm96) try {
+          egm96_ = transformation(ctx, egm96.get(), "EPSG:4979", "EPSG:5773");
+        } catch (const std::invalid_argument&) {
+        }
     }
     position_ = transformation(ctx, horizontal, "EPSG:4979", code);
     flat_ = !has_heights(ctx, horizontal);
@@ -167,6 +173,13 @@ class Placer {
     if (!flat_) return through(position_.get(), q);
     std::array<double, 3> g = through(position_.get(), {q[0], q[1], 0});
     g[2] = height_ ? through(height_.get(), q)[2] : q[2];
+    // A compound CRS whose geoid PROJ lacks (a ballpark vertical step) has
+    // its heights taken as EGM96 heights: within a metre or two of most
+    // national geoids, where ellipsoidal would be tens of metres off.
+    if (height_ && egm96_ && is_ballpark(height_.get())) {
+      const double h = through(egm96_.get(), {g[0], g[1], q[2]})[2];
+      if (!is_ballpark(egm96_.get())) g[2] = h, egm96_used_ = true;
+    }
     return g;
   }
   std::array<double, 3> ecef(const std::array<double, 3>& p) const { return through(cart_.get(), wgs84(p)); }
@@ -184,6 +197,7 @@ class Placer {
     PJ* ho = h ? h.get() : height_.get();
     if (const char* name = proj_get_name(ho)) f.height_operation = name;
     f.height_ballpark = proj_coordoperation_has_ballpark_transformation(ctx_, ho) == 1;
+    if (egm96_used_) f.height_ballpark = false, f.height_fallback = "EGM96";
   }
 
  private:
@@ -198,11 +212,18 @@ class Placer {
     return r;
   }
 
+  // Whether the operation `op` last used has a ballpark step.
+  bool is_ballpark(PJ* op) const {
+    Pj used(proj_trans_get_last_used_operation(op));
+    return proj_coordoperation_has_ballpark_transformation(ctx_, used ? used.get() : op) == 1;
+  }
+
   PJ_CONTEXT* ctx_;
   std::string code_;
   double scale_;
-  Pj horizontal_crs_, position_, height_, cart_;
+  Pj horizontal_crs_, position_, height_, egm96_, cart_;
   bool flat_ = false;  // the horizontal CRS has no third axis
+  mutable bool egm96_used_ = false;
 };
 
 // Model units along an axis between the points whose difference gives the

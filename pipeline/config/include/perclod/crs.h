@@ -44,6 +44,11 @@ struct CrsFrame {
   // compound CRS whose geoid model PROJ lacks (a ballpark vertical step), or
   // a CRS without heights of its own (a 2D projected one).
   bool height_ballpark = false;
+  // "EGM96" when a compound CRS's geoid grid is missing and its heights
+  // were taken as heights above the EGM96 geoid instead (Debian's proj-data
+  // has that grid): the Delft tile's NAP heights are 43.5 m over the
+  // ellipsoid there, not 0.
+  std::string height_fallback;
 };
 
 // The frame of CRS `code` at `point`, in model units: source coordinates
