@@ -23,24 +23,12 @@ if [[ $# -lt 1 || "$1" == -h || "$1" == --help ]]; then
 fi
 dir="$(cd "$(dirname "$0")" && pwd)/cesium"
 
-install_packages() {
-  local missing=()
-  for p in "$@"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-  done
-  [[ ${#missing[@]} -eq 0 ]] && return 0
-  if [[ $(id -u) -ne 0 ]]; then
-    echo "check_cesium: needs ${missing[*]}: run as root or: sudo apt-get install ${missing[*]}" >&2
-    exit 2
-  fi
-  echo "check_cesium: installing ${missing[*]} (apt-get)" >&2
-  apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=600 install -y --no-install-recommends "${missing[@]}" >&2
-}
+# shellcheck source=install_packages.sh
+source "$(dirname "${BASH_SOURCE[0]}")/install_packages.sh"
 
-[[ -x /usr/lib/chromium/chromium ]] || command -v chromium >/dev/null || install_packages chromium
-command -v node >/dev/null || install_packages nodejs npm
-command -v npm >/dev/null || install_packages npm
+[[ -x /usr/lib/chromium/chromium ]] || command -v chromium >/dev/null || install_packages check_cesium chromium
+command -v node >/dev/null || install_packages check_cesium nodejs npm
+command -v npm >/dev/null || install_packages check_cesium npm
 node_major=$(node -p 'process.versions.node.split(".")[0]')
 if ((node_major < 18)); then
   echo "check_cesium: node $(node --version) is too old: puppeteer-core needs 18 or newer (Debian 12 has 18)" >&2

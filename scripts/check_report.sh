@@ -25,22 +25,10 @@ shot=${2:-$work/$(basename "${page%.*}").png}
 shot=$(realpath -m "$shot")
 mkdir -p "$(dirname "$shot")"
 
-install_packages() {
-  local missing=()
-  for p in "$@"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-  done
-  [[ ${#missing[@]} -eq 0 ]] && return 0
-  if [[ $(id -u) -ne 0 ]]; then
-    echo "check_report: needs ${missing[*]}: run as root or: sudo apt-get install ${missing[*]}" >&2
-    exit 2
-  fi
-  echo "check_report: installing ${missing[*]} (apt-get)" >&2
-  apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=600 install -y --no-install-recommends "${missing[@]}"
-}
-command -v chromium >/dev/null || install_packages chromium
-[[ -x /usr/bin/python3 ]] && /usr/bin/python3 -c 'import PIL' 2>/dev/null || install_packages python3-pil
+# shellcheck source=install_packages.sh
+source "$(dirname "${BASH_SOURCE[0]}")/install_packages.sh"
+command -v chromium >/dev/null || install_packages check_report chromium
+[[ -x /usr/bin/python3 ]] && /usr/bin/python3 -c 'import PIL' 2>/dev/null || install_packages check_report python3-pil
 
 status=0
 # 1. Load the page (scripts/check_report.py drives Chromium over the DevTools

@@ -46,15 +46,9 @@ if [[ -n "$tiles_validator" ]]; then
   args+=(--tiles-validator "$(realpath "$tiles_validator")")
 fi
 
-if ! command -v node > /dev/null; then
-  if [[ $(id -u) -ne 0 ]]; then
-    echo "validate_exports: needs node (>= 18) and npm: run as root or: sudo apt-get install nodejs npm" >&2
-    exit 2
-  fi
-  echo "validate_exports: installing nodejs npm (apt-get)" >&2
-  apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=600 install -y --no-install-recommends nodejs npm >&2
-fi
+# shellcheck source=install_packages.sh
+source "$(dirname "${BASH_SOURCE[0]}")/install_packages.sh"
+command -v node > /dev/null || install_packages validate_exports nodejs npm
 if ! node -e 'process.exit(+process.versions.node.split(".")[0] >= 18 ? 0 : 1)'; then
   echo "validate_exports: node $(node --version) is older than 18" >&2
   exit 2

@@ -37,6 +37,21 @@ Labelled label_building(Renderer& renderer) {
   return l;
 }
 
+// The building without its perceptible triangles: a change every view sees.
+Scene without_perceptible(const Labelled& l) {
+  Scene cut = l.scene;
+  cut.indices.clear();
+  cut.component.clear();
+  cut.material.clear();
+  for (size_t t = 0; t < l.scene.triangle_count(); ++t) {
+    if (l.result.labels[t] == Label::Perceptible) continue;
+    for (int k = 0; k < 3; ++k) cut.indices.push_back(l.scene.indices[3 * t + k]);
+    if (!l.scene.component.empty()) cut.component.push_back(l.scene.component[t]);
+    if (!l.scene.material.empty()) cut.material.push_back(l.scene.material[t]);
+  }
+  return cut;
+}
+
 size_t total(const std::vector<ViewFigures>& views, size_t ViewFigures::*field) {
   size_t n = 0;
   for (const ViewFigures& v : views) n += v.*field;
@@ -92,16 +107,7 @@ TEST(LodFidelity, SeesNoChangeInTheOriginalAndSeesARemovedPart) {
   EXPECT_EQ(total(same, &ViewFigures::coverage_changed_pixels), 0u);
 
   // Drop every perceptible triangle: the views must notice.
-  Scene cut = l.scene;
-  cut.indices.clear();
-  cut.component.clear();
-  cut.material.clear();
-  for (size_t t = 0; t < l.scene.triangle_count(); ++t) {
-    if (l.result.labels[t] == Label::Perceptible) continue;
-    for (int k = 0; k < 3; ++k) cut.indices.push_back(l.scene.indices[3 * t + k]);
-    if (!l.scene.component.empty()) cut.component.push_back(l.scene.component[t]);
-    if (!l.scene.material.empty()) cut.material.push_back(l.scene.material[t]);
-  }
+  const Scene cut = without_perceptible(l);
   std::vector<ViewFigures> missing = compare_lod_views(renderer, cut, l.result.views, judge_settings_of(l.job));
   EXPECT_GT(total(missing, &ViewFigures::changed_pixels), total(missing, &ViewFigures::drawn_pixels) / 4);
   EXPECT_GT(total(missing, &ViewFigures::coverage_changed_pixels), 10000u);
@@ -120,16 +126,7 @@ TEST(LodFidelity, VisibleDifferenceIsMeasuredAgainstTheQuarterPixelFloor) {
     EXPECT_EQ(v.visible_difference, 0.0) << v.view;
     EXPECT_EQ(v.visible_ratio, 0.0) << v.view;
   }
-  Scene cut = l.scene;
-  cut.indices.clear();
-  cut.component.clear();
-  cut.material.clear();
-  for (size_t t = 0; t < l.scene.triangle_count(); ++t) {
-    if (l.result.labels[t] == Label::Perceptible) continue;
-    for (int k = 0; k < 3; ++k) cut.indices.push_back(l.scene.indices[3 * t + k]);
-    if (!l.scene.component.empty()) cut.component.push_back(l.scene.component[t]);
-    if (!l.scene.material.empty()) cut.material.push_back(l.scene.material[t]);
-  }
+  const Scene cut = without_perceptible(l);
   const std::vector<ViewFigures> missing = compare_lod_views(renderer, cut, l.result.views, judge_settings_of(l.job));
   for (const ViewFigures& v : missing) {
     EXPECT_GT(v.visible_ratio, 2.0) << v.view;
