@@ -18,6 +18,7 @@ model and distance. Writes the joined rows to --out (CSV).
 """
 import argparse
 import csv
+import hashlib
 import os
 import shutil
 import subprocess
@@ -123,11 +124,36 @@ def main():
     near = [r for r in rows if float(r["butteraugli"]) <= 10]
     if 2 < len(near) < len(rows):
         report("butteraugli <= 10", near)
+    # One row per distinct image: a stalled meshoptimizer sweep makes the
+    # same LOD at several targets, which would count one pair many times.
     unique = {}
-    for r in rows:  # one row per distinct image (several methods can make the same LOD)
-        unique.setdefault(r["pair_image"], r)
-    if len(unique) < len(rows):
-        report("all, distinct images", list(unique.values()))
+    for r in rows:
+        with open(os.path.join(a.pairs, r["pair_image"]), "rb") as f:
+            digest = hashlib.sha1(f.read()).hexdigest()
+        unique.setdefault((r["model"], r["distance"], digest), r)
+    distinct = list(unique.values())
+    if len(distinct) < len(rows):
+        report("all, distinct images", distinct)
+        for key in sorted({(r["model"], float(r["distance"])) for r in distinct}):
+            report(f"{key[0]}, {key[1]:g} m, distinct", [r for r in distinct
+                                                           if (r["model"], float(r["distance"])) == key])
+        report("distinct, butteraugli <= 10", [r for r in distinct if float(r["butteraugli"]) <= 10])
+    # Where the two disagree most: per model and distance, the distinct rows
+    # whose ranks by visible ratio and by butteraugli lie furthest apart.
+    print("\nLargest rank disagreements (distinct images; rank 1 = closest to the original)\n")
+    print("| model, d | method | tris | visible ratio (rank) | butteraugli (rank) | changed % (rank) |")
+    print("|---|---|---|---|---|---|")
+    for key in sorted({(r["model"], float(r["distance"])) for r in distinct}):
+        sub = [r for r in distinct if (r["model"], float(r["distance"])) == key]
+        rv = ranks([float(r["pair_visible"]) for r in sub])
+        rb = ranks([float(r["butteraugli"]) for r in sub])
+        rc = ranks([float(r["pair_changed"]) for r in sub])
+        worst = sorted(range(len(sub)), key=lambda i: -abs(rv[i] - rb[i]))[:3]
+        for i in worst:
+            r = sub[i]
+            print(f"| {key[0]}, {key[1]:g} m | {r['method']} {r['note'][:12]} | {r['triangles']} | "
+                  f"{float(r['pair_visible']):.3f} ({rv[i]:g}) | {float(r['butteraugli']):.2f} ({rb[i]:g}) | "
+                  f"{100 * float(r['pair_changed']):.2f} ({rc[i]:g}) |")
 
 
 if __name__ == "__main__":
