@@ -62,7 +62,8 @@
 // (measure_floors on the original's records), worst and median over all
 // judged views, and kPairView's (with that view's changed fraction and SSIM),
 // columns visible_worst, visible_median, pair_visible, pair_changed, pair_ssim;
-// pair_image names the row's --pairs file.
+// pair_image names the row's --pairs file, visible_worst_view the worst
+// view and its floor ("<view>/<floor>").
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -163,6 +164,7 @@ struct Judged {
   // show (NaN where that view is tiled), for checking the judge against an
   // independent metric such as butteraugli on the same images.
   double visible_worst = 0, visible_median = 0;
+  std::string visible_worst_view;  // the view of visible_worst, "<view>/<floor>" (which floor it was over)
   double pair_visible = NAN, pair_changed = NAN, pair_ssim = NAN;
   std::string pair_image;  // the --pairs file of this LOD ("" when none was written)
   double ssim_all() const { return std::min(labelling.ssim, held_out.ssim); }
@@ -296,12 +298,17 @@ Judged judge(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>
     w.ssim = std::min(w.ssim, v.ssim_covered);
     w.silhouette = std::max(w.silhouette, v.silhouette_mismatch);
     ratios.push_back(v.visible_ratio);
+    if (v.visible_ratio >= j.visible_worst) {
+      j.visible_worst = v.visible_ratio;
+      std::ostringstream ss;
+      ss << v.view << "/" << v.visible_floor;
+      j.visible_worst_view = ss.str();
+    }
     if (v.view == kPairView && v.set == "held_out")
       j.pair_visible = v.visible_ratio, j.pair_changed = v.changed_fraction, j.pair_ssim = v.ssim_covered;
   }
   if (!ratios.empty()) {
     std::sort(ratios.begin(), ratios.end());
-    j.visible_worst = ratios.back();
     const size_t n = ratios.size();
     j.visible_median = n % 2 ? ratios[n / 2] : 0.5 * (ratios[n / 2 - 1] + ratios[n / 2]);
   }
@@ -458,11 +465,11 @@ void row(const Model& m, double d, const std::string& method, const Judged& j, c
               100 * j.hausdorff, j.visible_worst, j.visible_median, j.pair_visible, note.c_str());
   std::fflush(stdout);
   if (g_csv) {
-    std::fprintf(g_csv, "%s,%g,%s,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.3f,%.4f,%.4f,%.4f,%.5f,%.5f,%s,%s\n",
+    std::fprintf(g_csv, "%s,%g,%s,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.3f,%.4f,%.4f,%.4f,%.5f,%.5f,%s,%s,%s\n",
                  m.key.c_str(), d, method.c_str(), j.triangles, j.seconds, j.labelling.changed, j.labelling.ssim,
                  j.labelling.silhouette, j.held_out.changed, j.held_out.ssim, j.held_out.silhouette, j.hausdorff,
                  g_label_seconds, j.visible_worst, j.visible_median, j.pair_visible, j.pair_changed, j.pair_ssim,
-                 j.pair_image.c_str(), note.c_str());
+                 j.pair_image.c_str(), j.visible_worst_view.c_str(), note.c_str());
     std::fflush(g_csv);
   }
 }
@@ -723,7 +730,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
                   m.key.c_str(), d, goal, e_i[i], fidelity[i].triangles, need,
                   need > 0 ? double(fidelity[i].triangles) / need : 0.0);
       if (g_csv)
-        std::fprintf(g_csv, "%s,%g,same_ssim e_I=%g,%zu,,,%.5f,,,,,,,,,,,,,meshopt %.0f ratio %.3f\n", m.key.c_str(), d,
+        std::fprintf(g_csv, "%s,%g,same_ssim e_I=%g,%zu,,,%.5f,,,,,,,,,,,,,,meshopt %.0f ratio %.3f\n", m.key.c_str(), d,
                      e_i[i], fidelity[i].triangles, goal, need, need > 0 ? double(fidelity[i].triangles) / need : 0.0);
     }
 #endif
@@ -791,7 +798,7 @@ int main(int argc, char** argv) {
     }
     std::fprintf(g_csv, "model,distance,method,triangles,seconds,lab_changed,lab_ssim,lab_silhouette,"
                         "held_changed,held_ssim,held_silhouette,hausdorff_rel,label_seconds,visible_worst,"
-                        "visible_median,pair_visible,pair_changed,pair_ssim,pair_image,note\n");
+                        "visible_median,pair_visible,pair_changed,pair_ssim,pair_image,visible_worst_view,note\n");
   }
 #ifndef PERCLOD_HAVE_MESHOPTIMIZER
   std::fprintf(stderr, "bench_fidelity: built without meshoptimizer: perclod rows only\n");
