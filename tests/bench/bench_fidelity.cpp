@@ -34,7 +34,7 @@
 //                       [--e-imperceptible 1,2,4] [--e-perceptible 0.5] [--csv FILE]
 //                       [--no-meshopt] [--keep-undisplayable [--e-undisplayable E] | --delete-undisplayable] [--dump DIR]
 //                       [--facade-triangles N] [--e-area A] [--max-normal-change DEG]
-//                       [--dump-view NAME] [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]
+//                       [--dump-view NAME] [--pairs DIR [--pairs-all]] [--set KEY=VALUE ...] [--only-fidelity]
 //                       [--label-shift] [--no-tighten]
 //   --no-tighten: fidelity rows at the asked bounds only. By default a
 //     fidelity LOD over the run's limits is tightened as `perclod run` does
@@ -53,7 +53,17 @@
 //   --pairs DIR: writes DIR/<model>_<d>m_original.png and one
 //   <model>_<d>m_<method>.png per row, all from the held-out view az22.5el45
 //   and cropped to the same rectangle, for an independent image metric
-//   (scripts/bench.py runs butteraugli on them).
+//   (scripts/bench.py runs butteraugli on them). --pairs-all: also the
+//   rows "original moved 1/4 px" (<tag>_moved_quarter_px), "meshopt sweep F"
+//   (<tag>_meshopt_sweepF) and "meshopt error E" (<tag>_meshopt_errorE).
+//
+// Every row also has the judge's perceptual figure (judge.h): visible_ratio,
+// each view's visible difference over its quarter-pixel floor
+// (measure_floors on the original's records), worst and median over all
+// judged views, and kPairView's (with that view's changed fraction and SSIM),
+// columns visible_worst, visible_median, pair_visible, pair_changed, pair_ssim;
+// pair_image names the row's --pairs file, visible_worst_view the worst
+// view and its floor ("<view>/<floor>").
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -99,6 +109,7 @@ std::string g_dump;   // --dump DIR: original | LOD | difference of each LOD's w
 std::string g_dump_view;  // --dump-view NAME: dump this judged view instead of the worst held-out one
 const std::vector<Label>* g_dump_labels = nullptr;  // the labels of the distance being judged, for --dump
 std::string g_pairs;  // --pairs DIR: original and LOD from kPairView, for butteraugli
+bool g_pairs_all = false;  // --pairs-all: also the moved original's and every meshoptimizer sweep LOD's pair
 const bench::HausdorffReference* g_hausdorff = nullptr;  // from the model being judged, in run_model
 std::vector<std::pair<std::string, std::string>> g_settings;  // --set KEY=VALUE, in order
 bool g_only_fidelity = false;
@@ -147,6 +158,15 @@ struct Judged {
   double seconds = 0;  // simplification
   Worst labelling, held_out;
   double hausdorff = 0;  // sampled, symmetric, / the original's bounding-box diagonal
+  // The judge's visible_ratio (the visible difference over the view's
+  // quarter-pixel floor, measure_floors) over all judged views: the worst
+  // and the median; and kPairView's figures, the view the --pairs images
+  // show (NaN where that view is tiled), for checking the judge against an
+  // independent metric such as butteraugli on the same images.
+  double visible_worst = 0, visible_median = 0;
+  std::string visible_worst_view;  // the view of visible_worst, "<view>/<floor>" (which floor it was over)
+  double pair_visible = NAN, pair_changed = NAN, pair_ssim = NAN;
+  std::string pair_image;  // the --pairs file of this LOD ("" when none was written)
   double ssim_all() const { return std::min(labelling.ssim, held_out.ssim); }
 };
 
@@ -257,7 +277,10 @@ Judged judge(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>
   if (g_hausdorff) j.hausdorff = g_hausdorff->relative(lod);
   const std::vector<ViewFigures> views = compare_lod_views(renderer, lod, records, judge_settings_of(job));
   if (views_out) *views_out = views;
-  if (g_pair.camera && !dump_name.empty()) write_pair(renderer, lod, *g_pair.camera, g_pair.crop, dump_name);
+  if (g_pair.camera && !dump_name.empty()) {
+    write_pair(renderer, lod, *g_pair.camera, g_pair.crop, dump_name);
+    j.pair_image = dump_name + ".png";
+  }
   if (!g_dump.empty() && original) {
     size_t worst = 0;
     double worst_changed = -1;
@@ -268,11 +291,26 @@ Judged judge(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>
       if (records[i].view == g_dump_view) worst = i;
     dump(renderer, *original, lod, records[worst].camera, dump_name + "_" + records[worst].view);
   }
+  std::vector<double> ratios;
   for (const auto& v : views) {
     Worst& w = v.set == "labelling" ? j.labelling : j.held_out;
     w.changed = std::max(w.changed, v.changed_fraction);
     w.ssim = std::min(w.ssim, v.ssim_covered);
     w.silhouette = std::max(w.silhouette, v.silhouette_mismatch);
+    ratios.push_back(v.visible_ratio);
+    if (v.visible_ratio >= j.visible_worst) {
+      j.visible_worst = v.visible_ratio;
+      std::ostringstream ss;
+      ss << v.view << "/" << v.visible_floor;
+      j.visible_worst_view = ss.str();
+    }
+    if (v.view == kPairView && v.set == "held_out")
+      j.pair_visible = v.visible_ratio, j.pair_changed = v.changed_fraction, j.pair_ssim = v.ssim_covered;
+  }
+  if (!ratios.empty()) {
+    std::sort(ratios.begin(), ratios.end());
+    const size_t n = ratios.size();
+    j.visible_median = n % 2 ? ratios[n / 2] : 0.5 * (ratios[n / 2 - 1] + ratios[n / 2]);
   }
   return j;
 }
@@ -420,16 +458,18 @@ double g_e_u = INFINITY;  // --e-undisplayable: with --keep-undisplayable, the b
 double g_max_normal = SimplifyOptions().max_normal_change_deg;  // --max-normal-change: fidelity's limit, degrees
 
 void row(const Model& m, double d, const std::string& method, const Judged& j, const std::string& note = "") {
-  std::printf("%-6s %4.0f  %-26s %8zu  %7.3f  | %6.2f%% %6.4f %6.2f%% | %6.2f%% %6.4f %6.2f%% | %7.4f%%  %s\n",
+  std::printf("%-6s %4.0f  %-26s %8zu  %7.3f  | %6.2f%% %6.4f %6.2f%% | %6.2f%% %6.4f %6.2f%% | %7.4f%% | %6.3f "
+              "%6.3f %6.3f  %s\n",
               m.key.c_str(), d, method.c_str(), j.triangles, j.seconds, 100 * j.labelling.changed, j.labelling.ssim,
               100 * j.labelling.silhouette, 100 * j.held_out.changed, j.held_out.ssim, 100 * j.held_out.silhouette,
-              100 * j.hausdorff, note.c_str());
+              100 * j.hausdorff, j.visible_worst, j.visible_median, j.pair_visible, note.c_str());
   std::fflush(stdout);
   if (g_csv) {
-    std::fprintf(g_csv, "%s,%g,%s,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.3f,%s\n", m.key.c_str(), d,
-                 method.c_str(), j.triangles, j.seconds, j.labelling.changed, j.labelling.ssim, j.labelling.silhouette,
-                 j.held_out.changed, j.held_out.ssim, j.held_out.silhouette, j.hausdorff, g_label_seconds,
-                 note.c_str());
+    std::fprintf(g_csv, "%s,%g,%s,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.3f,%.4f,%.4f,%.4f,%.5f,%.5f,%s,%s,%s\n",
+                 m.key.c_str(), d, method.c_str(), j.triangles, j.seconds, j.labelling.changed, j.labelling.ssim,
+                 j.labelling.silhouette, j.held_out.changed, j.held_out.ssim, j.held_out.silhouette, j.hausdorff,
+                 g_label_seconds, j.visible_worst, j.visible_median, j.pair_visible, j.pair_changed, j.pair_ssim,
+                 j.pair_image.c_str(), j.visible_worst_view.c_str(), note.c_str());
     std::fflush(g_csv);
   }
 }
@@ -471,6 +511,8 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     g_label_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - label_start).count();
     std::vector<ViewRecord> records = std::move(lr.views);
     for (auto& r : record_views(renderer, scene, held_out_views(), framing_of(job), "held_out")) records.push_back(std::move(r));
+    // Each view's perceptual floor, so every row has the judge's visible_ratio.
+    measure_floors(renderer, scene, records, judge_settings_of(job));
     const double p = display_pixel_footprint(job.display, d);
     g_pair = PairView{};
     std::ostringstream tag_ss;
@@ -492,8 +534,8 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
                 m.key.c_str(), d, scene.triangle_count(), lc.perceptible, lc.imperceptible, lc.undisplayable, p,
                 records.size() - held_out_views().size(), held_out_views().size(), 100 * g_exposure,
                 fidelity_options(0.5, 0.5).delete_undisplayable ? "deletes" : "keeps");
-    std::printf("%-6s %4s  %-26s %8s  %7s  | %-23s | %-23s | %s\n", "model", "d", "method", "tris", "simp s",
-                "labelling: chg  SSIM  sil", "held-out: chg  SSIM  sil", "Hausdorff/diag");
+    std::printf("%-6s %4s  %-26s %8s  %7s  | %-23s | %-23s | %-9s | %s\n", "model", "d", "method", "tris", "simp s",
+                "labelling: chg  SSIM  sil", "held-out: chg  SSIM  sil", "Hausdorff", "visible ratio: worst median pair");
 
     auto simplified = [&](SimplifyOptions so, const std::string& suffix = "", std::vector<ViewFigures>* views = nullptr) {
       so.pixel_footprint = p;
@@ -582,7 +624,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       Scene moved = scene;
       const float step = float(0.25 * p / std::sqrt(3.0));
       for (float& x : moved.positions) x += step;
-      row(m, d, "original moved 1/4 px", judge(renderer, moved, records, job));
+      row(m, d, "original moved 1/4 px", judge(renderer, moved, records, job, nullptr, g_pairs_all ? tag + "_moved_quarter_px" : ""));
     }
     if (g_only_fidelity) continue;
     {
@@ -646,15 +688,18 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     // The sweep: worst-view SSIM (both sets) against meshoptimizer's count.
     const size_t nt = scene.triangle_count();
     for (double f : {0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 0.85}) {
-      std::ostringstream name;
+      std::ostringstream name, pair_name;
       name << "meshopt sweep " << f;
-      mesh_opt(size_t(f * double(nt)), name.str(), &sweep);
+      pair_name << tag << "_meshopt_sweep" << f;
+      mesh_opt(size_t(f * double(nt)), name.str(), &sweep, g_pairs_all ? pair_name.str() : "");
     }
     // And by error limit (no count): meshoptimizer's own notion of quality.
     for (float err : {1e-4f, 3e-4f, 1e-3f, 3e-3f, 1e-2f}) {
       double sec = 0;
       Scene lod = meshopt_lod(scene, in, 1, false, sec, err);
-      Judged j = judge(renderer, lod, records, job);
+      std::ostringstream pair_name;
+      pair_name << tag << "_meshopt_error" << err;
+      Judged j = judge(renderer, lod, records, job, nullptr, g_pairs_all ? pair_name.str() : "");
       j.seconds = sec;
       std::ostringstream name;
       name << "meshopt error " << err;
@@ -685,7 +730,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
                   m.key.c_str(), d, goal, e_i[i], fidelity[i].triangles, need,
                   need > 0 ? double(fidelity[i].triangles) / need : 0.0);
       if (g_csv)
-        std::fprintf(g_csv, "%s,%g,same_ssim e_I=%g,%zu,,,%.5f,,,,,,,meshopt %.0f ratio %.3f\n", m.key.c_str(), d,
+        std::fprintf(g_csv, "%s,%g,same_ssim e_I=%g,%zu,,,%.5f,,,,,,,,,,,,,,meshopt %.0f ratio %.3f\n", m.key.c_str(), d,
                      e_i[i], fidelity[i].triangles, goal, need, need > 0 ? double(fidelity[i].triangles) / need : 0.0);
     }
 #endif
@@ -715,6 +760,7 @@ int main(int argc, char** argv) {
     else if (a == "--dump" && i + 1 < argc) g_dump = argv[++i];
     else if (a == "--dump-view" && i + 1 < argc) g_dump_view = argv[++i];
     else if (a == "--pairs" && i + 1 < argc) g_pairs = argv[++i];
+    else if (a == "--pairs-all") g_pairs_all = true;
     else if (a == "--only-fidelity") g_only_fidelity = true;
     else if (a == "--label-shift") g_label_shift = true;
     else if (a == "--no-tighten") g_tighten = false;
@@ -730,7 +776,7 @@ int main(int argc, char** argv) {
                            "                      [--no-meshopt] [--keep-undisplayable [--e-undisplayable E] | --delete-undisplayable] [--dump DIR]\n"
                            "                      [--facade-triangles N] [--e-area A] [--max-normal-change DEG]\n"
                            "                      [--dump-view NAME]\n"
-                           "                      [--pairs DIR] [--set KEY=VALUE ...] [--only-fidelity]\n"
+                           "                      [--pairs DIR [--pairs-all]] [--set KEY=VALUE ...] [--only-fidelity]\n"
                            "                      [--label-shift] [--no-tighten]\n");
       return 2;
     }
@@ -751,7 +797,8 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::fprintf(g_csv, "model,distance,method,triangles,seconds,lab_changed,lab_ssim,lab_silhouette,"
-                        "held_changed,held_ssim,held_silhouette,hausdorff_rel,label_seconds,note\n");
+                        "held_changed,held_ssim,held_silhouette,hausdorff_rel,label_seconds,visible_worst,"
+                        "visible_median,pair_visible,pair_changed,pair_ssim,pair_image,visible_worst_view,note\n");
   }
 #ifndef PERCLOD_HAVE_MESHOPTIMIZER
   std::fprintf(stderr, "bench_fidelity: built without meshoptimizer: perclod rows only\n");
