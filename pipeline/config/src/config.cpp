@@ -6,13 +6,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <glob.h>
+#include <iomanip>
+#include <sstream>
 #include <map>
 #include <filesystem>
 #include <set>
 #include <stdexcept>
 #include <vector>
 
+#include "models_list.h"
 #include "perclod/outputs.h"
 #include "perclod/settings.h"
 #include "perclod/views.h"
@@ -398,66 +400,6 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   return c;
 }
 
-bool is_glob(const std::string& s) { return s.find_first_of("*?[") != std::string::npos; }
-
-// A file a folder item takes: a model format's extension. Of JSON files only
-// CityJSON's names (.city.json, .cityjson): a folder may hold reports.
-bool is_model_file(const std::filesystem::path& p) {
-  std::string name = p.filename().string();
-  for (auto& ch : name) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-  const auto ends = [&](const char* e) {
-    const size_t n = std::strlen(e);
-    return name.size() > n && name.compare(name.size() - n, n, e) == 0;
-  };
-  for (const char* e : {".obj", ".ply", ".glb", ".gltf", ".stl", ".dae", ".fbx", ".ifc", ".city.json", ".cityjson"})
-    if (ends(e)) return true;
-  return false;
-}
-
-// The files a `models:` item names: itself, the sorted matches of a glob, or
-// the sorted model files under a directory (recursively).
-// `shown` is the item as the config wrote it, for errors.
-std::vector<std::string> expand_models(const std::string& item, const std::string& shown, const std::string& where) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> files;
-  std::error_code ec;
-  if (is_glob(item)) {
-    glob_t g{};
-    const int rc = ::glob(item.c_str(), 0, nullptr, &g);
-    if (rc == 0)
-      for (size_t i = 0; i < g.gl_pathc; ++i)
-        if (fs::is_regular_file(g.gl_pathv[i], ec)) files.push_back(g.gl_pathv[i]);
-    globfree(&g);
-    if (files.empty()) throw config_error(where, "'" + shown + "' matches no model file");
-  } else if (fs::is_directory(item, ec)) {
-    for (const auto& e : fs::recursive_directory_iterator(item, fs::directory_options::skip_permission_denied, ec))
-      if (e.is_regular_file(ec) && is_model_file(e.path())) files.push_back(e.path().string());
-    std::sort(files.begin(), files.end());
-    if (files.empty()) throw config_error(where, "folder '" + shown + "' holds no model file");
-  } else {
-    files.push_back(item);  // parse_model says if it does not exist
-  }
-  return files;
-}
-
-// Output folder names: file stems, made unique by the parent folder's name
-// and then by a number, in list order (so the same list always maps alike).
-void name_models(std::vector<ModelEntry>& models) {
-  namespace fs = std::filesystem;
-  std::map<std::string, int> stems;
-  for (const auto& m : models) ++stems[model_stem(m.config.model)];
-  std::set<std::string> used;
-  for (auto& m : models) {
-    const fs::path p(m.config.model);
-    std::string name = model_stem(m.config.model);
-    if (stems[name] > 1 && p.has_parent_path()) name = p.parent_path().filename().string() + "_" + name;
-    std::string unique = name;
-    for (int k = 2; used.count(unique); ++k) unique = name + "_" + std::to_string(k);
-    used.insert(unique);
-    m.name = unique;
-  }
-}
-
 }  // namespace
 
 BatchConfig load_batch_config(const std::string& path) {
@@ -500,6 +442,7 @@ ConfigFile load_config_file(const std::string& path) {
   // Each entry is parsed from the top-level settings with its own on top.
   YAML::Node base = YAML::Clone(n);
   for (const auto& k : batch_keys()) base.remove(k);
+  std::vector<std::string> wheres;  // of each model, for check_model_names
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string where = path + ": models[" + std::to_string(i) + "]";
     const YAML::Node item = list[i];
@@ -516,14 +459,16 @@ ConfigFile load_config_file(const std::string& path) {
       throw config_error(where, "must be a model file, glob, folder, or a mapping with 'model'");
     }
     if (pattern.empty()) throw config_error(where, "names no model");
-    for (const std::string& file : expand_models(relative_to(dir, pattern), pattern, where)) {
+    for (const std::string& file : detail::expand_models(relative_to(dir, pattern), pattern, where)) {
       merged["model"] = fs::absolute(file).lexically_normal().string();  // already joined with `dir`
       BatchConfig c = parse_model(merged, where, dir);
       c.out = f.out;
       f.models.push_back({"", c});
+      wheres.push_back(where);
     }
   }
-  name_models(f.models);
+  detail::name_models(f.models);
+  detail::check_model_names(f.models, wheres, f.out);
   return f;
 }
 
