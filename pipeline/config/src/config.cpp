@@ -105,6 +105,37 @@ void require_positive(const std::string& path, const char* key, double v) {
   if (!(v > 0) || !std::isfinite(v)) throw config_error(path, std::string("'") + key + "' must be a positive number");
 }
 
+// The smallest screen (pixels a side) and the narrowest field of view
+// (degrees) a display profile may have: a frame of fewer pixels has no
+// room for its margins, and a view of under a degree frames a building only
+// in thousands of tiles (refused as "too close", blaming the model).
+constexpr int kMinScreenPx = 16, kMaxScreenPx = 16384;
+constexpr double kMinFovDeg = 1, kMaxFovDeg = 179;
+
+std::string number(double v) {
+  std::ostringstream ss;
+  ss << std::setprecision(4) << v;
+  return ss.str();
+}
+
+// Fails unless the field of view of `d` is kMinFovDeg..kMaxFovDeg high and
+// at least kMinFovDeg wide, naming the keys it comes from.
+void check_field_of_view(const std::string& path, const DisplayProfile& d) {
+  const double deg = 180 / DisplayProfile::kPi, fov_y = d.fov_y();
+  const double high = fov_y * deg, wide = 2 * std::atan(double(d.width) / d.height * std::tan(fov_y / 2)) * deg;
+  const std::string from = d.fov_y_override_deg > 0 ? "'fov_y_deg' " + number(d.fov_y_override_deg)
+                                                     : "'height' " + std::to_string(d.height) + " px at 'dpi' " +
+                                                           number(d.dpi) + " seen from 'viewer_distance_m' " +
+                                                           number(d.viewer_distance);
+  if (!(high >= kMinFovDeg && high <= kMaxFovDeg))
+    throw config_error(path, "the field of view is " + number(high) + " degrees high (" + from + "); it must be " +
+                                 number(kMinFovDeg) + " to " + number(kMaxFovDeg) + " degrees");
+  if (!(wide >= kMinFovDeg))
+    throw config_error(path, "the field of view is " + number(wide) + " degrees wide ('width' " +
+                                 std::to_string(d.width) + " px beside " + from + "); it must be at least " +
+                                 number(kMinFovDeg) + " degree");
+}
+
 }  // namespace
 
 DisplayProfile default_display_profile() { return DisplayProfile{}; }
@@ -120,15 +151,18 @@ DisplayProfile load_display_profile(const std::string& path) {
   d.dpi = get<double>(n, path, "dpi", d.dpi);
   d.viewer_distance = get<double>(n, path, "viewer_distance_m", d.viewer_distance);
   d.fov_y_override_deg = get<double>(n, path, "fov_y_deg", 0.0);
-  if (d.width <= 0 || d.height <= 0 || d.width > 16384 || d.height > 16384)
-    throw config_error(path, "width and height must be 1..16384 pixels");
+  for (auto [key, px] : {std::pair{"width", d.width}, std::pair{"height", d.height}})
+    if (px < kMinScreenPx || px > kMaxScreenPx)
+      throw config_error(path, std::string("'") + key + "' must be " + std::to_string(kMinScreenPx) + ".." +
+                                   std::to_string(kMaxScreenPx) + " pixels, not " + std::to_string(px));
   require_positive(path, "dpi", d.dpi);
   require_positive(path, "viewer_distance_m", d.viewer_distance);
-  if (n["fov_y_deg"] && !(d.fov_y_override_deg > 0 && d.fov_y_override_deg < 179))
-    throw config_error(path, "'fov_y_deg' must be in (0, 179)");
+  if (n["fov_y_deg"] && !(d.fov_y_override_deg >= kMinFovDeg && d.fov_y_override_deg <= kMaxFovDeg))
+    throw config_error(path, "'fov_y_deg' must be " + number(kMinFovDeg) + " to " + number(kMaxFovDeg) + " degrees");
   // Checked after the values so a present but bad key is reported as such.
   for (const char* key : {"width", "height", "dpi", "viewer_distance_m"})
     if (!n[key]) throw config_error(path, std::string("'") + key + "' is required");
+  check_field_of_view(path, d);
   return d;
 }
 
@@ -346,7 +380,7 @@ void read_distances(const YAML::Node& n, const std::string& path, BatchConfig& c
         throw config_error(path, "'distances' must be a list of metres, got '" +
                                      (d.IsScalar() ? d.Scalar() : std::string("a list or mapping")) + "'");
       }
-      require_positive(path, "distances", v);
+      if (const std::string p = distance_problem(v); !p.empty()) throw config_error(path, "'distances': " + p);
       c.distances.push_back(v);
     }
   }
