@@ -47,7 +47,7 @@ def batch_config(full):
     lines = ["# Written by scripts/soak.py", "distances: [56, 427]", "views: facades", "samples: 1",
              "per_building: false", "judge_views: none", "debug_images: false", "out: out", "models:"]
     if full:
-        for folder in sorted(os.listdir(DATA)):
+        for folder in sorted(f for f in os.listdir(DATA) if os.path.isdir(os.path.join(DATA, f))):
             for name in sorted(os.listdir(os.path.join(DATA, folder))):
                 if name.endswith(".obj") or name.endswith(".city.json"):
                     up = "z" if folder in ("ingolstadt", "cityjson") else "y"
