@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Fuzz perclod's file readers with libFuzzer (targets in tests/fuzz/, built
-# with ASan + UBSan in build-asan/ by scripts/build-asan.sh).
+# Fuzz perclod's file readers with libFuzzer (targets in tests/fuzz/: OBJ,
+# labels, YAML, the assimp formats and CityJSON; built with ASan + UBSan in
+# build-asan/ by scripts/build-asan.sh).
 #
 #   scripts/fuzz.sh                     # every target, 10 minutes each
 #   scripts/fuzz.sh --seconds 60 fuzz_obj fuzz_labels
+#   nice -n 10 scripts/fuzz.sh --seconds 3600 fuzz_cityjson   # the hour of docs/ci.md
 #   FUZZ_SECONDS=3600 scripts/fuzz.sh   # same as --seconds
 #   scripts/fuzz.sh --keep-going        # -fork=1: go on after a finding, collect them all
 #   scripts/fuzz.sh --no-build          # use the targets already in build-asan/
@@ -35,7 +37,7 @@ while (($#)); do
     --no-build) build=0; shift ;;
     --seed) seed=(-seed="$2"); shift 2 ;;
     --parallel) parallel=$2; shift 2 ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
     *) targets+=("$1"); shift ;;
   esac
 done

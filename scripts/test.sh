@@ -5,7 +5,7 @@
 #   asan    ASan + UBSan build (build-asan/, clang, scripts/build-asan.sh):
 #           the whole test suite again, any sanitizer report fails its test
 #   fuzz    libFuzzer smoke: the targets in tests/fuzz/ for FUZZ_SECONDS
-#           (default 15) from their committed seeds (scripts/fuzz.sh);
+#           (default 15) from their committed seeds (scripts/fuzz.sh), four at once;
 #           fuzz_assimp replays its seeds only (see stage_fuzz)
 #   cesium  the demo's LODs in a real client: a run of configs/demo.yaml
 #           into a temporary folder, then scripts/check_cesium.sh on it
@@ -69,11 +69,12 @@ stage_fuzz() {
   # not flap between runs of one commit. fuzz_assimp only replays its seeds:
   # mutating them finds the known assimp PLY hang and GLB 2 GB allocation
   # within seconds (tests/fuzz/findings/README.md); scripts/fuzz.sh fuzzes it.
-  # The three others run at once, however many cores there are: on CI's two
-  # each gets two thirds of one for its 15 s, and the stage waits 15 s, not 30.
+  # The four others run at once, however many cores there are: on CI's two
+  # each gets half of one for its 15 s, and the stage waits 15 s, not 60.
   scripts/build-asan.sh fuzz >/dev/null
   build-asan/tests/fuzz/fuzz_assimp -runs=0 -timeout=10 -rss_limit_mb=2048 tests/fuzz/corpus/fuzz_assimp 2>&1 | tail -2
-  scripts/fuzz.sh --no-build --seconds "${FUZZ_SECONDS:-15}" --seed 1 --parallel 3 fuzz_obj fuzz_labels fuzz_yaml
+  scripts/fuzz.sh --no-build --seconds "${FUZZ_SECONDS:-15}" --seed 1 --parallel 4 \
+    fuzz_obj fuzz_labels fuzz_yaml fuzz_cityjson
 }
 
 stage_cesium() {

@@ -55,11 +55,7 @@ DisplayProfile DisplayArgs::profile() const {
 std::vector<double> check_distances(const std::vector<double>& d) {
   if (d.empty()) throw OptionError("--distance: give at least one distance");
   for (double x : d)
-    if (!(x > 0) || !std::isfinite(x)) {
-      std::ostringstream ss;
-      ss << "--distance: must be a positive number of metres, got " << x;
-      throw OptionError(ss.str());
-    }
+    if (const std::string p = distance_problem(x); !p.empty()) throw OptionError("--distance: " + p);
   check_distinct_tags(d);
   return d;
 }

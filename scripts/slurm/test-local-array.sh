@@ -150,13 +150,14 @@ for name in "${models[@]}"; do
     compgen -G "$dir/*report.json" >/dev/null || fail "$name: no report in $dir"
 done
 # Besides the models' folders out/ may hold each shard's summary
-# (batch_<i>_of_<n>.json), the batch's tileset.json and index.html, and the
-# lock the shards take turns on (.batch.lock). Anything else (a
+# (batch_<i>_of_<n>.json), the batch's tileset.json and index.html, the
+# lock the shards take turns on (.batch.lock), the folder's lock they share
+# (.perclod.lock) and each shard's own (.perclod-shard-<i>-of-<n>.lock). Anything else (a
 # .NAME.partial-HOST-PID folder left behind, a second copy of a model under another
 # name, a loose file) is a failure.
 while IFS= read -r entry; do
     e=$(basename "$entry")
-    case $e in .perclod.lock|.batch.lock|tileset.json|index.html|batch_*_of_*.json) continue ;; esac
+    case $e in .perclod.lock|.perclod-shard-*-of-*.lock|.batch.lock|tileset.json|index.html|batch_*_of_*.json) continue ;; esac
     printf '%s\n' "${models[@]}" | grep -qxF "$e" || fail "unexpected entry in out/: $e"
 done < <(find "$work/out" -mindepth 1 -maxdepth 1)
 # Each shard's summary must list no failed model.

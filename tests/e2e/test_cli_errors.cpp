@@ -7,11 +7,13 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "cli_util.h"
+#include "perclod/outputs.h"
 
 namespace {
 
@@ -43,12 +45,58 @@ struct Case {
   std::string args;                // after "perclod"; {D} is the fixture dir, {O} the output dir
   int exit_code;
   std::vector<std::string> names;  // stderr holds each (the file or option concerned)
+  bool busy = false;               // run while another command holds {O} (OutputDirectoryLock)
 };
 
 std::string expand(std::string s, const Fixture& f) {
   for (auto [key, value] : {std::pair{std::string("{D}"), f.dir.string()}, std::pair{std::string("{O}"), f.out.string()}})
     for (size_t at; (at = s.find(key)) != std::string::npos;) s.replace(at, key.size(), value);
   return s;
+}
+
+// Issue 56's catalogue: CityJSON read strictly, batches whose model names
+// clash with the batch's own files, display profiles too small or too
+// narrow, distances and models too large for float.
+void add_issue56_files(const Fixture& f) {
+  const std::string tri = R"("t": {"type": "Building", "geometry": [{"type": "MultiSurface", "lod": "2",
+      "boundaries": [[[0, 1, 2]]]}]})";
+  auto city = [&](const std::string& version, const std::string& extra, const std::string& vertices) {
+    return R"({"type": "CityJSON", "version": ")" + version + R"(", )" + extra + R"("CityObjects": {)" + tri +
+           R"(}, "vertices": [)" + vertices + "]}";
+  };
+  const std::string ok = "[0, 0, 0], [1, 0, 0], [0, 1, 0]";
+  // One vertex nested 100,000 arrays deep: rendering it in the error overflowed the stack.
+  f.file("deep.city.json", city("2.0", "", std::string(100000, '[') + std::string(100000, ']')));
+  f.file("v99.city.json", city("99.0", "", ok));
+  f.file("v06.city.json", city("0.6", "", ok));
+  f.file("scale0.city.json", city("1.1", R"("transform": {"scale": [0, 0, 0], "translate": [0, 0, 0]}, )", ok));
+  f.file("scale0.yaml", "model: scale0.city.json\ndisplay: display.yaml\ndistances: [56]\nout: " +
+                            f.out.string() + "\n");
+  // Batches: one of the cube (run while its folder is busy), and model files
+  // named like the batch's own files.
+  const std::string batch = "display: display.yaml\ndistances: [56]\nout: " + f.out.string() + "\nmodels:\n";
+  f.file("batch.yaml", batch + "  - cube.obj\n");
+  for (const std::string name : {"index.html", "tileset.json", "batch_0_of_1.json"}) {
+    f.file(name + ".obj", kCube);
+    f.file("reserved-" + name + ".yaml", batch + "  - cube.obj\n  - " + name + ".obj\n");
+  }
+  // Display profiles: too small, too narrow.
+  const std::string screen = "dpi: 86.27\nviewer_distance_m: 0.5\n";
+  f.file("display-2px-wide.yaml", "width: 2\nheight: 64\n" + screen);
+  f.file("display-1px-high.yaml", "width: 96\nheight: 1\n" + screen);
+  f.file("display-7x5.yaml", "width: 7\nheight: 5\n" + screen);
+  f.file("display-dpi.yaml", "width: 96\nheight: 64\ndpi: 1e12\nviewer_distance_m: 0.5\n");
+  f.file("display-far.yaml", "width: 96\nheight: 64\ndpi: 86.27\nviewer_distance_m: 1e9\n");
+  f.file("display-tall.yaml", "width: 16\nheight: 16384\n" + screen);
+  f.file("far-viewer.yaml", "model: cube.obj\ndisplay: display-far.yaml\ndistances: [56]\nout: " +
+                                f.out.string() + "\n");
+  // Too large for float: a distance, a model.
+  f.file("far.yaml", "model: cube.obj\ndistances: [56, 1e300]\nout: " + f.out.string() + "\n");
+  // The cube 2e30 m across.
+  std::string huge = "v -1e30 -1e30 0\nv 1e30 -1e30 0\nv 1e30 1e30 0\nv -1e30 1e30 0\n"
+                     "v -1e30 -1e30 2e30\nv 1e30 -1e30 2e30\nv 1e30 1e30 2e30\nv -1e30 1e30 2e30\n";
+  huge += kCube.substr(kCube.find("f "));
+  f.file("huge.obj", huge);
 }
 
 Fixture make_fixture() {
@@ -85,6 +133,7 @@ Fixture make_fixture() {
   f.file("nodpi.yaml", "model: cube.obj\ndisplay: display-nodpi.yaml\ndistances: [56]\nout: " + f.out.string() + "\n");
   f.file("ratio.yaml", base + "ratio: 2\n");
   f.file("cluster.yaml", base + "simplify: cluster\n");
+  add_issue56_files(f);
   return f;
 }
 
@@ -146,6 +195,49 @@ const std::vector<Case>& cases() {
       {"run_ratio_out_of_range", "run {D}/ratio.yaml", 1, {"{D}/ratio.yaml", "'ratio'"}},
       {"run_explain_cluster", "run {D}/cluster.yaml --explain", 1, {"--explain", "{D}/cluster.yaml", "cluster"}},
       {"run_no_config", "run", 2, {"CONFIG"}},
+      // Issue 56. 1: a crash rendering a deeply nested value in the error.
+      {"info_cityjson_nested_100000_deep", "info {D}/deep.city.json", 1,
+       {"{D}/deep.city.json: vertex 0 is [[[[", "not 3 numbers"}},
+      // 2: a second run of a batch while the first holds its folder.
+      {"run_batch_while_it_runs", "run {D}/batch.yaml", 1,
+       {"{O}: another perclod command is writing to this directory"}, true},
+      {"run_batch_force_while_it_runs", "run {D}/batch.yaml --force", 1, {"{O}: another perclod command"}, true},
+      // 3: model names clashing with the batch's own files, before any work.
+      {"run_batch_model_named_index_html", "run {D}/reserved-index.html.yaml", 1,
+       {"{D}/reserved-index.html.yaml: models[1]", "'{O}/index.html'", "rename the model file"}},
+      {"run_batch_model_named_tileset_json", "run {D}/reserved-tileset.json.yaml", 1,
+       {"{D}/reserved-tileset.json.yaml: models[1]", "'{O}/tileset.json'"}},
+      {"run_batch_model_named_batch_0_of_1", "run {D}/reserved-batch_0_of_1.json.yaml", 1,
+       {"{D}/reserved-batch_0_of_1.json.yaml: models[1]", "'{O}/batch_0_of_1.json'"}},
+      // 4: CityJSON read strictly.
+      {"info_cityjson_version_99", "info {D}/v99.city.json", 1,
+       {"{D}/v99.city.json: CityJSON version \"99.0\" is not supported"}},
+      {"info_cityjson_version_0_6", "info {D}/v06.city.json", 1,
+       {"{D}/v06.city.json: CityJSON version \"0.6\" is not supported"}},
+      {"info_cityjson_zero_scale", "info {D}/scale0.city.json", 1,
+       {"{D}/scale0.city.json: \"transform\" \"scale\" is [0,0,0]"}},
+      {"run_cityjson_zero_scale", "run {D}/scale0.yaml", 1, {"{D}/scale0.city.json: \"transform\" \"scale\""}},
+      // 5: errors that blame the display profile, not the model or the eye.
+      {"render_display_2px_wide", "render {D}/cube.obj -d 56 --display {D}/display-2px-wide.yaml -o {O}", 1,
+       {"{D}/display-2px-wide.yaml: 'width' must be 16..16384 pixels, not 2"}},
+      {"render_display_1px_high", "render {D}/cube.obj -d 56 --display {D}/display-1px-high.yaml -o {O}", 1,
+       {"{D}/display-1px-high.yaml: 'height' must be 16..16384 pixels, not 1"}},
+      {"label_display_7x5", "label {D}/cube.obj -d 56 --display {D}/display-7x5.yaml -o {O}", 1,
+       {"{D}/display-7x5.yaml: 'width'"}},
+      {"render_display_dpi_1e12", "render {D}/cube.obj -d 56 --display {D}/display-dpi.yaml -o {O}", 1,
+       {"{D}/display-dpi.yaml: the field of view is", "'dpi' 1e+12", "1 to 179 degrees"}},
+      {"run_display_viewer_1e9_m", "run {D}/far-viewer.yaml", 1,
+       {"{D}/display-far.yaml: the field of view is", "'viewer_distance_m' 1e+09"}},
+      {"render_display_too_narrow", "render {D}/cube.obj -d 56 --display {D}/display-tall.yaml -o {O}", 1,
+       {"{D}/display-tall.yaml: the field of view is", "degrees wide ('width' 16 px"}},
+      // 5: a distance or a model too large for float: an error about that value.
+      {"render_distance_1e300", "render {D}/cube.obj -d 1e300 -o {O}", 1,
+       {"--distance: 1e+300 m is farther than the 1e+08 m perclod takes"}},
+      {"run_distance_1e300", "run {D}/far.yaml", 1, {"{D}/far.yaml: 'distances': 1e+300 m is farther"}},
+      {"info_model_2e30_m", "info {D}/huge.obj", 1, {"{D}/huge.obj: the model spans 2e+30 m, more than the 1e+08 m"}},
+      {"label_model_2e30_m", "label {D}/huge.obj -d 56 -o {O}", 1, {"{D}/huge.obj: the model spans 2e+30 m"}},
+      {"render_model_scaled_to_1e30_m", "render {D}/cube.obj --scale 1e30 -d 56 -o {O}", 1,
+       {"{D}/cube.obj: the model spans 2e+30 m after the unit scale 1e+30"}},
   };
   return c;
 }
@@ -157,7 +249,10 @@ TEST(CliErrors, EveryBadInputFailsCleanly) {
     fs::remove_all(f.out);
     fs::create_directories(f.out);
     f.file("out/keep.txt", "earlier output\n");  // bad input never loses what was good
+    std::optional<perclod::OutputDirectoryLock> busy;
+    if (c.busy) busy.emplace(f.out.string());
     auto r = run_cli(expand(c.args, f));
+    busy.reset();
     EXPECT_EQ(r.exit_code, c.exit_code) << r.err;
     // One error line, the last one (a model may have been loaded before it).
     std::string line, last;
@@ -171,7 +266,9 @@ TEST(CliErrors, EveryBadInputFailsCleanly) {
     for (const auto& n : c.names) EXPECT_NE(last.find(expand(n, f)), std::string::npos) << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;
     std::vector<std::string> left;
-    for (const auto& e : fs::recursive_directory_iterator(f.out)) left.push_back(e.path().filename().string());
+    for (const auto& e : fs::recursive_directory_iterator(f.out))
+      if (e.path().filename() != perclod::kLockFile)  // stays, empty: deleted it could be held twice
+        left.push_back(e.path().filename().string());
     EXPECT_EQ(left, std::vector<std::string>{"keep.txt"});
     std::ifstream keep(f.out / "keep.txt");
     std::stringstream ss;

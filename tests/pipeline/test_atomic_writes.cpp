@@ -2,7 +2,9 @@
 // nothing under the final name and says which file; temporaries are unique
 // per process, and stale ones of dead processes are cleared.
 #include <gtest/gtest.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/mount.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -194,7 +196,7 @@ TEST(AtomicWrites, ASignalDuringAWriteRemovesTheTemporary) {
 namespace {
 
 // A second writer of one output directory is refused while the first holds
-// it; the lock file goes with the lock.
+// it; the lock file stays when it is released.
 TEST(OutputDirectoryLock, OneWriterPerDirectory) {
   test::TempDir dir("lock");
   const std::string out = dir / "out";
@@ -210,8 +212,53 @@ TEST(OutputDirectoryLock, OneWriterPerDirectory) {
     }
     OutputDirectoryLock elsewhere(dir / "other");  // other directories are free
   }
-  EXPECT_FALSE(fs::exists(out + "/.perclod.lock"));
+  EXPECT_TRUE(fs::exists(out + "/.perclod.lock"));
   OutputDirectoryLock again(out);  // released: the next command may write
+}
+
+// Issue 56, item 7: the lock file was deleted while held, so a command that
+// had opened it before could lock the deleted file while a third command
+// locked a new one: two writers. Now the file stays, and whoever opened it
+// earlier contends for the same lock as the next command.
+TEST(OutputDirectoryLock, TheLockFileIsNotDeletedWhileHeld) {
+  test::TempDir dir("lock-kept");
+  const std::string out = dir / "out", file = out + "/.perclod.lock";
+  int early = -1;
+  {
+    OutputDirectoryLock first(out);
+    early = ::open(file.c_str(), O_RDWR | O_CLOEXEC);  // a second command, between its open and its flock
+    ASSERT_GE(early, 0);
+    EXPECT_NE(::flock(early, LOCK_EX | LOCK_NB), 0);  // refused while the first holds it
+  }
+  OutputDirectoryLock third(out);  // the next command, after the first finished
+  EXPECT_NE(::flock(early, LOCK_EX | LOCK_NB), 0) << "the early opener and the third command both hold a lock";
+  ::close(early);
+  EXPECT_TRUE(fs::exists(file));
+}
+
+// The shards of one batch share the output folder's lock; a command that
+// wants it alone is refused while they hold it, and they while it does.
+TEST(OutputDirectoryLock, SharedHoldersExcludeAnExclusiveOne) {
+  test::TempDir dir("lock-shared");
+  const std::string out = dir / "out";
+  using Mode = OutputDirectoryLock::Mode;
+  {
+    OutputDirectoryLock a(out, Mode::Shared), b(out, Mode::Shared);
+    EXPECT_THROW(OutputDirectoryLock c(out), std::runtime_error);
+    OutputDirectoryLock shard(out, Mode::Exclusive, ".perclod-shard-0-of-2.lock");
+    EXPECT_THROW(OutputDirectoryLock again(out, Mode::Exclusive, ".perclod-shard-0-of-2.lock"), std::runtime_error);
+  }
+  OutputDirectoryLock alone(out);
+  EXPECT_THROW(OutputDirectoryLock shared(out, Mode::Shared), std::runtime_error);
+}
+
+TEST(OutputNames, BatchFileNamesAreRecognised) {
+  for (const char* name : {"index.html", "tileset.json", "batch_0_of_1.json", "batch_12_of_345.json", ".hidden",
+                           ".perclod.lock", ".a.partial-host-12"})
+    EXPECT_TRUE(is_batch_file_name(name)) << name;
+  for (const char* name : {"index", "index.html.2", "tileset", "batch_0_of_1", "batch_x_of_1.json",
+                           "batch_0_of_.json", "batch_0_of_1.json.old", "bldg_4018215", "a.b"})
+    EXPECT_FALSE(is_batch_file_name(name)) << name;
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -133,21 +134,31 @@ std::string partial_dir(const std::string& out, const std::string& name) {
   return (fs::path(out) / ("." + name + ".partial-" + host_name() + "-" + std::to_string(::getpid()))).string();
 }
 
-// Partial folders of `name` left by processes of this host that are gone
-// (another host's are left alone: its process cannot be asked).
+// The pid in a partial folder's name .<name>.partial-<host>-<pid>[.old] of
+// this host, 0 when `f` is not one (or of another host), and only of model
+// `name` unless that is empty.
+long partial_owner(const std::string& f, const std::string& name) {
+  const std::string tag = ".partial-" + host_name() + "-";
+  const size_t at = f.rfind(tag);
+  if (f.empty() || f[0] != '.' || at == std::string::npos || at < 1) return 0;
+  if (!name.empty() && f.compare(0, at, "." + name) != 0) return 0;
+  try {
+    return std::stol(f.substr(at + tag.size()));
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
+// Partial folders of model `name` (every model's when empty) left by
+// processes of this host that are gone, or by an earlier process with this
+// one's pid (another host's are left alone: its process cannot be asked).
 void remove_stale_partials(const std::string& out, const std::string& name) {
   std::error_code ec;
-  const std::string prefix = "." + name + ".partial-" + host_name() + "-";
   for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string f = it->path().filename().string();
-    if (f.compare(0, prefix.size(), prefix) != 0) continue;
-    long pid = 0;
-    try {
-      pid = std::stol(f.substr(prefix.size()));
-    } catch (const std::exception&) {
-      continue;
-    }
-    if (!process_alive(pid)) fs::remove_all(it->path(), ec);
+    const long pid = partial_owner(it->path().filename().string(), name);
+    if (pid == 0) continue;
+    std::error_code rm;
+    if (pid == long(::getpid()) ? name.empty() : !process_alive(pid)) fs::remove_all(it->path(), rm);
   }
 }
 
@@ -370,6 +381,9 @@ void build_model(const BatchRun& b, BatchProgress& p, size_t i, const ModelRun& 
     nlohmann::json rel = model_report_json(report);
     relocate(rel, partial + "/", "");
     write_text_atomic(output_names_for(partial, c.model).report(), rel.dump(2) + "\n");
+    // run_model's lock is released, and no other command writes to this
+    // process's partial folder: its lock file is not part of the outputs.
+    fs::remove(fs::path(partial) / kLockFile, ec);
     publish(partial, final_dir);
     r.status = ModelStatus::Done;
     r.lods = summary_lods(man);
@@ -442,6 +456,23 @@ void run_worker(const BatchRun& b, BatchProgress& p) {
   }
 }
 
+// One writer per batch output folder, held for the whole batch: a batch
+// run holds OUT's lock exclusively, so a second run of it (or any other
+// command writing to OUT) is refused naming the folder. The shards of a
+// split share it, each holding its own shard's lock alone.
+struct BatchLock {
+  BatchLock(const std::string& out, const BatchOptions& o) {
+    if (o.shards == 1) {
+      all.emplace(out);
+      return;
+    }
+    all.emplace(out, OutputDirectoryLock::Mode::Shared);
+    mine.emplace(out, OutputDirectoryLock::Mode::Exclusive,
+                 ".perclod-shard-" + std::to_string(o.shard) + "-of-" + std::to_string(o.shards) + ".lock");
+  }
+  std::optional<OutputDirectoryLock> all, mine;
+};
+
 // This shard's summary (every model's result and the counts by status),
 // written as <out>/batch_<shard>_of_<shards>.json.
 BatchSummary write_shard_summary(const ConfigFile& config, const BatchOptions& options, std::vector<Slot>& slots,
@@ -466,7 +497,8 @@ BatchSummary write_shard_summary(const ConfigFile& config, const BatchOptions& o
 BatchSummary run_batch(const ConfigFile& config, const BatchOptions& options,
                          const std::function<void(const std::string&)>& log, bool eta) {
   const auto t0 = Clock::now();
-  ensure_directory(config.out);
+  const BatchLock lock(config.out, options);
+  remove_stale_partials(config.out, "");  // whether or not their models run again
   const std::vector<size_t> mine = shard_indices(config.models.size(), options.shard, options.shards);
   const int jobs = std::max(1, options.jobs > 0 ? options.jobs : config.jobs);
   const double budget = options.memory_budget_mb >= 0 ? options.memory_budget_mb : config.memory_budget_mb;

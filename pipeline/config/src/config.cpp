@@ -6,7 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <glob.h>
+#include <iomanip>
+#include <sstream>
 #include <map>
 #include <filesystem>
 #include <set>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "perclod/crs.h"
+#include "models_list.h"
 #include "perclod/outputs.h"
 #include "perclod/settings.h"
 #include "perclod/views.h"
@@ -104,6 +106,37 @@ void require_positive(const std::string& path, const char* key, double v) {
   if (!(v > 0) || !std::isfinite(v)) throw config_error(path, std::string("'") + key + "' must be a positive number");
 }
 
+// The smallest screen (pixels a side) and the narrowest field of view
+// (degrees) a display profile may have: a frame of fewer pixels has no
+// room for its margins, and a view of under a degree frames a building only
+// in thousands of tiles (refused as "too close", blaming the model).
+constexpr int kMinScreenPx = 16, kMaxScreenPx = 16384;
+constexpr double kMinFovDeg = 1, kMaxFovDeg = 179;
+
+std::string number(double v) {
+  std::ostringstream ss;
+  ss << std::setprecision(4) << v;
+  return ss.str();
+}
+
+// Fails unless the field of view of `d` is kMinFovDeg..kMaxFovDeg high and
+// at least kMinFovDeg wide, naming the keys it comes from.
+void check_field_of_view(const std::string& path, const DisplayProfile& d) {
+  const double deg = 180 / DisplayProfile::kPi, fov_y = d.fov_y();
+  const double high = fov_y * deg, wide = 2 * std::atan(double(d.width) / d.height * std::tan(fov_y / 2)) * deg;
+  const std::string from = d.fov_y_override_deg > 0 ? "'fov_y_deg' " + number(d.fov_y_override_deg)
+                                                     : "'height' " + std::to_string(d.height) + " px at 'dpi' " +
+                                                           number(d.dpi) + " seen from 'viewer_distance_m' " +
+                                                           number(d.viewer_distance);
+  if (!(high >= kMinFovDeg && high <= kMaxFovDeg))
+    throw config_error(path, "the field of view is " + number(high) + " degrees high (" + from + "); it must be " +
+                                 number(kMinFovDeg) + " to " + number(kMaxFovDeg) + " degrees");
+  if (!(wide >= kMinFovDeg))
+    throw config_error(path, "the field of view is " + number(wide) + " degrees wide ('width' " +
+                                 std::to_string(d.width) + " px beside " + from + "); it must be at least " +
+                                 number(kMinFovDeg) + " degree");
+}
+
 }  // namespace
 
 DisplayProfile default_display_profile() { return DisplayProfile{}; }
@@ -119,15 +152,18 @@ DisplayProfile load_display_profile(const std::string& path) {
   d.dpi = get<double>(n, path, "dpi", d.dpi);
   d.viewer_distance = get<double>(n, path, "viewer_distance_m", d.viewer_distance);
   d.fov_y_override_deg = get<double>(n, path, "fov_y_deg", 0.0);
-  if (d.width <= 0 || d.height <= 0 || d.width > 16384 || d.height > 16384)
-    throw config_error(path, "width and height must be 1..16384 pixels");
+  for (auto [key, px] : {std::pair{"width", d.width}, std::pair{"height", d.height}})
+    if (px < kMinScreenPx || px > kMaxScreenPx)
+      throw config_error(path, std::string("'") + key + "' must be " + std::to_string(kMinScreenPx) + ".." +
+                                   std::to_string(kMaxScreenPx) + " pixels, not " + std::to_string(px));
   require_positive(path, "dpi", d.dpi);
   require_positive(path, "viewer_distance_m", d.viewer_distance);
-  if (n["fov_y_deg"] && !(d.fov_y_override_deg > 0 && d.fov_y_override_deg < 179))
-    throw config_error(path, "'fov_y_deg' must be in (0, 179)");
+  if (n["fov_y_deg"] && !(d.fov_y_override_deg >= kMinFovDeg && d.fov_y_override_deg <= kMaxFovDeg))
+    throw config_error(path, "'fov_y_deg' must be " + number(kMinFovDeg) + " to " + number(kMaxFovDeg) + " degrees");
   // Checked after the values so a present but bad key is reported as such.
   for (const char* key : {"width", "height", "dpi", "viewer_distance_m"})
     if (!n[key]) throw config_error(path, std::string("'") + key + "' is required");
+  check_field_of_view(path, d);
   return d;
 }
 
@@ -351,7 +387,7 @@ void read_distances(const YAML::Node& n, const std::string& path, BatchConfig& c
         throw config_error(path, "'distances' must be a list of metres, got '" +
                                      (d.IsScalar() ? d.Scalar() : std::string("a list or mapping")) + "'");
       }
-      require_positive(path, "distances", v);
+      if (const std::string p = distance_problem(v); !p.empty()) throw config_error(path, "'distances': " + p);
       c.distances.push_back(v);
     }
   }
@@ -424,66 +460,6 @@ BatchConfig parse_model(const YAML::Node& n, const std::string& path, const std:
   return c;
 }
 
-bool is_glob(const std::string& s) { return s.find_first_of("*?[") != std::string::npos; }
-
-// A file a folder item takes: a model format's extension. Of JSON files only
-// CityJSON's names (.city.json, .cityjson): a folder may hold reports.
-bool is_model_file(const std::filesystem::path& p) {
-  std::string name = p.filename().string();
-  for (auto& ch : name) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-  const auto ends = [&](const char* e) {
-    const size_t n = std::strlen(e);
-    return name.size() > n && name.compare(name.size() - n, n, e) == 0;
-  };
-  for (const char* e : {".obj", ".ply", ".glb", ".gltf", ".stl", ".dae", ".fbx", ".ifc", ".city.json", ".cityjson"})
-    if (ends(e)) return true;
-  return false;
-}
-
-// The files a `models:` item names: itself, the sorted matches of a glob, or
-// the sorted model files under a directory (recursively).
-// `shown` is the item as the config wrote it, for errors.
-std::vector<std::string> expand_models(const std::string& item, const std::string& shown, const std::string& where) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> files;
-  std::error_code ec;
-  if (is_glob(item)) {
-    glob_t g{};
-    const int rc = ::glob(item.c_str(), 0, nullptr, &g);
-    if (rc == 0)
-      for (size_t i = 0; i < g.gl_pathc; ++i)
-        if (fs::is_regular_file(g.gl_pathv[i], ec)) files.push_back(g.gl_pathv[i]);
-    globfree(&g);
-    if (files.empty()) throw config_error(where, "'" + shown + "' matches no model file");
-  } else if (fs::is_directory(item, ec)) {
-    for (const auto& e : fs::recursive_directory_iterator(item, fs::directory_options::skip_permission_denied, ec))
-      if (e.is_regular_file(ec) && is_model_file(e.path())) files.push_back(e.path().string());
-    std::sort(files.begin(), files.end());
-    if (files.empty()) throw config_error(where, "folder '" + shown + "' holds no model file");
-  } else {
-    files.push_back(item);  // parse_model says if it does not exist
-  }
-  return files;
-}
-
-// Output folder names: file stems, made unique by the parent folder's name
-// and then by a number, in list order (so the same list always maps alike).
-void name_models(std::vector<ModelEntry>& models) {
-  namespace fs = std::filesystem;
-  std::map<std::string, int> stems;
-  for (const auto& m : models) ++stems[model_stem(m.config.model)];
-  std::set<std::string> used;
-  for (auto& m : models) {
-    const fs::path p(m.config.model);
-    std::string name = model_stem(m.config.model);
-    if (stems[name] > 1 && p.has_parent_path()) name = p.parent_path().filename().string() + "_" + name;
-    std::string unique = name;
-    for (int k = 2; used.count(unique); ++k) unique = name + "_" + std::to_string(k);
-    used.insert(unique);
-    m.name = unique;
-  }
-}
-
 }  // namespace
 
 BatchConfig load_batch_config(const std::string& path) {
@@ -526,6 +502,7 @@ ConfigFile load_config_file(const std::string& path) {
   // Each entry is parsed from the top-level settings with its own on top.
   YAML::Node base = YAML::Clone(n);
   for (const auto& k : batch_keys()) base.remove(k);
+  std::vector<std::string> wheres;  // of each model, for check_model_names
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string where = path + ": models[" + std::to_string(i) + "]";
     const YAML::Node item = list[i];
@@ -542,14 +519,16 @@ ConfigFile load_config_file(const std::string& path) {
       throw config_error(where, "must be a model file, glob, folder, or a mapping with 'model'");
     }
     if (pattern.empty()) throw config_error(where, "names no model");
-    for (const std::string& file : expand_models(relative_to(dir, pattern), pattern, where)) {
+    for (const std::string& file : detail::expand_models(relative_to(dir, pattern), pattern, where)) {
       merged["model"] = fs::absolute(file).lexically_normal().string();  // already joined with `dir`
       BatchConfig c = parse_model(merged, where, dir);
       c.out = f.out;
       f.models.push_back({"", c});
+      wheres.push_back(where);
     }
   }
-  name_models(f.models);
+  detail::name_models(f.models);
+  detail::check_model_names(f.models, wheres, f.out);
   return f;
 }
 

@@ -40,7 +40,7 @@ const std::vector<SettingSpec> kConfigSettings = {
     {"display", "path", "(the paper's 19\" LCD)", "a display profile file (Display profiles)",
      "Display profile YAML: how the images are looked at (docs/usage.md#display-profiles)", kHashed, kAnyLevel,
      nullptr},
-    {"distances", "list of numbers", "(required)", "> 0 m; no two with the same file tag",
+    {"distances", "list of numbers", "(required)", "> 0 m, at most 1e8 m; no two with the same file tag",
      "Viewing distances in metres; one LOD per distance", kHashed, kAnyLevel, nullptr},
     {"views", "view set: string or list", "facades,ring8el30,ring8el60,top", "view names and presets (View sets)",
      "View set: presets facades obliques top ring<N>[el<E>/...] and views +x -x ... az<A>el<E>, comma separated "
@@ -171,12 +171,12 @@ namespace {
 const std::vector<SettingSpec> kDisplaySettings = {
     {"name", "string", "the file's stem", "", "The profile's name in reports and manifests", kHashed, kAnyLevel,
      nullptr},
-    {"width", "integer (px)", "(required)", "1..16384", "Image width", kHashed, kAnyLevel, nullptr},
-    {"height", "integer (px)", "(required)", "1..16384", "Image height", kHashed, kAnyLevel, nullptr},
+    {"width", "integer (px)", "(required)", "16..16384", "Image width", kHashed, kAnyLevel, nullptr},
+    {"height", "integer (px)", "(required)", "16..16384", "Image height", kHashed, kAnyLevel, nullptr},
     {"dpi", "number", "(required)", "> 0", "Pixel density of the screen", kHashed, kAnyLevel, nullptr},
     {"viewer_distance_m", "number (m)", "(required)", "> 0", "Distance from the eye to the screen", kHashed,
      kAnyLevel, nullptr},
-    {"fov_y_deg", "number (degrees)", "the natural field of view", "(0, 179)",
+    {"fov_y_deg", "number (degrees)", "the natural field of view", "1..179",
      "Vertical field of view, instead of the angle the screen subtends", kHashed, kAnyLevel, nullptr},
 };
 }  // namespace

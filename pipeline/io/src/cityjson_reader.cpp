@@ -36,8 +36,29 @@ std::string text_of(const Json& j, const char* key) {
   return it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
 
+// Appends `j` as JSON to `out` until `out` is longer than `limit`. Each
+// array or object level writes a character before its members, so the
+// recursion is no deeper than the excerpt is long however deep `j` nests
+// (dump() of a vertex nested 100,000 arrays deep overflowed the stack).
+void excerpt_into(const Json& j, std::string& out, size_t limit) {
+  if (out.size() > limit) return;
+  if (!j.is_structured()) {
+    out += j.dump();
+    return;
+  }
+  out += j.is_array() ? '[' : '{';
+  for (auto it = j.begin(); it != j.end() && out.size() <= limit; ++it) {
+    if (it != j.begin()) out += ',';
+    if (j.is_object()) out += Json(it.key()).dump() + ':';
+    excerpt_into(*it, out, limit);
+  }
+  out += j.is_array() ? ']' : '}';
+}
+
+// At most 40 characters of `j` as JSON, for messages.
 std::string json_excerpt(const Json& j) {
-  std::string d = j.dump();
+  std::string d;
+  excerpt_into(j, d, 40);
   return d.size() > 40 ? d.substr(0, 37) + "..." : d;
 }
 
@@ -71,6 +92,7 @@ class CityJsonReader {
 
   RawModel read() {
     check_type();
+    check_version();
     rep_.reference_system = reference_system();
     read_vertices();
     read_templates();
@@ -119,6 +141,20 @@ class CityJsonReader {
     return rs->is_string() ? rs->get<std::string>() : rs->dump();
   }
 
+  // Fails unless "version" is one this reader knows: 1.0, 1.1 or 2.0, with
+  // or without a patch number ("1.0.3").
+  void check_version() const {
+    const Json* v = member(doc_, "version");
+    if (!v) fail(path_, "no \"version\" (perclod reads CityJSON 1.0, 1.1 and 2.0)");
+    const std::string s = v->is_string() ? v->get<std::string>() : std::string();
+    const std::string minor = s.substr(0, 3), patch = s.size() > 3 ? s.substr(3) : std::string();
+    const bool known = minor == "1.0" || minor == "1.1" || minor == "2.0";
+    const bool patch_ok = patch.empty() || (patch.size() > 1 && patch[0] == '.' &&
+                                            patch.find_first_not_of("0123456789", 1) == std::string::npos);
+    if (!known || !patch_ok)
+      fail(path_, "CityJSON version " + json_excerpt(*v) + " is not supported (perclod reads 1.0, 1.1 and 2.0)");
+  }
+
   // Pass 1: each object's geometries at the chosen LOD, and its ancestry
   // (noting the top-level objects with a child that has geometry).
   std::vector<Picked> pick_objects(double wanted, bool any_lod,
@@ -142,8 +178,10 @@ class CityJsonReader {
           continue;
         }
         double lod = 0;
-        if (!lod_number(shape.value("lod", Json()), lod))
-          fail(path_, where_ + ": \"lod\" is missing or not a number (" + json_excerpt(shape.value("lod", Json())) + ")");
+        const Json* lod_value = member(shape, "lod");  // not shape.value(): no copy of what may nest deep
+        if (!lod_value || !lod_number(*lod_value, lod))
+          fail(path_, where_ + ": \"lod\" is missing or not a number (" +
+                          (lod_value ? json_excerpt(*lod_value) : std::string("null")) + ")");
         usable.push_back({lod, &geom});
       }
       if (usable.empty()) continue;
@@ -273,6 +311,9 @@ class CityJsonReader {
         }
         if (!ok) fail(path_, std::string("\"transform\" needs \"") + key + "\": 3 numbers");
       }
+      if (!(scale[0] > 0 && scale[1] > 0 && scale[2] > 0))
+        fail(path_, "\"transform\" \"scale\" is " + json_excerpt((*t)["scale"]) +
+                        ": each must be positive (a zero scale puts every vertex on one point)");
     }
     const Json* v = member(doc_, "vertices");
     if (!v || !v->is_array()) fail(path_, "no \"vertices\" array");
@@ -350,8 +391,8 @@ class CityJsonReader {
       if (k >= 0 && k < (long long)appearance_materials->size()) {
         const Json& am = (*appearance_materials)[size_t(k)];
         Material mt;
-        mt.name = am.is_object() && am.value("name", Json()).is_string() ? am["name"].get<std::string>()
-                                                                         : "material" + std::to_string(k);
+        mt.name = text_of(am, "name");
+        if (mt.name.empty()) mt.name = "material" + std::to_string(k);
         const Json* dc = member(am, "diffuseColor");
         if (dc && dc->is_array() && dc->size() == 3 && (*dc)[0].is_number() && (*dc)[1].is_number() &&
             (*dc)[2].is_number()) {
@@ -503,7 +544,7 @@ bool looks_like_cityjson(const std::string& path) {
   f.seekg(0);
   ss << f.rdbuf();
   Json doc = Json::parse(ss.str(), nullptr, false);
-  return doc.is_object() && doc.value("type", Json()) == "CityJSON";
+  return text_of(doc, "type") == "CityJSON";
 }
 
 

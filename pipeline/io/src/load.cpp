@@ -78,6 +78,12 @@ Scene build_scene(RawModel&& m, const std::string& path, const LoadOptions& opt,
                      "too large or the unit scale is wrong");
     s.positions[i] = float(v);
   }
+  const double span = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+  if (span > kMaxModelSpan)
+    fail(path, "the model spans " + num(span) + " m" + (opt.scale == 1 ? "" : " after the unit scale " + num(opt.scale)) +
+                   ", more than the " + num(kMaxModelSpan) +
+                   " m perclod renders and traces in float precision: the model is too large or the unit scale "
+                   "is wrong");
   s.indices = std::move(m.indices);
   s.material = std::move(m.material);
   s.materials = std::move(m.materials);

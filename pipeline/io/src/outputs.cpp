@@ -5,6 +5,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <signal.h>
 #include <unistd.h>
 
@@ -236,23 +237,56 @@ void ensure_directory(const std::string& dir) {
   if (ec || !fs::is_directory(dir)) throw std::runtime_error(dir + ": cannot create directory");
 }
 
-OutputDirectoryLock::OutputDirectoryLock(const std::string& dir) : path_(dir + "/.perclod.lock") {
+OutputDirectoryLock::OutputDirectoryLock(const std::string& dir, Mode mode, const std::string& file)
+    : path_(dir + "/" + file) {
   ensure_directory(dir);
+  for (int attempt = 0; !try_lock(dir, mode); ++attempt)
+    if (attempt == 100) throw std::runtime_error(path_ + ": cannot lock: the file keeps being replaced");
+}
+
+bool OutputDirectoryLock::try_lock(const std::string& dir, Mode mode) {
   fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) throw std::runtime_error(path_ + ": cannot create the output lock: " + std::strerror(errno));
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+  if (::flock(fd_, (mode == Mode::Shared ? LOCK_SH : LOCK_EX) | LOCK_NB) != 0) {
     const int e = errno;
     ::close(fd_);
+    fd_ = -1;
     if (e == EWOULDBLOCK)
       throw std::runtime_error(dir + ": another perclod command is writing to this directory (it holds " +
                                path_ + "); wait for it or choose another output directory");
     throw std::runtime_error(path_ + ": cannot lock: " + std::strerror(e));
   }
+  // Locked; but if the name now holds another file (or none), whoever locks
+  // that one would not see this lock: start again on the file there now.
+  struct stat held {}, named {};
+  if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
+      held.st_ino == named.st_ino)
+    return true;
+  ::close(fd_);
+  fd_ = -1;
+  return false;
 }
 
 OutputDirectoryLock::~OutputDirectoryLock() {
-  ::unlink(path_.c_str());  // while still locked: a waiting command sees no stale lock file
-  ::close(fd_);
+  if (fd_ >= 0) ::close(fd_);  // releases the lock; the file stays (see perclod/outputs.h)
+}
+
+bool is_batch_file_name(const std::string& name) {
+  if (name.empty() || name[0] == '.' || name == "index.html" || name == "tileset.json") return true;
+  // batch_<i>_of_<n>.json
+  const auto digits = [&](size_t& at) {
+    const size_t from = at;
+    while (at < name.size() && std::isdigit(static_cast<unsigned char>(name[at]))) ++at;
+    return at > from;
+  };
+  size_t at = 0;
+  const auto word = [&](const char* w) {
+    const size_t n = std::strlen(w);
+    if (name.compare(at, n, w) != 0) return false;
+    at += n;
+    return true;
+  };
+  return word("batch_") && digits(at) && word("_of_") && digits(at) && word(".json") && at == name.size();
 }
 
 }  // namespace perclod

@@ -153,9 +153,19 @@ Camera facade_camera(const Bounds& b, UpAxis up, const std::string& facade, doub
   return view_camera(b, up, facade, distance, display);
 }
 
+std::string distance_problem(double distance) {
+  std::ostringstream ss;
+  if (!(distance > 0) || !std::isfinite(distance)) ss << "must be a positive number of metres, got " << distance;
+  else if (distance > kMaxDistance)
+    ss << distance << " m is farther than the " << kMaxDistance << " m perclod takes (a building is far below a pixel "
+       << "there, and at larger distances its size is lost in the precision of the eye's coordinates)";
+  return ss.str();
+}
+
 Camera view_camera(const Bounds& b, UpAxis up, const std::string& facade, double distance,
                    const DisplayProfile& display) {
-  if (!(distance > 0)) throw std::invalid_argument("viewing distance must be positive");
+  if (const std::string p = distance_problem(distance); !p.empty())
+    throw std::invalid_argument("viewing distance: " + p);
   double az, el;
   if (parse_free_view(facade, az, el)) return free_camera(b, up, az, el, distance, display);
   if (facade == "top") {
@@ -183,7 +193,8 @@ Camera view_camera(const Bounds& b, UpAxis up, const std::string& facade, double
 
 Camera free_camera(const Bounds& b, UpAxis up, double az, double el, double distance,
                    const DisplayProfile& display) {
-  if (!(distance > 0)) throw std::invalid_argument("viewing distance must be positive");
+  if (const std::string p = distance_problem(distance); !p.empty())
+    throw std::invalid_argument("viewing distance: " + p);
   if (std::fabs(el) >= 89.9) throw std::invalid_argument("elevation must be within (-89.9, 89.9) degrees");
   const double deg = kPi / 180.0;
   Eigen::Vector3d c = to_vec(b.center());

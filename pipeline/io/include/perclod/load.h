@@ -43,6 +43,13 @@
 
 namespace perclod {
 
+// The largest model, metres across its bounding box after the unit scale:
+// perclod renders, traces and judges in float, and its labels and LODs go
+// wrong for models some thousand times larger (a cube 2e13 m across got an
+// empty LOD, 2e11 m the right one). A larger model is refused naming the
+// file and its size.
+constexpr double kMaxModelSpan = 1e8;
+
 struct LoadError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };

@@ -89,21 +89,39 @@ void remove_temporaries_on_signals();
 // Creates a directory (and parents); throws naming it on failure.
 void ensure_directory(const std::string& dir);
 
-// One writer per output directory: creates `dir` and holds an exclusive
-// advisory lock (flock) on <dir>/.perclod.lock for its lifetime; the file is
-// removed on release. A second perclod command writing to the same
+// The lock file of an output directory (OutputDirectoryLock).
+constexpr const char* kLockFile = ".perclod.lock";
+
+// One writer per output directory: creates `dir` and holds an advisory lock
+// (flock) on <dir>/<file> (kLockFile unless told) for its lifetime.
+// Exclusive, the default: a second perclod command writing to the same
 // directory meanwhile is refused with an error naming it, instead of the two
-// overwriting each other's finished files.
+// overwriting each other's finished files. Shared: the shards of one batch
+// hold it together, and any exclusive holder is refused (and refuses them).
+// The lock file stays when the lock is released: deleting it while held let
+// a command that had opened it lock the deleted file while a third locked a
+// new one under the same name. A lock file found replaced or deleted after
+// locking is opened again.
 class OutputDirectoryLock {
  public:
-  explicit OutputDirectoryLock(const std::string& dir);
+  enum class Mode { Exclusive, Shared };
+  explicit OutputDirectoryLock(const std::string& dir, Mode mode = Mode::Exclusive,
+                               const std::string& file = kLockFile);
   ~OutputDirectoryLock();
   OutputDirectoryLock(const OutputDirectoryLock&) = delete;
   OutputDirectoryLock& operator=(const OutputDirectoryLock&) = delete;
 
  private:
+  // Opens and locks path_; false when the file was replaced meanwhile.
+  bool try_lock(const std::string& dir, Mode mode);
   std::string path_;
   int fd_ = -1;
 };
+
+// Whether `name` in a batch's output folder is, or could be, one of the
+// batch's own files: index.html, tileset.json, batch_<i>_of_<n>.json, or a
+// name starting with '.' (lock files, partial folders, temporaries). A
+// model's folder may not take such a name.
+bool is_batch_file_name(const std::string& name);
 
 }  // namespace perclod

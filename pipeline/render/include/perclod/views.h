@@ -50,6 +50,15 @@ inline std::vector<std::string> parse_facades(const std::string& spec, UpAxis up
 // (docs/usage.md#view-sets says how it was chosen).
 constexpr const char* kDefaultViews = "facades,ring8el30,ring8el60,top";
 
+// The farthest viewing distance, metres (100,000 km). Beyond it a building
+// is far below a pixel on any display, and at much larger distances its size
+// is lost in the precision of the eye's coordinates: the views fail with
+// errors about the eye and the clip planes instead of about the distance.
+constexpr double kMaxDistance = 1e8;
+// "" when `distance` is a positive number of metres up to kMaxDistance, else
+// what is wrong with it ("1e+300 m is farther than ...").
+std::string distance_problem(double distance);
+
 // A view name (see above) -> its camera at `distance`.
 Camera view_camera(const Bounds& bounds, UpAxis up, const std::string& view, double distance,
                    const DisplayProfile& display);
