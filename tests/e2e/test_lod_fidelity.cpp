@@ -141,6 +141,29 @@ TEST(LodFidelity, VisibleDifferenceIsMeasuredAgainstTheQuarterPixelFloor) {
   EXPECT_EQ(j.worst.visible_ratio, worst);
 }
 
+// A view where the quarter-pixel shift changes nothing (here: the camera
+// turned away, nothing drawn) has no floor of its own; it gets half the
+// median floor of the other views, not 0.
+TEST(LodFidelity, AViewWithoutAFloorOfItsOwnGetsHalfTheMedian) {
+  Renderer renderer;
+  Labelled l = label_building(renderer);
+  Camera away = l.result.views[0].camera;
+  away.forward = -away.forward, away.right = -away.right;
+  RenderOutput img;
+  renderer.set_scene(l.scene);
+  renderer.render(away, img);
+  std::vector<uint8_t> background;
+  background_of(img, background);
+  l.result.views.push_back(view_record("away", away, img.rgb, background, "held_out"));
+  measure_floors(renderer, l.scene, l.result.views, judge_settings_of(l.job));
+  std::vector<double> floors;
+  for (size_t k = 0; k + 1 < l.result.views.size(); ++k) floors.push_back(l.result.views[k].visible_floor);
+  std::sort(floors.begin(), floors.end());
+  const double median_of_five = floors[1];  // of 0 (the away view's own) and the four facades' floors
+  EXPECT_GT(floors[0], 0.5);
+  EXPECT_NEAR(l.result.views.back().visible_floor, kFloorOfMedian * median_of_five, 1e-9);
+}
+
 TEST(LodFidelity, PaperLodAt56mHoldsAFractionOfTheInputAndLooksAlike) {
   Renderer renderer;
   Labelled l = label_building(renderer);

@@ -222,6 +222,17 @@ void measure_floors(Renderer& renderer, const Scene& original, std::vector<ViewR
     v.visible_floor = visible_difference(shifted.simulated.data(), unshifted.simulated.data(), region.size(),
                                          region.data(), how.perception.threshold);
   }
+  // A view where the shift moves no edge across a pixel centre (one flat
+  // wall: every pixel of an edge's column flips together, or none does) has
+  // a floor near 0, and any LOD moving one edge there would look thousands
+  // of times over it. No view's floor is below kFloorOfMedian times the
+  // median of the distance's views.
+  std::vector<double> floors;
+  for (const ViewRecord& v : records) floors.push_back(v.visible_floor);
+  if (floors.empty()) return;
+  std::nth_element(floors.begin(), floors.begin() + long(floors.size() / 2), floors.end());
+  const double lowest = kFloorOfMedian * floors[floors.size() / 2];
+  for (ViewRecord& v : records) v.visible_floor = std::max(v.visible_floor, lowest);
 }
 
 Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimits& limits) {
