@@ -9,7 +9,8 @@ the runs with --force, so whole folders are being replaced when they die),
 until it has been killed --kills times; then once more to the end. Checks:
 
   - after every kill: each model folder under its final name is whole (its
-    manifest `complete`, every file it lists present, the input and settings
+    manifest `complete`, every file it lists present, every file in the
+    folder matching the checksum the manifest records for it, the input and settings
     hashes it records matching the model file and the reference) and equal to
     the reference's folder, and the batch's own files that exist parse;
   - at the end: the last run exits 0, no partial folder or temporary is left,
@@ -40,6 +41,9 @@ DATA = os.path.normpath(os.path.join(ROOT, "..", "shared", "data"))
 PERCLOD = os.environ.get("PERCLOD", os.path.join(ROOT, "build", "perclod"))
 # Keys whose values are measured times: left out when JSON files are compared.
 TIMING_KEYS = {"seconds", "timings", "tracer_build_seconds"}
+# The manifest's checksums hold the reports' hashes, which differ with their
+# timings: checked against the files, not against the reference.
+UNCOMPARED_KEYS = TIMING_KEYS | {"checksums"}
 
 
 def batch_config(full):
@@ -60,7 +64,19 @@ def batch_config(full):
     return "\n".join(lines) + "\n"
 
 
+_hashes = {}
+
+
 def fnv1a64(path):
+    """perclod's hash_file: "fnv1a64:<hex>" of the file's bytes (cached by size and mtime)."""
+    st = os.stat(path)
+    key = (path, st.st_size, st.st_mtime_ns, st.st_ino)
+    if key not in _hashes:
+        _hashes[key] = _fnv1a64(path)
+    return _hashes[key]
+
+
+def _fnv1a64(path):
     h = 14695981039346656037
     with open(path, "rb") as f:
         for chunk in iter(lambda: f.read(1 << 20), b""):
@@ -72,7 +88,7 @@ def fnv1a64(path):
 def without_timings(j):
     if isinstance(j, dict):
         return {k: without_timings(v) for k, v in j.items()
-                if k not in TIMING_KEYS and not k.endswith("_seconds") and not k.startswith("seconds_")}
+                if k not in UNCOMPARED_KEYS and not k.endswith("_seconds") and not k.startswith("seconds_")}
     if isinstance(j, list):
         return [without_timings(v) for v in j]
     return j
@@ -104,9 +120,21 @@ def folder_problems(folder, ref_folder, input_hashes):
     listed = list(m.get("files", {}).values())
     for lod in m.get("lods", []):
         listed += [lod.get("file"), lod.get("glb")]
+    sums = m.get("checksums", {})
     for f in listed:
         if f and not os.path.isfile(os.path.join(folder, f)):
             problems.append("%s: listed file %s missing" % (name, f))
+        elif f and f not in sums:
+            problems.append("%s: listed file %s has no checksum" % (name, f))
+    for f, h in sorted(sums.items()):
+        p = os.path.join(folder, f)
+        if not os.path.isfile(p):
+            problems.append("%s: checksummed file %s missing" % (name, f))
+        elif fnv1a64(p) != h:
+            problems.append("%s: %s does not match its checksum" % (name, f))
+    unlisted = {f for f in os.listdir(folder) if not f.startswith(".")} - set(sums) - set(manifests)
+    if unlisted:
+        problems.append("%s: files without a checksum: %s" % (name, " ".join(sorted(unlisted))))
     model_file = m.get("model", {}).get("file", "")
     if input_hashes.get(model_file) != m.get("model", {}).get("hash"):
         problems.append("%s: model hash %s is not the input's" % (name, m.get("model", {}).get("hash")))

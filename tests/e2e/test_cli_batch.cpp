@@ -10,6 +10,7 @@
 #include "cli_util.h"
 #include "perclod/config.h"
 #include "perclod/load.h"
+#include "perclod/run_model.h"
 
 using perclod::test::run_cli;
 namespace fs = std::filesystem;
@@ -92,6 +93,23 @@ int check_tile(const nlohmann::json& tile, const fs::path& dir, double parent_er
   else
     EXPECT_EQ(e, 0) << "a leaf LOD is the finest: nothing to refine to";
   return deepest;
+}
+
+// The manifest's checksums name every file of the model's outputs in `dir`
+// (all but the manifest and hidden files) with that file's hash.
+void expect_checksums_match(const nlohmann::json& m, const fs::path& dir) {
+  std::set<std::string> files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string n = e.path().filename().string();
+    if (n[0] != '.' && n.find("_manifest.json") == std::string::npos) files.insert(n);
+  }
+  ASSERT_TRUE(m.contains("checksums"));
+  std::set<std::string> summed;
+  for (const auto& [name, hash] : m["checksums"].items()) {
+    summed.insert(name);
+    EXPECT_EQ(hash.get<std::string>(), perclod::hash_file((dir / name).string())) << name;
+  }
+  EXPECT_EQ(summed, files);
 }
 
 }  // namespace
@@ -182,6 +200,8 @@ TEST(CliBatch, ManifestTilesetAndGlbsValidate) {
     EXPECT_EQ(ts["asset"]["extras"]["perclod"]["maximum_screen_space_error"], 16);
     EXPECT_GE(ts["geometricError"].get<double>(), ts["root"]["geometricError"].get<double>());
     check_tile(ts["root"], dir, ts["geometricError"].get<double>(), 0);
+    // Hashes of the files as published, the report rewritten with relative paths included.
+    expect_checksums_match(m, dir);
     if (name == "beta") {
       EXPECT_EQ(m["model"]["up"], "z");
       EXPECT_EQ(ts["root"]["transform"].size(), 16u);  // crs_origin: local ENU frame
@@ -217,6 +237,7 @@ TEST(CliBatch, OneModelConfigsWriteTheManifestBesideTheLods) {
   EXPECT_EQ(m["lods"][0]["serves"]["to"], m["lods"][1]["serves"]["from"]);
   EXPECT_TRUE(fs::exists(b.root / "one" / "alpha_lod_427m.glb"));
   EXPECT_TRUE(fs::exists(b.root / "one" / "alpha_lods.glb"));
+  expect_checksums_match(m, b.root / "one");
 }
 
 TEST(CliBatch, CityJsonModelsTakeTheirLodFromTheConfig) {

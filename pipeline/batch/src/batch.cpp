@@ -33,6 +33,7 @@
 #include "perclod/run_model.h"
 #include "batch_util.h"
 #include "perclod/lods.h"
+#include "perclod/model_exports.h"
 #include "perclod/runtime.h"
 
 namespace perclod {
@@ -380,7 +381,9 @@ void build_model(const BatchRun& b, BatchProgress& p, size_t i, const ModelRun& 
     // Paths in the report and outputs become relative to the model's folder.
     nlohmann::json rel = model_report_json(report);
     relocate(rel, partial + "/", "");
-    write_text_atomic(output_names_for(partial, c.model).report(), rel.dump(2) + "\n");
+    const OutputNames names = output_names_for(partial, c.model);
+    write_text_atomic(names.report(), rel.dump(2) + "\n");
+    write_manifest(names, man);  // its checksum of the report, now rewritten
     // run_model's lock is released, and no other command writes to this
     // process's partial folder: its lock file is not part of the outputs.
     fs::remove(fs::path(partial) / kLockFile, ec);

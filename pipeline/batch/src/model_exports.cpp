@@ -317,8 +317,22 @@ nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>&
   if (frame) manifest["crs"] = crs_json(*frame, config, scene.offset);
   if (config.crs_origin)
     manifest["crs_origin"] = {{"lat", config.origin_lat}, {"lon", config.origin_lon}, {"height", config.origin_height}};
-  write_text_atomic(out.manifest(), manifest.dump(2) + "\n");
+  write_manifest(out, manifest);
   return manifest;
+}
+
+void write_manifest(const OutputNames& out, nlohmann::json& manifest) {
+  const std::string prefix = out.stem + "_", self = leaf(out.manifest());
+  std::vector<std::string> names;
+  for (const fs::directory_entry& e : fs::directory_iterator(out.dir)) {
+    const std::string name = e.path().filename().string();
+    if (e.is_regular_file() && name.compare(0, prefix.size(), prefix) == 0 && name != self) names.push_back(name);
+  }
+  std::sort(names.begin(), names.end());
+  nlohmann::json sums = nlohmann::json::object();
+  for (const std::string& name : names) sums[name] = hash_file((fs::path(out.dir) / name).string());
+  manifest["checksums"] = std::move(sums);
+  write_text_atomic(out.manifest(), manifest.dump(2) + "\n");
 }
 
 }  // namespace perclod

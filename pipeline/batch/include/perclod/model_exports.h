@@ -13,6 +13,7 @@
 #include "perclod/crs.h"
 #include "perclod/load.h"
 #include "perclod/lods.h"
+#include "perclod/outputs.h"
 #include "perclod/run_model.h"
 
 namespace perclod {
@@ -65,5 +66,11 @@ std::array<double, 16> crs_transform(const CrsFrame& frame, const std::array<dou
 nlohmann::json write_model_exports(const Scene& scene, const std::vector<Scene>& lods, const LodJob& job,
                                    const BatchConfig& config, const ModelRun& run, const ModelReport& report,
                                    const std::optional<CrsFrame>& frame);
+
+// Writes `manifest` to out.manifest() (atomically) after recording in its
+// "checksums" the hash (hash_file) of every file of the model's outputs: each
+// <stem>_* file in out.dir but the manifest. Call it again after rewriting
+// any of those files.
+void write_manifest(const OutputNames& out, nlohmann::json& manifest);
 
 }  // namespace perclod
