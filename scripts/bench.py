@@ -494,6 +494,7 @@ METHOD_STYLE = [  # prefix, label, colour, marker
     ("qem", "plain qem", "C7", "x"),
     ("decimater", "OpenMesh Decimater", "C8", "+"),
     ("meshopt", "meshoptimizer (count and error sweeps)", "C1", "."),
+    ("culled meshopt", "meshoptimizer after a visibility cull (81 views at 2x)", "C4", "d"),
 ]
 
 
@@ -505,7 +506,7 @@ def method_family(method):
 
 
 def fidelity_points(rows):
-    """(model, distance) -> family -> [(triangles, worst SSIM, worst changed, seconds)]."""
+    """(model, distance) -> family -> [(triangles, worst SSIM, worst changed, seconds, worst visible ratio)]."""
     out = {}
     for r in rows:
         fam = method_family(r["method"])
@@ -514,8 +515,9 @@ def fidelity_points(rows):
         key = (r["model"], float(r["distance"]))
         ssim = min(float(r["lab_ssim"]), float(r["held_ssim"]))
         changed = max(float(r["lab_changed"]), float(r["held_changed"]))
+        visible = float(r["visible_worst"]) if r.get("visible_worst") else float("nan")
         out.setdefault(key, {}).setdefault(fam[0], []).append(
-            (int(r["triangles"]), ssim, changed, float(r["seconds"] or 0)))
+            (int(r["triangles"]), ssim, changed, float(r["seconds"] or 0), visible))
     return out
 
 
@@ -537,7 +539,7 @@ def chart_fidelity(rows, path, measure):
                     if m in ["demo", "han", "sibenik", "sponza", "block", "facade"] else 99)
     dists = sorted({k[1] for k in pts})
     fig, axes = plt.subplots(len(models), len(dists), figsize=(4.2 * len(dists), 3.3 * len(models)), squeeze=False)
-    idx = 1 if measure == "ssim" else 2
+    idx = {"ssim": 1, "changed": 2, "visible": 4}[measure]
     for i, m in enumerate(models):
         for j, d in enumerate(dists):
             ax = axes[i][j]
@@ -545,22 +547,26 @@ def chart_fidelity(rows, path, measure):
                 p = pts.get((m, d), {}).get(prefix, [])
                 if not p:
                     continue
-                xy = [(q[0], q[idx]) for q in p]
+                xy = [(q[0], q[idx]) for q in p if not math.isnan(q[idx])]
                 ax.scatter([q[0] for q in xy], [q[1] for q in xy], color=color, marker=marker, s=18, label=label,
                            zorder=3)
-                if prefix in ("fidelity", "meshopt"):
+                if prefix in ("fidelity", "meshopt", "culled meshopt") and xy:
                     env = envelope(xy, higher_better=(measure == "ssim"))
                     ax.plot([q[0] for q in env], [q[1] for q in env], color=color, lw=1)
             ax.set_xscale("log")
             if measure == "changed":
                 ax.set_yscale("symlog", linthresh=0.01)
                 ax.axhline(0.02, color="k", lw=0.6, ls=":")
+            if measure == "visible":  # the quarter-pixel floor
+                ax.set_yscale("log")
+                ax.axhline(1.0, color="k", lw=0.8, ls="--")
             ax.set_title(f"{m}, {d:g} m", fontsize=9)
             ax.grid(True, which="both", alpha=0.3)
             if i == len(models) - 1:
                 ax.set_xlabel("triangles")
             if j == 0:
-                ax.set_ylabel("worst-view covered SSIM" if measure == "ssim" else "worst-view changed fraction")
+                ax.set_ylabel({"ssim": "worst-view covered SSIM", "changed": "worst-view changed fraction",
+                               "visible": "worst visible ratio (floor = 1)"}[measure])
     handles, labels = axes[0][0].get_legend_handles_labels()
     for row in axes:
         for ax in row:
@@ -772,11 +778,24 @@ def summarize(out, charts, exponents):
                          note[3]])
         parts.append("## Triangles at equal worst-view SSIM: fidelity / meshoptimizer\n\n" + md_table(
             ["model", "d m", "setting", "fidelity tris", "worst SSIM", "meshopt tris (envelope)", "ratio"], rows))
+    equal = [r for r in fid if r["method"].startswith("equal_")]
+    if equal:
+        rows = []
+        for r in equal:
+            what, peer, setting = r["method"].split()
+            note = r["note"].split()
+            rows.append([r["model"], r["distance"], what[len("equal_"):], peer, setting, r["triangles"], r["lab_ssim"],
+                         note[1], note[3]])
+        parts.append("## Triangles at equal fidelity beside each peer (worst view; visible: the judge's ratio, "
+                     "floor = 1)\n\n" + md_table(
+                         ["model", "d m", "measure", "peer", "setting", "perclod tris", "figure", "peer tris (envelope)",
+                          "ratio"], rows))
     if fid:
         rows = [[r["model"], r["distance"], r["method"], r["triangles"], r["seconds"],
                  *worst_cells(r),
                  f"{100 * float(r['hausdorff_rel']):.3f}%", r["note"]]
-                for r in fid if not r["method"].startswith(("same_ssim", "meshopt sweep", "meshopt error"))]
+                for r in fid if not r["method"].startswith(("same_ssim", "equal_", "meshopt sweep", "meshopt error",
+                                                            "culled meshopt sweep"))]
         parts.append("## Every LOD (worst view of labelling and held-out sets)\n\n" + md_table(
             ["model", "d m", "method", "triangles", "simplify s", "changed", "SSIM", "silhouette", "Hausdorff/diag",
              "note"], rows))
@@ -840,6 +859,7 @@ def charts(out):
     fid = read_csv(out("fidelity.csv"))
     made.append(chart_fidelity(fid, out("fidelity_ssim.png"), "ssim"))
     made.append(chart_fidelity(fid, out("fidelity_changed.png"), "changed"))
+    made.append(chart_fidelity(fid, out("fidelity_visible.png"), "visible"))
     made.append(chart_fidelity_time(fid, out("fidelity_time.png")))
     made.append(chart_sweeps(read_csv(out("sweeps.csv")), out("sweeps.png")))
     path, exponents = chart_scaling(read_csv(out("scaling.csv")), out("scaling.png"))
@@ -887,7 +907,7 @@ def main():
     log(f"charts: {', '.join(os.path.basename(m) for m in made)}; summary: {out('summary.md')}")
     if a.smoke:  # every section asked for produced rows and its chart
         expect = {"tracers": ["tracers.csv", "tracers.png"],
-                  "simplifiers": ["fidelity.csv", "simplify_time.csv", "butteraugli.csv", "fidelity_ssim.png",
+                  "simplifiers": ["fidelity.csv", "simplify_time.csv", "butteraugli.csv", "fidelity_ssim.png", "fidelity_visible.png",
                                   "fidelity_time.png"],
                   "sweeps": ["sweeps.csv", "sweeps.png"], "failures": ["failures.csv"],
                   "stability": ["stability.csv", "stability_lod.csv", "stability.png"], "scaling": ["scaling.csv", "scaling.png"]}

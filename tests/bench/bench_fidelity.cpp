@@ -82,6 +82,7 @@
 #include "bench_common.h"
 #include "decimater.h"
 #include "hausdorff.h"
+#include "peers.h"
 #include "perclod/facade.h"
 #include "perclod/image_io.h"
 #include "perclod/load.h"
@@ -488,6 +489,118 @@ SimplifyOptions fidelity_options(double e_p, double e_i) {
   return g_delete_undisplayable ? so : choose_undisplayable(so, g_exposure);
 }
 
+#ifdef PERCLOD_HAVE_MESHOPTIMIZER
+// A peer's sweep: each LOD's count with its worst-view SSIM and its worst
+// visible ratio (the judge's figure over the quarter-pixel floor).
+struct Sweep {
+  std::vector<bench::SweepPoint> ssim, visible;
+  void add(const Judged& j) {
+    ssim.push_back({j.triangles, j.ssim_all()});
+    visible.push_back({j.triangles, j.visible_worst});
+  }
+};
+
+// The meshoptimizer peers of one model and distance, judged like the
+// fidelity rows (records, job) and set beside them.
+struct PeerRun {
+  Renderer& renderer;
+  const Model& m;
+  double d;
+  const std::string& tag;
+  const std::vector<ViewRecord>& records;
+  const LabelJob& job;
+  const std::vector<Judged>& fidelity;
+  const std::vector<double>& e_i;
+
+  // meshopt_simplify of `scene` to `target` (and sloppy too where simplify
+  // stalls above 1.1x the target), rows named `name`, points into `sweep`.
+  void meshopt_at(const Scene& scene, const MeshoptInput& in, size_t target, const std::string& name, Sweep& sweep,
+                  const std::string& pair_name) {
+    for (bool sloppy : {false, true}) {
+      double sec = 0;
+      Scene lod = meshopt_lod(scene, in, std::max<size_t>(1, target), sloppy, sec);
+      const bool stalled = lod.triangle_count() > target + target / 10 + 1;
+      Judged j = judge(renderer, lod, records, job, nullptr, pair_name.empty() ? "" : pair_name + (sloppy ? "_sloppy" : ""));
+      j.seconds = sec;
+      row(m, d, name, j, sloppy ? "sloppy" : (stalled ? "stalled" : ""));
+      sweep.add(j);
+      if (!stalled) break;  // sloppy only where simplify stalls
+    }
+  }
+
+  // meshoptimizer on `scene` (the model, or what the visibility cull kept)
+  // at each fidelity row's count, swept over fractions of `scene`'s count,
+  // and (with_errors) over error limits: every LOD a point of the sweep
+  // (the ones at fidelity's counts too: leaving them out overstated the
+  // count meshoptimizer needs where they beat the line between sweep points).
+  Sweep meshopt_sweep(const Scene& scene, const std::string& method, bool with_errors) {
+    const MeshoptInput in = meshopt_input(scene);
+    const std::string file = method == "meshopt" ? "_meshopt" : "_culled_meshopt";
+    Sweep sweep;
+    for (size_t i = 0; i < fidelity.size(); ++i) {
+      std::ostringstream name, pair_name;
+      name << method << " @e_I=" << e_i[i];
+      pair_name << tag << file << "_eI" << e_i[i];
+      meshopt_at(scene, in, fidelity[i].triangles, name.str(), sweep, pair_name.str());
+    }
+    const size_t nt = scene.triangle_count();
+    for (double f : {0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 0.85, 1.0}) {
+      if (f == 1.0 && with_errors) continue;  // the model itself: the sweep's end already
+      std::ostringstream name, pair_name;
+      name << method << " sweep " << f;
+      pair_name << tag << file << "_sweep" << f;
+      meshopt_at(scene, in, size_t(f * double(nt)), name.str(), sweep, g_pairs_all ? pair_name.str() : "");
+    }
+    if (!with_errors) return sweep;
+    // By error limit (no count): meshoptimizer's own notion of quality.
+    for (float err : {1e-4f, 3e-4f, 1e-3f, 3e-3f, 1e-2f}) {
+      double sec = 0;
+      Scene lod = meshopt_lod(scene, in, 1, false, sec, err);
+      std::ostringstream name, pair_name;
+      pair_name << tag << file << "_error" << err;
+      Judged j = judge(renderer, lod, records, job, nullptr, g_pairs_all ? pair_name.str() : "");
+      j.seconds = sec;
+      name << method << " error " << err;
+      row(m, d, name.str(), j);
+      sweep.add(j);
+    }
+    return sweep;
+  }
+
+  // For each fidelity row, the fewest triangles the peer's sweep needs for
+  // the same worst-view SSIM and for the same worst visible ratio; and for
+  // each of them the fewest at the floor (worst visible ratio 1), fidelity's
+  // read from its rows at the asked e_I. CSV rows "same_ssim e_I=E" (plain
+  // meshoptimizer, the name scripts/bench.py reads) or "equal_ssim <peer>
+  // e_I=E", "equal_visible <peer> e_I=E" and "equal_visible <peer> floor",
+  // the note "<peer> N ratio R".
+  void equal_fidelity(const Sweep& peer, const std::string& name, size_t full) {
+    auto line = [&](const std::string& method, size_t ours, double goal, double need) {
+      const double ratio = need > 0 ? double(ours) / need : 0.0;
+      std::printf("%-6s %4.0f  %s: perclod %zu triangles at %.4f, %s about %.0f; ratio %.2f\n", m.key.c_str(), d,
+                  method.c_str(), ours, goal, name.c_str(), need, ratio);
+      if (g_csv)
+        std::fprintf(g_csv, "%s,%g,%s,%zu,,,%.5f,,,,,,,,,,,,,,%s %.0f ratio %.3f\n", m.key.c_str(), d, method.c_str(),
+                     ours, goal, name.c_str(), need, ratio);
+    };
+    Sweep ours;
+    for (size_t i = 0; i < fidelity.size(); ++i) {
+      ours.add(fidelity[i]);
+      std::ostringstream e;
+      e << "e_I=" << e_i[i];
+      const double ssim = fidelity[i].ssim_all(), vis = fidelity[i].visible_worst;
+      line((name == "meshopt" ? "same_ssim " : "equal_ssim " + name + " ") + e.str(), fidelity[i].triangles, ssim,
+           bench::fewest_reaching(peer.ssim, ssim, true, full));
+      line("equal_visible " + name + " " + e.str(), fidelity[i].triangles, vis,
+           bench::fewest_reaching(peer.visible, vis, false, full));
+    }
+    const double at_floor = bench::fewest_reaching(ours.visible, 1.0, false, full);
+    line("equal_visible " + name + " floor", size_t(std::lround(at_floor)), 1.0,
+         bench::fewest_reaching(peer.visible, 1.0, false, full));
+  }
+};
+#endif
+
 void run_model(const Model& m, const std::vector<double>& distances, const std::vector<double>& e_i, double e_p) {
   const Scene& scene = m.scene;
   const bench::HausdorffReference hausdorff(scene);
@@ -649,24 +762,10 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
     }
 #ifdef PERCLOD_HAVE_MESHOPTIMIZER
     if (!g_meshopt) continue;
-    const MeshoptInput in = meshopt_input(scene);
-    // meshopt_simplify, and sloppy too when simplify stalls above 1.1x the target.
-    auto mesh_opt = [&](size_t target, const std::string& name, std::vector<std::pair<size_t, double>>* sweep,
-                        const std::string& pair_name = "") {
-      for (bool sloppy : {false, true}) {
-        double sec = 0;
-        Scene lod = meshopt_lod(scene, in, std::max<size_t>(1, target), sloppy, sec);
-        const bool stalled = lod.triangle_count() > target + target / 10 + 1;
-        Judged j = judge(renderer, lod, records, job, nullptr, pair_name.empty() ? "" : pair_name + (sloppy ? "_sloppy" : ""));
-        j.seconds = sec;
-        row(m, d, name, j, sloppy ? "sloppy" : (stalled ? "stalled" : ""));
-        if (sweep) sweep->push_back({j.triangles, j.ssim_all()});
-        if (!stalled) break;  // sloppy only where simplify stalls
-      }
-    };
+    const MeshoptInput welded = meshopt_input(scene);
     for (size_t i = 0; i < fidelity.size(); ++i) {
       double sec = 0;
-      Scene lod = decimater_lod(scene, in, fidelity[i].triangles, sec);
+      Scene lod = decimater_lod(scene, welded, fidelity[i].triangles, sec);
       std::ostringstream name, pair_name;
       name << "decimater @e_I=" << e_i[i];
       pair_name << tag << "_decimater_eI" << e_i[i];
@@ -674,65 +773,15 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       j.seconds = sec;
       row(m, d, name.str(), j);
     }
-    // Every meshoptimizer LOD judged from here on is a point of the sweep:
-    // the ones at fidelity's counts too (leaving them out overstated the count
-    // meshoptimizer needs where they beat the line between sweep points).
-    std::vector<std::pair<size_t, double>> sweep;
-    for (size_t i = 0; i < fidelity.size(); ++i) {
-      std::ostringstream name;
-      name << "meshopt @e_I=" << e_i[i];
-      std::ostringstream pair_name;
-      pair_name << tag << "_meshopt_eI" << e_i[i];
-      mesh_opt(fidelity[i].triangles, name.str(), &sweep, pair_name.str());
-    }
-    // The sweep: worst-view SSIM (both sets) against meshoptimizer's count.
-    const size_t nt = scene.triangle_count();
-    for (double f : {0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 0.85}) {
-      std::ostringstream name, pair_name;
-      name << "meshopt sweep " << f;
-      pair_name << tag << "_meshopt_sweep" << f;
-      mesh_opt(size_t(f * double(nt)), name.str(), &sweep, g_pairs_all ? pair_name.str() : "");
-    }
-    // And by error limit (no count): meshoptimizer's own notion of quality.
-    for (float err : {1e-4f, 3e-4f, 1e-3f, 3e-3f, 1e-2f}) {
-      double sec = 0;
-      Scene lod = meshopt_lod(scene, in, 1, false, sec, err);
-      std::ostringstream pair_name;
-      pair_name << tag << "_meshopt_error" << err;
-      Judged j = judge(renderer, lod, records, job, nullptr, g_pairs_all ? pair_name.str() : "");
-      j.seconds = sec;
-      std::ostringstream name;
-      name << "meshopt error " << err;
-      row(m, d, name.str(), j);
-      sweep.push_back({j.triangles, j.ssim_all()});
-    }
-    sweep.push_back({nt, 1.0});
-    // Lower envelope: the fewest triangles reaching each SSIM, from any point.
-    std::sort(sweep.begin(), sweep.end());
-    for (size_t i = 1; i < sweep.size(); ++i) sweep[i].second = std::max(sweep[i].second, sweep[i - 1].second);
-    for (size_t i = 0; i < fidelity.size(); ++i) {
-      const double goal = fidelity[i].ssim_all();
-      // The fewest triangles at which the envelope reaches `goal` (linear between points).
-      double need = double(nt);
-      for (size_t k = 0; k < sweep.size(); ++k) {
-        if (sweep[k].second < goal) continue;
-        if (k == 0) {
-          need = double(sweep[0].first);
-        } else {
-          const auto& a = sweep[k - 1];
-          const auto& b = sweep[k];
-          const double t = b.second > a.second ? (goal - a.second) / (b.second - a.second) : 1.0;
-          need = double(a.first) + std::clamp(t, 0.0, 1.0) * double(b.first - a.first);
-        }
-        break;
-      }
-      std::printf("%-6s %4.0f  same SSIM %.4f: fidelity e_I=%g %zu triangles, meshopt about %.0f; ratio %.2f\n",
-                  m.key.c_str(), d, goal, e_i[i], fidelity[i].triangles, need,
-                  need > 0 ? double(fidelity[i].triangles) / need : 0.0);
-      if (g_csv)
-        std::fprintf(g_csv, "%s,%g,same_ssim e_I=%g,%zu,,,%.5f,,,,,,,,,,,,,,meshopt %.0f ratio %.3f\n", m.key.c_str(), d,
-                     e_i[i], fidelity[i].triangles, goal, need, need > 0 ? double(fidelity[i].triangles) / need : 0.0);
-    }
+    PeerRun peers{renderer, m, d, tag, records, job, fidelity, e_i};
+    const Sweep plain = peers.meshopt_sweep(scene, "meshopt", true);
+    size_t seen = 0;
+    const Scene culled = bench::visibility_culled(renderer, scene, m.up, job.display, d, 2, &seen);
+    std::printf("%-6s %4.0f  visibility cull: %zu of %zu triangles seen from %zu views at 2x\n", m.key.c_str(), d,
+                seen, scene.triangle_count(), bench::hemisphere_views().size());
+    const Sweep culled_sweep = peers.meshopt_sweep(culled, "culled meshopt", false);
+    peers.equal_fidelity(plain, "meshopt", scene.triangle_count());
+    peers.equal_fidelity(culled_sweep, "culled", scene.triangle_count());
 #endif
   }
   g_hausdorff = nullptr;
