@@ -61,7 +61,15 @@ stage_asan() {
 asan_skip='^(CliPipeline\.(TightenToLimitsRemakesALodJustOverItsLimits|LabelTakesViewSetsSamplesAndTilesCloseViews'
 asan_skip+='|RunWithoutDebugImagesWritesNoneAndTheSameResults|RunMakesOneLodPerDistanceThatIsNoLargerThanItsInput)'
 asan_skip+='|RaycastAgreement\.SamplesInOneWalkEqualOneTracePerSample|PerBuilding\.BlockBuildingsAreLabelledFromTheirOwnViews'
-asan_skip+='|LodFidelity\.(DefaultLodAt56mMeetsTheLimitsFromEveryViewIncludingAbove|OverlappedViewsGiveTheSequentialResults))$'
+asan_skip+='|LodFidelity\.(DefaultLodAt56mMeetsTheLimitsFromEveryViewIncludingAbove|OverlappedViewsGiveTheSequentialResults)'
+# And (CI at 862 s, near its 15 minutes): a run of the whole Delft tile (54 s
+# under ASan; its loader and PROJ code run under ASan in
+# CrsDelft.ExtentCentreLandsWithinAMetreOfCs2cs), two more fidelity-search
+# runs (70 s; FidelityTargetIsMetAtTheFirstStepWithinIt stays) and 2,400
+# simplifications of height fields (17 s; the collapse code runs under ASan
+# in every Simplify* test).
+asan_skip+='|CrsDelft\.RunWithoutCrsTakesEpsg7415FromTheFile|DeadEdges\.SkippingThemChangesNoLod'
+asan_skip+='|CliPipeline\.FidelityTarget(TriesLooserBoundsWhileTheyMeetIt|NoLooserStepMeetsTriesEveryStep))$'
 
 stage_fuzz() {
   scripts/setup.sh --no-build
