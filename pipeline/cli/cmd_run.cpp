@@ -123,8 +123,9 @@ void register_run(CLI::App& app) {
       "skips models whose manifest matches their input, settings and perclod version, goes on past a model\n"
       "that fails (exit 1 at the end, naming it), and writes OUT/batch_<i>_of_<n>.json and OUT/tileset.json.\n"
       "Each LOD is judged from its labelling views and the config's judge_views (default held_out);\n"
-      "figures over max_changed / max_silhouette or under min_ssim are warned about on stderr;\n"
-      "fidelity_target: {max_changed: 0.02} searches the bounds for the fewest triangles within it.");
+      "a view whose visible difference exceeds max_visible (default 1: its quarter-pixel floor), or that is\n"
+      "over max_changed / max_silhouette or under min_ssim when those are set, is warned about on stderr;\n"
+      "fidelity_target: {max_visible: 1} searches the bounds for the fewest triangles within it.");
   cmd->callback([a] {
     set_error_files({a->config});
     ConfigFile f = load_config_file(a->config);  // the whole config, checked before any work

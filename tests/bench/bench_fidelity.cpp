@@ -516,9 +516,10 @@ struct PeerRun {
   // stalls above 1.1x the target), rows named `name`, points into `sweep`.
   void meshopt_at(const Scene& scene, const MeshoptInput& in, size_t target, const std::string& name, Sweep& sweep,
                   const std::string& pair_name) {
+    target = std::clamp<size_t>(target, 1, scene.triangle_count());  // a fidelity count above what a cull kept
     for (bool sloppy : {false, true}) {
       double sec = 0;
-      Scene lod = meshopt_lod(scene, in, std::max<size_t>(1, target), sloppy, sec);
+      Scene lod = meshopt_lod(scene, in, target, sloppy, sec);
       const bool stalled = lod.triangle_count() > target + target / 10 + 1;
       Judged j = judge(renderer, lod, records, job, nullptr, pair_name.empty() ? "" : pair_name + (sloppy ? "_sloppy" : ""));
       j.seconds = sec;

@@ -69,7 +69,11 @@ TEST(LodFidelity, JudgeViewsFlagsEachMeasureAgainstItsLimit) {
   };
   const std::vector<ViewFigures> views = {view("a", 0.01, 0.99, 0.0), view("b", 0.03, 0.96, 0.0),
                                           view("c", 0.0, 0.94, 0.02)};
-  const Judgement by_default = judge_views(views, FidelityLimits{});
+  // By default only the perceptual limit holds: these views see nothing
+  // (visible ratio 0), whatever their raw figures.
+  EXPECT_TRUE(judge_views(views, FidelityLimits{}).met());
+  const FidelityLimits raw{0.02, 0.01, 0, 0};  // limits on changed pixels and silhouette
+  const Judgement by_default = judge_views(views, raw);
   ASSERT_EQ(by_default.over_limits.size(), 2u);
   EXPECT_FALSE(by_default.met());
   EXPECT_EQ(by_default.over_limits[0].view, "b");
@@ -81,7 +85,7 @@ TEST(LodFidelity, JudgeViewsFlagsEachMeasureAgainstItsLimit) {
   EXPECT_EQ(by_default.worst.silhouette_mismatch, 0.02);
   EXPECT_EQ(by_default.limits.min_ssim, 0.0);
 
-  FidelityLimits ssim;
+  FidelityLimits ssim = raw;
   ssim.min_ssim = 0.95;
   const Judgement judged = judge_views(views, ssim);
   EXPECT_EQ(judged.worst.ssim_covered, by_default.worst.ssim_covered);

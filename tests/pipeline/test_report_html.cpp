@@ -298,6 +298,27 @@ TEST(ReportHtml, MarksSsimBelowMinSsimOnlyWhereALimitIsSet) {
   EXPECT_EQ(marked(model_report_html(r, n)), 0u);
 }
 
+// The default limit (0.4.0) is the perceptual one: the visible column is
+// marked over max_visible, the limits line names it alone, and changed
+// pixels over 2% are no longer marked when max_changed is 1 (no limit).
+TEST(ReportHtml, MarksTheVisibleRatioOverMaxVisibleAndOnlyTheLimitsSet) {
+  const OutputNames n{"out", "bldg"};
+  nlohmann::json r = small_report(n);
+  for (auto& lod : r["lods"]) {
+    lod["fidelity"]["limits"] = {{"max_changed", 1}, {"max_silhouette", 1}, {"min_ssim", 0}, {"max_visible", 1}};
+    lod["fidelity"]["over_limits"] = nlohmann::json::array();  // what run finds against these limits
+  }
+  r["lods"][0]["lod_vs_original"][0]["visible_ratio"] = 1.5;
+  r["lods"][0]["fidelity"]["worst"]["visible_ratio"] = 1.5;
+  const std::string html = model_report_html(r, n);
+  EXPECT_EQ(occurrences(html, "<td class=\"over\">1.50</td>"), 3u) << html;  // its row, the worst row, the summary
+  EXPECT_TRUE(has(html, "Limits: visible difference &le; 1.00&times; its floor."));
+  EXPECT_FALSE(has(html, "changed &le;"));
+  EXPECT_FALSE(has(html, "<td class=\"over\">5.00&nbsp;%</td>"));
+  r["lods"][0]["fidelity"]["limits"]["max_visible"] = 0;  // no limit at all
+  EXPECT_TRUE(has(model_report_html(r, n), "<p>No limits."));
+}
+
 // A fidelity_target search: one row per try, with the bounds it used and
 // what it did with undisplayable triangles.
 TEST(ReportHtml, ShowsEachFidelitySearchTryWithItsBounds) {

@@ -68,7 +68,7 @@ const std::map<std::string, Sample>& samples() {
       {"max_changed", {"max_changed: 0.05", ""}},
       {"max_silhouette", {"max_silhouette: 0.02", ""}},
       {"min_ssim", {"min_ssim: 0.9", ""}},
-      {"max_visible", {"max_visible: 1", ""}},
+      {"max_visible", {"max_visible: 2", ""}},
       {"strict", {"strict: true", ""}},
       {"tighten_to_limits", {"tighten_to_limits: false", ""}},
       {"explain", {"explain: true", ""}},

@@ -634,8 +634,9 @@ TEST(TightenToLimits, StepsAreTheTighterOnesAndReachIsBounded) {
   paper.mode = SimplifyMode::Paper;
   EXPECT_TRUE(tighten_steps(paper).empty());
 
-  const FidelityLimits limits;  // 2% changed, 1% silhouette, no SSIM limit
-  auto judged = [](double changed, double silhouette, double ssim, const FidelityLimits& against = {}) {
+  const FidelityLimits limits{0.02, 0.01, 0, 0};  // 2% changed, 1% silhouette, no SSIM or visible limit
+  auto judged = [](double changed, double silhouette, double ssim,
+                   const FidelityLimits& against = FidelityLimits{0.02, 0.01, 0, 0}) {
     ViewFigures v;
     v.view = "v", v.set = "held_out";
     v.changed_fraction = changed, v.silhouette_mismatch = silhouette, v.ssim_covered = ssim;
@@ -658,7 +659,7 @@ TEST(TightenToLimits, StepsAreTheTighterOnesAndReachIsBounded) {
 TEST(TightenToLimits, TriesTheStepsInOrderUntilOneIsWithin) {
   SimplifyOptions so;
   so.mode = SimplifyMode::Fidelity;
-  const FidelityLimits limits;
+  const FidelityLimits limits{0.02, 0.01, 0, 0};  // changed pixels and silhouette only
   auto judged = [&](double changed) {
     ViewFigures v;
     v.view = "v", v.set = "held_out";

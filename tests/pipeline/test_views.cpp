@@ -252,7 +252,10 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   EXPECT_EQ(d.simplify.bound_imperceptible_px, kDefaultBoundImperceptiblePx);
   EXPECT_TRUE(d.simplify.delete_undisplayable);
   EXPECT_EQ(d.judge_views, parse_views(kDefaultJudgeViews, UpAxis::Y));
-  EXPECT_EQ(d.limits.max_changed, 0.02);
+  // The default limit is perceptual: the quarter-pixel floor; the raw figures are reported only.
+  EXPECT_EQ(d.limits.max_visible, 1.0);
+  EXPECT_EQ(d.limits.max_changed, 1.0);
+  EXPECT_EQ(d.limits.max_silhouette, 1.0);
   EXPECT_FALSE(d.fidelity_target);
   LodJob t = lod_job(load_batch_config(write(
       "target.yaml", base + "display: ok-display.yaml\njudge_views: none\ne_imperceptible: 3\n"
@@ -261,7 +264,8 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   EXPECT_EQ(t.simplify.bound_imperceptible_px, 3.0);
   EXPECT_TRUE(t.fidelity_target);
   EXPECT_EQ(t.target.max_silhouette, 0.005);
-  EXPECT_EQ(t.target.max_changed, 0.02);  // from max_changed's default
+  EXPECT_EQ(t.target.max_changed, 1.0);  // from max_changed's default
+  EXPECT_EQ(t.target.max_visible, 1.0);  // and max_visible's
   EXPECT_EQ(d.limits.min_ssim, 0.0);       // no SSIM limit unless asked
   EXPECT_EQ(t.target.min_ssim, 0.0);
   // e_undisplayable keeps the undisplayable triangles and bounds their collapses.
@@ -279,7 +283,7 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
                                                                  "fidelity_target: {min_ssim: 0.95}\n")));
   EXPECT_EQ(s.limits.min_ssim, 0.97);
   EXPECT_EQ(s.target.min_ssim, 0.95);
-  EXPECT_EQ(s.target.max_changed, 0.02);
+  EXPECT_EQ(s.target.max_changed, 1.0);
 
   // A correct qem config maps its target onto the job.
   BatchConfig c = load_batch_config(write("qem-ok.yaml", base + "simplify: qem\ntarget: 500\ndisplay: ok-display.yaml\n"));

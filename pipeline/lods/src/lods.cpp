@@ -82,6 +82,7 @@ class DistanceRun {
   LabelResult lr_;
   std::vector<ViewRecord> judged_;  // the labelling views, then the held-out ones
   bool held_out_recorded_ = false;
+  bool floors_measured_ = false;
   SimplifyOptions asked_, so_;
   double exposure_ = -1;
   SimplifyStats st_;
@@ -141,10 +142,15 @@ Judgement DistanceRun::attempt(const SimplifyOptions& o) {
   if (!held_out_recorded_) {
     std::vector<ViewRecord> held = record_views(tools_.renderer, scene_, job_.judge_views, framing_of(lj_), "held_out");
     std::move(held.begin(), held.end(), std::back_inserter(judged_));
+    held_out_recorded_ = true;
+  }
+  // Every judged view's floor, the labelling views' too when there are no
+  // held-out views (judge_views: none): once, before the first comparison.
+  if (!floors_measured_) {
     const auto t_floor = Clock::now();
     measure_floors(tools_.renderer, scene_, judged_, judge_settings_of(lj_));
     r_.seconds_compare += since(t_floor);
-    held_out_recorded_ = true;
+    floors_measured_ = true;
   }
   const auto t_cmp = Clock::now();
   pictures_.clear();

@@ -57,37 +57,55 @@ std::set<std::pair<std::string, std::string>> over_limits(const json& fidelity) 
   return over;
 }
 
+// The limits in force, in words ("visible difference <= 1x its floor, ...").
+// Reports from before a key carry none (NaN): no limit.
+std::string limits_text(double max_visible, double max_changed, double max_sil, double min_ssim) {
+  std::vector<std::string> parts;
+  if (max_visible > 0) parts.push_back("visible difference &le; " + fixed(max_visible, 2) + "&times; its floor");
+  if (max_changed < 1) parts.push_back("changed &le; " + percent(max_changed));
+  if (max_sil < 1) parts.push_back("silhouette mismatch &le; " + percent(max_sil));
+  if (min_ssim > 0) parts.push_back("SSIM &ge; " + fixed(min_ssim, 4));
+  if (parts.empty()) return "<p>No limits.";
+  std::string s = "<p>Limits: ";
+  for (size_t i = 0; i < parts.size(); ++i) s += (i ? ", " : "") + parts[i];
+  return s + ".";
+}
+
 std::string fidelity_table(const json& lod) {
   const json& fid = sub(lod, "fidelity");
   const json& limits = sub(fid, "limits");
   const auto over = over_limits(fid);
   const double max_changed = num(limits, "max_changed"), max_sil = num(limits, "max_silhouette");
   const double min_ssim = num(limits, "min_ssim");  // NaN in reports from before the key: no limit
+  const double max_visible = num(limits, "max_visible");
   std::ostringstream s;
-  s << "<p>Limits: changed &le; " << percent(max_changed) << ", silhouette mismatch &le; " << percent(max_sil);
-  if (min_ssim > 0) s << ", SSIM &ge; " << fixed(min_ssim, 4);
-  s << ". Cells over a limit are <span style=\"background:#ffd7d5;color:#a40e26;font-weight:600\">marked</span>.</p>\n";
-  s << "<table class=\"fidelity\"><tr><th class=\"l\">view</th><th class=\"l\">set</th><th>changed</th>"
-       "<th>SSIM (covered)</th><th>silhouette mismatch</th><th>drawn px</th></tr>\n";
+  s << limits_text(max_visible, max_changed, max_sil, min_ssim)
+    << " Cells over a limit are <span style=\"background:#ffd7d5;color:#a40e26;font-weight:600\">marked</span>.</p>\n";
+  s << "<table class=\"fidelity\"><tr><th class=\"l\">view</th><th class=\"l\">set</th>"
+       "<th>visible (&times; floor)</th><th>changed</th><th>SSIM (covered)</th><th>silhouette mismatch</th>"
+       "<th>drawn px</th></tr>\n";
   for (const auto& v : list(lod, "lod_vs_original")) {
     const std::string view = str(v, "view");
     auto cell = [&](const char* measure, const std::string& text, bool over_here) {
       return std::string(over_here || over.count({view, measure}) ? "<td class=\"over\">" : "<td>") + text + "</td>";
     };
     const double changed = num(v, "changed_fraction"), sil = num(v, "silhouette_mismatch");
-    const double q = num(v, "ssim_covered");
+    const double q = num(v, "ssim_covered"), vis = num(v, "visible_ratio");
     s << "<tr><td class=\"l\">" << html_escape(view) << "</td><td class=\"l\">" << html_escape(str(v, "set"))
-      << "</td>" << cell("changed_fraction", percent(changed), changed > max_changed)
+      << "</td>" << cell("visible_ratio", fixed(vis, 2), max_visible > 0 && vis > max_visible)
+      << cell("changed_fraction", percent(changed), changed > max_changed)
       << cell("ssim_covered", fixed(q, 4), q < min_ssim)
       << cell("silhouette_mismatch", percent(sil), sil > max_sil) << "<td>" << count(num(v, "drawn_pixels"))
       << "</td></tr>\n";
   }
   const json& worst = sub(fid, "worst");
   const double wc = num(worst, "changed_fraction"), ws = num(worst, "silhouette_mismatch");
-  s << "<tr><th class=\"l\" colspan=\"2\">worst</th>" << (wc > max_changed ? "<td class=\"over\">" : "<td>")
-    << percent(wc) << "</td>" << (num(worst, "ssim_covered") < min_ssim ? "<td class=\"over\">" : "<td>")
-    << fixed(num(worst, "ssim_covered"), 4) << "</td>" << (ws > max_sil ? "<td class=\"over\">" : "<td>")
-    << percent(ws) << "</td><td></td></tr>\n</table>\n";
+  const double wv = num(worst, "visible_ratio");
+  auto open = [](bool over_here) { return over_here ? "<td class=\"over\">" : "<td>"; };
+  s << "<tr><th class=\"l\" colspan=\"2\">worst</th>" << open(max_visible > 0 && wv > max_visible) << fixed(wv, 2)
+    << "</td>" << open(wc > max_changed) << percent(wc) << "</td>" << open(num(worst, "ssim_covered") < min_ssim)
+    << fixed(num(worst, "ssim_covered"), 4) << "</td>" << open(ws > max_sil) << percent(ws)
+    << "</td><td></td></tr>\n</table>\n";
   return s.str();
 }
 
@@ -315,7 +333,7 @@ void write_run_overview(std::ostringstream& s, const json& report, const json& l
 // The summary over distances: one row per LOD, its worst figures against the limits.
 void write_lod_summary(std::ostringstream& s, const json& lods, const OutputNames& names) {
   s << "<h2>LODs</h2>\n<table class=\"summary\"><tr><th>distance</th><th>pixel footprint</th><th>triangles</th>"
-       "<th>kept</th><th>worst changed</th><th>lowest SSIM</th><th>worst silhouette</th><th>over limits</th>"
+       "<th>kept</th><th>worst visible (&times; floor)</th><th>worst changed</th><th>lowest SSIM</th><th>worst silhouette</th><th>over limits</th>"
        "<th>time</th><th class=\"l\">LOD file</th></tr>\n";
   for (const auto& l : lods) {
     const json& simp = sub(l, "simplify");
@@ -324,10 +342,12 @@ void write_lod_summary(std::ostringstream& s, const json& lods, const OutputName
     const json& limits = sub(fid, "limits");
     const double b = num(simp, "total_before"), a = num(simp, "total_after");
     const double wc = num(worst, "changed_fraction"), ws = num(worst, "silhouette_mismatch");
+    const double wv = num(worst, "visible_ratio"), max_visible = num(limits, "max_visible");
     const std::string lod_file = str(l, "lod_file");
     const std::string d = short_number(num(l, "distance"));
     s << "<tr><td><a href=\"#d" << url(d) << "\">" << d << "&nbsp;m</a></td><td>" << fixed(num(l, "pixel_footprint"), 4)
       << "&nbsp;m</td><td>" << count(a) << "</td><td>" << (b > 0 ? percent(a / b, 1) : "&ndash;") << "</td>"
+      << (max_visible > 0 && wv > max_visible ? "<td class=\"over\">" : "<td>") << fixed(wv, 2) << "</td>"
       << (wc > num(limits, "max_changed") ? "<td class=\"over\">" : "<td>") << percent(wc) << "</td>"
       << (num(worst, "ssim_covered") < num(limits, "min_ssim") ? "<td class=\"over\">" : "<td>")
       << fixed(num(worst, "ssim_covered"), 4) << "</td>"

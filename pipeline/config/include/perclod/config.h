@@ -51,10 +51,13 @@ struct BatchConfig {
   std::string keep_undisplayable = "auto";
   std::string format = "obj";        // LOD file format: obj | glb
   std::vector<std::string> judge_views = {kDefaultJudgeViews};  // held-out views; empty = none ('none' in the file)
-  double max_changed = 0.02;         // limits every judged view is held to
-  double max_silhouette = 0.01;
+  // Limits every judged view is held to: by default the perceptual one
+  // alone (the visible difference within its quarter-pixel floor); changed
+  // pixels, silhouette and SSIM are reported, and limited only when set.
+  double max_changed = 1;            // fraction of changed pixels (1: no limit)
+  double max_silhouette = 1;         // silhouette mismatch (1: no limit)
   double min_ssim = 0;               // lowest covered-region SSIM of a judged view (0: no limit)
-  double max_visible = 0;            // visible difference over the perceptual floor (0: no limit)
+  double max_visible = 1;            // visible difference over the perceptual floor (0: no limit)
   bool strict = false;               // a LOD over a limit fails the run (after every output is written)
   // fidelity_target: {max_changed, max_silhouette, min_ssim}: search
   // e_imperceptible per distance for the fewest triangles within these
@@ -66,7 +69,7 @@ struct BatchConfig {
   // Collapse modes: also count why each half-edge left was not collapsed
   // (SimplifyOptions::explain_stop; the report's simplify.refused).
   bool explain = false;
-  double target_max_changed = 0.02, target_max_silhouette = 0.01, target_min_ssim = 0, target_max_visible = 0;
+  double target_max_changed = 1, target_max_silhouette = 1, target_min_ssim = 0, target_max_visible = 1;
   std::string cityjson_lod;          // CityJSON input: the LOD geometry to read ("" = each object's highest)
   double memory_mb = 0;              // batch: this model's peak memory for memory_budget_mb (0 = estimate_memory_mb)
   bool tileset = true;               // also write the all-LOD GLB, a GLB per LOD and a 3D Tiles tileset.json
