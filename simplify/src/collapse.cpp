@@ -940,8 +940,16 @@ void init_tolerances(Model& m, const Work& w, const SimplifyOptions& opt) {
   const double bound[3] = {opt.bound_perceptible_px * opt.pixel_footprint,
                            opt.bound_imperceptible_px * opt.pixel_footprint,
                            opt.bound_undisplayable_px * opt.pixel_footprint};
+  // The area budget grows with the square of the label's distance bound
+  // (from 1 px up; the default half-pixel bounds keep bound_area_px2): a
+  // vertex that may move the surface e px may sweep about e^2 px^2 of it.
+  // A fixed budget refused what looser bounds allow, whatever the bound.
   const double px2 = opt.pixel_footprint * opt.pixel_footprint;
-  const double area[3] = {opt.bound_area_px2 * px2, opt.bound_area_px2 * px2, INFINITY};
+  auto area_for = [&](double bound_px) {
+    const double s = std::max(1.0, bound_px);
+    return opt.bound_area_px2 * s * s * px2;
+  };
+  const double area[3] = {area_for(opt.bound_perceptible_px), area_for(opt.bound_imperceptible_px), INFINITY};
   m.tol.assign(m.mesh.n_vertices(), INFINITY);
   m.area_budget.assign(m.mesh.n_vertices(), INFINITY);
   m.area_used.assign(m.mesh.n_vertices(), 0.0);

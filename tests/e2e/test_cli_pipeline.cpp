@@ -272,8 +272,9 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return std::make_pair(r.exit_code == 0 ? nlohmann::json::parse(r.out)["lods"][0] : nlohmann::json(), r.err);
   };
-  // Measured: 16 px changes 1.55% of the worst view, 32 px 2.26%.
-  const auto [back, back_err] = run("back", "judge_views: none\nfidelity_target: {max_changed: 0.019}\n");
+  // Measured: 16 px changes 2.13% of the worst view, 32 px 2.73% (both
+  // within the perceptual floor, 0.46x in the worst view).
+  const auto [back, back_err] = run("back", "judge_views: none\nfidelity_target: {max_changed: 0.024}\n");
   const auto& tries = back["fidelity_search"];
   ASSERT_EQ(tries.size(), 2u) << tries;
   EXPECT_EQ(tries[0]["e_imperceptible"].get<double>(), perclod::kFidelitySearch[0].e);
@@ -286,11 +287,15 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   EXPECT_EQ(back["bounds_px"]["imperceptible"], tries[0]["e_imperceptible"]);
   EXPECT_EQ(back["simplify"]["total_after"], tries[0]["triangles"]);
   EXPECT_FALSE(back["simplify"].contains("refused"));  // only with explain: true
-  for (const auto& v : back["lod_vs_original"]) EXPECT_LE(v["changed_fraction"].get<double>(), 0.019) << v["view"];
+  for (const auto& v : back["lod_vs_original"]) {
+    EXPECT_LE(v["changed_fraction"].get<double>(), 0.024) << v["view"];
+    // Without held-out views the labelling views' floors are measured too.
+    EXPECT_GT(v["visible_floor"].get<double>(), 0) << v["view"];
+  }
   EXPECT_EQ(back_err.find("no bound meets"), std::string::npos) << back_err;
   // A target every looser step meets: up while each removes triangles (or to
   // the loosest), each with no more triangles than the one before. Measured:
-  // 16, 32, 64, 128 px remove triangles, 256 px none more (7,704): it stops there.
+  // 16, 32, 64, 128 px remove triangles, 256 px none more (7,548): it stops there.
   const auto all = run("all", "judge_views: az22.5el15\nfidelity_target: {max_changed: 0.05}\n").first;
   const auto& up = all["fidelity_search"];
   ASSERT_GE(up.size(), 2u) << up;

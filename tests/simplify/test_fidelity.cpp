@@ -207,6 +207,51 @@ TEST(SimplifyFidelity, AreaRuleKeepsALongPartThinnerThanTheBound) {
   EXPECT_LT(folded, before - 10 * 1e-4);
 }
 
+// The budget is bound_area_px2 at bounds up to 1 px and grows with the
+// bound squared above: the mullion of the test above keeps its area at 1 px
+// bounds, and at 8 px (a move eight times its width allowed) loses more than
+// a budget of 1 px^2 lets go, and no more than no area rule would.
+TEST(SimplifyFidelity, AreaBudgetGrowsWithTheSquareOfTheBound) {
+  Scene in;
+  add_grid(in, 4, 4.0, 0);
+  const size_t wall = in.triangle_count();
+  for (int i = 0; i < 30; ++i) {
+    const double x0 = 0.5 + 0.1 * i, x1 = x0 + 0.1;
+    uint32_t a = add_vertex(in, x0, 2.0, 0.05), b = add_vertex(in, x1, 2.0, 0.05),
+             c = add_vertex(in, x1, 2.01, 0.05), d = add_vertex(in, x0, 2.01, 0.05);
+    add_tri(in, a, b, c, 1);
+    add_tri(in, a, c, d, 1);
+  }
+  std::vector<Label> labels(in.triangle_count(), Label::Imperceptible);
+  for (size_t t = 0; t < wall; ++t) labels[t] = Label::Perceptible;
+  auto bar_area = [&](const Scene& s) {
+    double a = 0;
+    for (size_t t = 0; t < s.triangle_count(); ++t)
+      if (s.component[t] == 1) {
+        double at = 0;
+        normal_of(s, t, &at);
+        a += at;
+      }
+    return a;
+  };
+  const double before = bar_area(in), px2 = 1e-4;  // p = 1 cm: a square pixel is 1 cm^2
+  const double at1 = bar_area(simplify(in, labels, fidelity(0.01, 0.5, 1.0)));
+  const double at8 = bar_area(simplify(in, labels, fidelity(0.01, 0.5, 8.0)));
+  // bound_area_px2 = 1/64 at 8 px: the 1 px^2 a budget that did not grow gave.
+  SimplifyOptions fixed_budget = fidelity(0.01, 0.5, 8.0);
+  fixed_budget.bound_area_px2 = 1.0 / 64;
+  const double at8_fixed = bar_area(simplify(in, labels, fixed_budget));
+  SimplifyOptions no_rule = fidelity(0.01, 0.5, 8.0);
+  no_rule.bound_area_px2 = INFINITY;
+  const double at8_free = bar_area(simplify(in, labels, no_rule));
+  std::printf("  bar area %.5f m^2: %.5f at 1 px, %.5f at 8 px (%.5f with 1 px^2 budgets, %.5f without the rule)\n",
+              before, at1, at8, at8_fixed, at8_free);
+  EXPECT_NEAR(at1, before, 4 * px2);
+  EXPECT_NEAR(at8_fixed, before, 4 * px2);  // the fixed budget refused what 8 px allows
+  EXPECT_LT(at8, before - 10 * px2);        // measured: 20 px^2 of the 300 go
+  EXPECT_GE(at8, at8_free - 1e-9);          // never more than without the rule
+}
+
 TEST(SimplifyFidelity, RefusesBadBounds) {
   Scene in;
   add_grid(in, 2, 1.0, 0);

@@ -13,7 +13,10 @@
 //            of every vertex merged into it; a collapse is refused when its
 //            error (as in Bounded) exceeds the bound of either end, or when
 //            the surface area it changes, added to what the collapses merged
-//            into either end changed, exceeds bound_area_px2 * p(d)^2.
+//            into either end changed, exceeds bound_area_px2 * max(1, e)^2 *
+//            p(d)^2, e the end's bound in pixels (so the default half-pixel
+//            bounds allow bound_area_px2, and looser bounds allow as much
+//            more area as they allow distance squared).
 //            Undisplayable triangles are deleted first, as in Paper (with
 //            delete_undisplayable = false they are collapsed, unbounded). Flat
 //            perceptible walls are re-tessellated (error 0); nothing moves
@@ -103,7 +106,8 @@ struct SimplifyOptions {
   double bound_undisplayable_px = INFINITY;
   // Fidelity: surface area (pixels squared at the distance) the collapses
   // merged into a vertex of a perceptible or imperceptible face may add or
-  // remove in all (infinity = no area rule).
+  // remove in all, at bounds up to 1 px; times the bound squared above that
+  // (infinity = no area rule).
   double bound_area_px2 = kDefaultBoundAreaPx2;
 
   // Constraint lines (Shi, Yang, Li): edges whose dihedral angle exceeds
