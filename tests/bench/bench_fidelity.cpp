@@ -35,7 +35,7 @@
 //                       [--no-meshopt] [--keep-undisplayable [--e-undisplayable E] | --delete-undisplayable] [--dump DIR]
 //                       [--facade-triangles N] [--e-area A] [--max-normal-change DEG]
 //                       [--dump-view NAME] [--pairs DIR [--pairs-all]] [--set KEY=VALUE ...] [--only-fidelity]
-//                       [--label-shift] [--no-tighten]
+//                       [--label-shift] [--no-tighten] [--no-search]
 //   --no-tighten: fidelity rows at the asked bounds only. By default a
 //     fidelity LOD over the run's limits is tightened as `perclod run` does
 //     (tighten_to_limits), judged from what the run judges: the labelling
@@ -44,7 +44,10 @@
 //   csf_k, csf (fir|weights|kakadu), threshold (grey levels), ratio (label),
 //   samples, keep_unsampled_surface (0|1), mask_per_sample (0|1), views, spins, resolution (a
 //   factor: 1.5 = 1920x1536 at 1.5x the pixel density, same screen).
-//   --only-fidelity: the fidelity rows only.
+//   --only-fidelity: the fidelity rows only (and the floor search's).
+//   --no-search: no "fidelity floor search" row: the LOD `fidelity_target: {}`
+//     writes (kFidelitySearch from 16 px down to the first within the
+//     perceptual floor in what the run judges, looser while the first is).
 //   --label-shift: also fidelity (the first e_I) and paper LODs made from the
 //     labels of the model moved by -1/4, 0 and +1/4 px with anchored views
 //     (bench_labels' stability shift), each judged against the unmoved model:
@@ -116,6 +119,7 @@ std::vector<std::pair<std::string, std::string>> g_settings;  // --set KEY=VALUE
 bool g_only_fidelity = false;
 bool g_label_shift = false;  // --label-shift: LODs from labels of the model moved by +-1/4 px
 bool g_tighten = true;       // --no-tighten: no tighten_to_limits
+bool g_search = true;        // --no-search: no "fidelity floor search" row
 double g_label_seconds = 0;  // labelling time of the current model and distance
 
 // Applies --set KEY=VALUE to a labelling job; throws on an unknown key.
@@ -511,6 +515,7 @@ struct PeerRun {
   const LabelJob& job;
   const std::vector<Judged>& fidelity;
   const std::vector<double>& e_i;
+  const Judged* search = nullptr;  // the floor search's LOD (null: none)
 
   // meshopt_simplify of `scene` to `target` (and sloppy too where simplify
   // stalls above 1.1x the target), rows named `name`, points into `sweep`.
@@ -571,7 +576,8 @@ struct PeerRun {
   // For each fidelity row, the fewest triangles the peer's sweep needs for
   // the same worst-view SSIM and for the same worst visible ratio; and for
   // each of them the fewest at the floor (worst visible ratio 1), fidelity's
-  // read from its rows at the asked e_I. CSV rows "same_ssim e_I=E" (plain
+  // read from its rows at the asked e_I and the floor search's LOD (also set
+  // beside the peer at its own visible ratio: "equal_visible <peer> search"). CSV rows "same_ssim e_I=E" (plain
   // meshoptimizer, the name scripts/bench.py reads) or "equal_ssim <peer>
   // e_I=E", "equal_visible <peer> e_I=E" and "equal_visible <peer> floor",
   // the note "<peer> N ratio R".
@@ -595,12 +601,50 @@ struct PeerRun {
       line("equal_visible " + name + " " + e.str(), fidelity[i].triangles, vis,
            bench::fewest_reaching(peer.visible, vis, false, full));
     }
+    if (search) {
+      ours.add(*search);
+      line("equal_visible " + name + " search", search->triangles, search->visible_worst,
+           bench::fewest_reaching(peer.visible, search->visible_worst, false, full));
+    }
     const double at_floor = bench::fewest_reaching(ours.visible, 1.0, false, full);
     line("equal_visible " + name + " floor", size_t(std::lround(at_floor)), 1.0,
          bench::fewest_reaching(peer.visible, 1.0, false, full));
   }
 };
 #endif
+
+// The LOD `perclod run` writes with `fidelity_target: {}` (the default
+// limits: within the quarter-pixel floor): kFidelitySearch's steps from the
+// loosest down to the first within the limits in what the run judges
+// (run_judged), then, when the loosest met them, looser steps while they do
+// and remove triangles (search_looser). `make(bounds, suffix, views)`
+// simplifies and judges one try. `note` receives the bounds written.
+template <class Make>
+Judged floor_search(const SimplifyOptions& asked, Make&& make, std::string& note) {
+  std::vector<ViewFigures> views;
+  std::vector<std::pair<FidelitySearchStep, Judged>> tried;  // each step tried and its LOD's figures
+  auto attempt = [&](const FidelitySearchStep& step) {
+    tried.push_back({step, make(fidelity_bounds(asked, step), "_search", &views)});
+    return run_judged(views).met();
+  };
+  size_t first = 0;
+  while (first < std::size(kFidelitySearch) && !attempt(kFidelitySearch[first])) ++first;
+  FidelitySearchStep chosen = kFidelitySearch[std::min(first, std::size(kFidelitySearch) - 1)];
+  if (first == 0)
+    chosen = search_looser(tried.back().second.triangles, [&](const FidelitySearchStep& step) {
+               const bool met = attempt(step);
+               return std::make_pair(met, tried.back().second.triangles);
+             }).step;
+  const SimplifyOptions b = fidelity_bounds(asked, chosen);
+  std::ostringstream ss;  // no comma: the CSV does not quote
+  ss << (first < std::size(kFidelitySearch) ? "" : "none within; ") << "e_I=" << b.bound_imperceptible_px
+     << " e_P=" << b.bound_perceptible_px << (b.delete_undisplayable ? "" : " undisplayable kept") << "; "
+     << tried.size() << " tries";
+  note = ss.str();
+  for (const auto& [step, j] : tried)  // deterministic: the chosen step's LOD need not be made again
+    if (step.e == chosen.e && step.keep_undisplayable == chosen.keep_undisplayable) return j;
+  return tried.back().second;
+}
 
 void run_model(const Model& m, const std::vector<double>& distances, const std::vector<double>& e_i, double e_p) {
   const Scene& scene = m.scene;
@@ -693,6 +737,13 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       name << "fidelity e_I=" << ei;
       row(m, d, name.str(), fidelity.back(), note);
     }
+    // What `fidelity_target: {}` writes: the search for the perceptual floor.
+    Judged search;
+    if (g_search) {
+      std::string note;
+      search = floor_search(fidelity_options(e_p, kDefaultBoundImperceptiblePx), simplified, note);
+      row(m, d, "fidelity floor search", search, note);
+    }
     if (g_label_shift) {
       // What label flips do to the LOD: the labelling of bench_labels'
       // stability section (the geometry moved by -1/4, 0 and +1/4 px along
@@ -774,7 +825,7 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       j.seconds = sec;
       row(m, d, name.str(), j);
     }
-    PeerRun peers{renderer, m, d, tag, records, job, fidelity, e_i};
+    PeerRun peers{renderer, m, d, tag, records, job, fidelity, e_i, g_search ? &search : nullptr};
     const Sweep plain = peers.meshopt_sweep(scene, "meshopt", true);
     size_t seen = 0;
     const Scene culled = bench::visibility_culled(renderer, scene, m.up, job.display, d, 2, &seen);
@@ -814,6 +865,7 @@ int main(int argc, char** argv) {
     else if (a == "--only-fidelity") g_only_fidelity = true;
     else if (a == "--label-shift") g_label_shift = true;
     else if (a == "--no-tighten") g_tighten = false;
+    else if (a == "--no-search") g_search = false;
     else if (a == "--set" && i + 1 < argc && std::strchr(argv[i + 1], '=')) {
       const std::string kv = argv[++i];
       g_settings.push_back({kv.substr(0, kv.find('=')), kv.substr(kv.find('=') + 1)});
@@ -827,7 +879,7 @@ int main(int argc, char** argv) {
                            "                      [--facade-triangles N] [--e-area A] [--max-normal-change DEG]\n"
                            "                      [--dump-view NAME]\n"
                            "                      [--pairs DIR [--pairs-all]] [--set KEY=VALUE ...] [--only-fidelity]\n"
-                           "                      [--label-shift] [--no-tighten]\n");
+                           "                      [--label-shift] [--no-tighten] [--no-search]\n");
       return 2;
     }
   }

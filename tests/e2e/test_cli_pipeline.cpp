@@ -206,6 +206,13 @@ static std::string job_file(const fs::path& dir, const char* name, const std::st
   return (dir / name).string();
 }
 
+// A search step's e_perceptible at e_imperceptible = e with the default
+// asked 0.5 px: e where tighter, else a quarter of e (kPerceptibleShare) or
+// the asked 0.5 px, whichever is looser.
+static double expected_e_perceptible(double e) {
+  return e < 0.5 ? e : std::max(0.5, perclod::kPerceptibleShare * e);
+}
+
 // fidelity_target: the run searches e_imperceptible for the fewest triangles
 // within the target in every judged view, and says what it tried.
 TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
@@ -243,8 +250,8 @@ TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
     EXPECT_LE(v["silhouette_mismatch"].get<double>(), 0.01) << v["view"];
   }
   EXPECT_NE(r.err.find("fidelity target at 132 m"), std::string::npos) << r.err;
-  for (const auto& t : search)  // e_perceptible stays 0.5 px until e_imperceptible falls below it
-    EXPECT_EQ(t["e_perceptible"].get<double>(), std::min(0.5, t["e_imperceptible"].get<double>())) << t;
+  for (const auto& t : search)  // e_perceptible: a quarter of e_imperceptible, never looser than that nor tighter
+    EXPECT_EQ(t["e_perceptible"].get<double>(), expected_e_perceptible(t["e_imperceptible"].get<double>())) << t;
   EXPECT_EQ(lod["bounds_px"]["perceptible"], search.back()["e_perceptible"]);
   EXPECT_EQ(lod["bounds_px"]["undisplayable"], search.back()["undisplayable"]);
   // keep_undisplayable: auto (the default) measured what deleting would open
@@ -272,9 +279,9 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return std::make_pair(r.exit_code == 0 ? nlohmann::json::parse(r.out)["lods"][0] : nlohmann::json(), r.err);
   };
-  // Measured: 16 px changes 2.13% of the worst view, 32 px 2.73% (both
-  // within the perceptual floor, 0.46x in the worst view).
-  const auto [back, back_err] = run("back", "judge_views: none\nfidelity_target: {max_changed: 0.024}\n");
+  // Measured: 16 px (e_P 4 px) changes 3.85% of the worst view, 32 px (8 px)
+  // 4.95% (both within the perceptual floor, 0.44x and 0.54x).
+  const auto [back, back_err] = run("back", "judge_views: none\nfidelity_target: {max_changed: 0.044}\n");
   const auto& tries = back["fidelity_search"];
   ASSERT_EQ(tries.size(), 2u) << tries;
   EXPECT_EQ(tries[0]["e_imperceptible"].get<double>(), perclod::kFidelitySearch[0].e);
@@ -288,15 +295,16 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   EXPECT_EQ(back["simplify"]["total_after"], tries[0]["triangles"]);
   EXPECT_FALSE(back["simplify"].contains("refused"));  // only with explain: true
   for (const auto& v : back["lod_vs_original"]) {
-    EXPECT_LE(v["changed_fraction"].get<double>(), 0.024) << v["view"];
+    EXPECT_LE(v["changed_fraction"].get<double>(), 0.044) << v["view"];
     // Without held-out views the labelling views' floors are measured too.
     EXPECT_GT(v["visible_floor"].get<double>(), 0) << v["view"];
   }
   EXPECT_EQ(back_err.find("no bound meets"), std::string::npos) << back_err;
   // A target every looser step meets: up while each removes triangles (or to
-  // the loosest), each with no more triangles than the one before. Measured:
-  // 16, 32, 64, 128 px remove triangles, 256 px none more (7,548): it stops there.
-  const auto all = run("all", "judge_views: az22.5el15\nfidelity_target: {max_changed: 0.05}\n").first;
+  // the loosest), each with no more triangles than the one before: no limit
+  // at all. Measured: every step up to 1024 px removes triangles (7,339 at
+  // 16 px, 7,151 at 1024 px).
+  const auto all = run("all", "judge_views: az22.5el15\nfidelity_target: {max_changed: 1, max_visible: 0}\n").first;
   const auto& up = all["fidelity_search"];
   ASSERT_GE(up.size(), 2u) << up;
   for (size_t i = 0; i < up.size(); ++i) {
@@ -344,7 +352,7 @@ TEST(CliPipeline, FidelityTargetNoLooserStepMeetsTriesEveryStep) {
     EXPECT_EQ(t["met"].get<bool>(), i + 1 == std::size(perclod::kFidelitySearch)) << t;
     EXPECT_EQ(t.value("kept", false), i + 1 == std::size(perclod::kFidelitySearch)) << t;
     EXPECT_EQ(t["e_imperceptible"].get<double>(), step.e);
-    EXPECT_EQ(t["e_perceptible"].get<double>(), std::min(0.5, step.e));
+    EXPECT_EQ(t["e_perceptible"].get<double>(), expected_e_perceptible(step.e));
     if (step.keep_undisplayable) {
       EXPECT_EQ(t["undisplayable"], "collapsed") << t;
       EXPECT_EQ(t["e_undisplayable"].get<double>(), step.e) << t;

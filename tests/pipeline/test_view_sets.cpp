@@ -689,6 +689,21 @@ TEST(TightenToLimits, TriesTheStepsInOrderUntilOneIsWithin) {
 // triangles) for e = 32, 64, ... px: kept while met with fewer triangles;
 // met with as many ends it there; a failure or more triangles goes back to
 // the last kept step, which is made again.
+// A search step's bounds: e_I = e; e_P follows e down where e is tighter
+// than the asked e_P, and kPerceptibleShare of e up where that is looser.
+TEST(FidelitySearch, PerceptibleBoundFollowsAShareOfTheStep) {
+  SimplifyOptions so;
+  so.mode = SimplifyMode::Fidelity;  // e_P = e_I = 0.5 px
+  auto at = [&](double e) { return fidelity_bounds(so, FidelitySearchStep{e, false}); };
+  EXPECT_EQ(at(16).bound_imperceptible_px, 16.0);
+  EXPECT_EQ(at(16).bound_perceptible_px, 16 * kPerceptibleShare);
+  EXPECT_EQ(at(4).bound_perceptible_px, 4 * kPerceptibleShare);
+  EXPECT_EQ(at(1).bound_perceptible_px, 0.5);    // a quarter of 1 px is tighter than asked: the asked 0.5
+  EXPECT_EQ(at(0.25).bound_perceptible_px, 0.25);  // tighter than asked: follows e
+  so.bound_perceptible_px = 8;                   // an asked e_P looser than a quarter stays
+  EXPECT_EQ(at(16).bound_perceptible_px, 8.0);
+}
+
 TEST(FidelitySearch, LooserBoundsAreKeptWhileTheyMeetTheTargetAndRemoveTriangles) {
   using Try = std::pair<bool, size_t>;
   std::vector<double> tried;

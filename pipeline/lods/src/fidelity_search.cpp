@@ -18,7 +18,11 @@ namespace perclod {
 
 SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& step) {
   so.bound_imperceptible_px = step.e;
-  so.bound_perceptible_px = std::min(so.bound_perceptible_px, step.e);
+  // Tighter than the asked e_P: both follow e. Looser: perceptible detail
+  // is held to kPerceptibleShare of e, or the asked e_P where that is looser.
+  so.bound_perceptible_px = step.e < so.bound_perceptible_px
+                                ? step.e
+                                : std::max(so.bound_perceptible_px, kPerceptibleShare * step.e);
   if (step.keep_undisplayable) {
     const double e_u = step.e_undisplayable >= 0 ? step.e_undisplayable : step.e;
     so.bound_undisplayable_px = so.delete_undisplayable ? e_u : std::min(so.bound_undisplayable_px, e_u);
