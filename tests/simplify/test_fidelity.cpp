@@ -166,25 +166,26 @@ TEST(SimplifyFidelity, DeletesUndisplayableTrianglesAndKeepsTheVisibleOnesInPlac
   }
 }
 
-TEST(SimplifyFidelity, AreaRuleKeepsALongPartThinnerThanTheBound) {
-  // A 3 m strip, 1 cm wide (a mullion), in front of a perceptible wall:
-  // every move across it is within e_I * p = 2 cm, so the distance bound
-  // alone lets collapses across its width eat into it; the area budget
-  // (1 px^2 = 1 cm^2 here) keeps its surface.
+// A 3 m strip, 1 cm wide (a mullion; component 1, imperceptible) of 30
+// quads, 5 cm in front of a 4 m perceptible wall (component 0).
+struct Mullion {
   Scene in;
-  add_grid(in, 4, 4.0, 0);
-  const size_t wall = in.triangle_count();
-  const int n = 30;
-  for (int i = 0; i < n; ++i) {
-    const double x0 = 0.5 + 0.1 * i, x1 = x0 + 0.1;
-    uint32_t a = add_vertex(in, x0, 2.0, 0.05), b = add_vertex(in, x1, 2.0, 0.05),
-             c = add_vertex(in, x1, 2.01, 0.05), d = add_vertex(in, x0, 2.01, 0.05);
-    add_tri(in, a, b, c, 1);
-    add_tri(in, a, c, d, 1);
+  std::vector<Label> labels;
+  Mullion() {
+    add_grid(in, 4, 4.0, 0);
+    const size_t wall = in.triangle_count();
+    for (int i = 0; i < 30; ++i) {
+      const double x0 = 0.5 + 0.1 * i, x1 = x0 + 0.1;
+      uint32_t a = add_vertex(in, x0, 2.0, 0.05), b = add_vertex(in, x1, 2.0, 0.05),
+               c = add_vertex(in, x1, 2.01, 0.05), d = add_vertex(in, x0, 2.01, 0.05);
+      add_tri(in, a, b, c, 1);
+      add_tri(in, a, c, d, 1);
+    }
+    labels.assign(in.triangle_count(), Label::Imperceptible);
+    for (size_t t = 0; t < wall; ++t) labels[t] = Label::Perceptible;
   }
-  std::vector<Label> labels(in.triangle_count(), Label::Imperceptible);
-  for (size_t t = 0; t < wall; ++t) labels[t] = Label::Perceptible;
-  auto bar_area = [&](const Scene& s) {
+  // The strip's surface area in `s` (m^2).
+  static double area(const Scene& s) {
     double a = 0;
     for (size_t t = 0; t < s.triangle_count(); ++t)
       if (s.component[t] == 1) {
@@ -193,13 +194,22 @@ TEST(SimplifyFidelity, AreaRuleKeepsALongPartThinnerThanTheBound) {
         a += at;
       }
     return a;
-  };
-  const double before = bar_area(in);
+  }
+  double simplified_area(const SimplifyOptions& o) const { return area(simplify(in, labels, o)); }
+};
+
+TEST(SimplifyFidelity, AreaRuleKeepsALongPartThinnerThanTheBound) {
+  // A 3 m strip, 1 cm wide (a mullion), in front of a perceptible wall:
+  // every move across it is within e_I * p = 2 cm, so the distance bound
+  // alone lets collapses across its width eat into it; the area budget
+  // (1 px^2 = 1 cm^2 here) keeps its surface.
+  const Mullion m;
+  const double before = Mullion::area(m.in);
   SimplifyOptions with_area = fidelity(0.01, 0.5, 2.0);
   SimplifyOptions without = with_area;
   without.bound_area_px2 = INFINITY;
-  const double kept = bar_area(simplify(in, labels, with_area));
-  const double folded = bar_area(simplify(in, labels, without));
+  const double kept = m.simplified_area(with_area);
+  const double folded = m.simplified_area(without);
   std::printf("  bar area %.5f m^2: %.5f with the area rule, %.5f without\n", before, kept, folded);
   EXPECT_NEAR(kept, before, 1e-4 * 4);  // at most the budgets of the bar's few kept vertices
   // Without it, more than ten times the 1 px^2 budget goes (measured 0.0280
@@ -212,38 +222,17 @@ TEST(SimplifyFidelity, AreaRuleKeepsALongPartThinnerThanTheBound) {
 // bounds, and at 8 px (a move eight times its width allowed) loses more than
 // a budget of 1 px^2 lets go, and no more than no area rule would.
 TEST(SimplifyFidelity, AreaBudgetGrowsWithTheSquareOfTheBound) {
-  Scene in;
-  add_grid(in, 4, 4.0, 0);
-  const size_t wall = in.triangle_count();
-  for (int i = 0; i < 30; ++i) {
-    const double x0 = 0.5 + 0.1 * i, x1 = x0 + 0.1;
-    uint32_t a = add_vertex(in, x0, 2.0, 0.05), b = add_vertex(in, x1, 2.0, 0.05),
-             c = add_vertex(in, x1, 2.01, 0.05), d = add_vertex(in, x0, 2.01, 0.05);
-    add_tri(in, a, b, c, 1);
-    add_tri(in, a, c, d, 1);
-  }
-  std::vector<Label> labels(in.triangle_count(), Label::Imperceptible);
-  for (size_t t = 0; t < wall; ++t) labels[t] = Label::Perceptible;
-  auto bar_area = [&](const Scene& s) {
-    double a = 0;
-    for (size_t t = 0; t < s.triangle_count(); ++t)
-      if (s.component[t] == 1) {
-        double at = 0;
-        normal_of(s, t, &at);
-        a += at;
-      }
-    return a;
-  };
-  const double before = bar_area(in), px2 = 1e-4;  // p = 1 cm: a square pixel is 1 cm^2
-  const double at1 = bar_area(simplify(in, labels, fidelity(0.01, 0.5, 1.0)));
-  const double at8 = bar_area(simplify(in, labels, fidelity(0.01, 0.5, 8.0)));
+  const Mullion m;
+  const double before = Mullion::area(m.in), px2 = 1e-4;  // p = 1 cm: a square pixel is 1 cm^2
+  const double at1 = m.simplified_area(fidelity(0.01, 0.5, 1.0));
+  const double at8 = m.simplified_area(fidelity(0.01, 0.5, 8.0));
   // bound_area_px2 = 1/64 at 8 px: the 1 px^2 a budget that did not grow gave.
   SimplifyOptions fixed_budget = fidelity(0.01, 0.5, 8.0);
   fixed_budget.bound_area_px2 = 1.0 / 64;
-  const double at8_fixed = bar_area(simplify(in, labels, fixed_budget));
+  const double at8_fixed = m.simplified_area(fixed_budget);
   SimplifyOptions no_rule = fidelity(0.01, 0.5, 8.0);
   no_rule.bound_area_px2 = INFINITY;
-  const double at8_free = bar_area(simplify(in, labels, no_rule));
+  const double at8_free = m.simplified_area(no_rule);
   std::printf("  bar area %.5f m^2: %.5f at 1 px, %.5f at 8 px (%.5f with 1 px^2 budgets, %.5f without the rule)\n",
               before, at1, at8, at8_fixed, at8_free);
   EXPECT_NEAR(at1, before, 4 * px2);
