@@ -487,6 +487,7 @@ def chart_tracers(rows, path):
 
 
 METHOD_STYLE = [  # prefix, label, colour, marker
+    ("fidelity floor search", "perclod fidelity_target: {} (the floor search)", "C9", "*"),
     ("fidelity", "perclod fidelity (e_I sweep)", "C0", "o"),
     ("paper", "perclod paper", "C3", "s"),
     ("bounded", "perclod bounded k=1", "C2", "^"),
@@ -588,7 +589,7 @@ def chart_fidelity_time(rows, path):
     seen = set()
     for (m, d), fams in sorted(pts.items()):
         for prefix, label, color, marker in METHOD_STYLE:
-            for t, ssim, _, sec in fams.get(prefix, []):
+            for t, ssim, _, sec, _visible in fams.get(prefix, []):
                 ax.scatter(max(sec, 1e-4), ssim, color=color, marker=marker, s=16,
                            label=None if prefix in seen else label)
                 seen.add(prefix)
