@@ -125,16 +125,22 @@ TEST(LodFidelity, VisibleDifferenceIsMeasuredAgainstTheQuarterPixelFloor) {
   Renderer renderer;
   Labelled l = label_building(renderer);
   measure_floors(renderer, l.scene, l.result.views, judge_settings_of(l.job));
-  for (const ViewRecord& v : l.result.views) EXPECT_GT(v.visible_floor, 0.5) << v.view;
+  for (const ViewRecord& v : l.result.views) {
+    EXPECT_GT(v.visible_floor, 0.5) << v.view;
+    EXPECT_GT(v.visible_floor_local, v.visible_floor) << v.view;  // a square at an edge sees the shift in full
+  }
   for (const ViewFigures& v : compare_lod_views(renderer, l.scene, l.result.views, judge_settings_of(l.job))) {
     EXPECT_EQ(v.visible_difference, 0.0) << v.view;
     EXPECT_EQ(v.visible_ratio, 0.0) << v.view;
+    EXPECT_EQ(v.visible_local_ratio, 0.0) << v.view;
   }
   const Scene cut = without_perceptible(l);
   const std::vector<ViewFigures> missing = compare_lod_views(renderer, cut, l.result.views, judge_settings_of(l.job));
   for (const ViewFigures& v : missing) {
     EXPECT_GT(v.visible_ratio, 2.0) << v.view;
     EXPECT_NEAR(v.visible_ratio, v.visible_difference / v.visible_floor, 1e-9) << v.view;
+    EXPECT_NEAR(v.visible_local_ratio, v.visible_local / v.visible_floor_local, 1e-9) << v.view;
+    EXPECT_GT(v.visible_local_ratio, 1.0) << v.view;  // a missing part is over the local floor too
   }
   EXPECT_TRUE(judge_views(missing, FidelityLimits{1, 1, 0, 0}).met());  // no visible limit
   const Judgement j = judge_views(missing, FidelityLimits{1, 1, 0, 1.0});
@@ -143,6 +149,9 @@ TEST(LodFidelity, VisibleDifferenceIsMeasuredAgainstTheQuarterPixelFloor) {
   double worst = 0;
   for (const ViewFigures& v : missing) worst = std::max(worst, v.visible_ratio);
   EXPECT_EQ(j.worst.visible_ratio, worst);
+  double worst_local = 0;
+  for (const ViewFigures& v : missing) worst_local = std::max(worst_local, v.visible_local_ratio);
+  EXPECT_EQ(j.worst.visible_local_ratio, worst_local);
 }
 
 // A view where the quarter-pixel shift changes nothing (here: the camera

@@ -120,3 +120,30 @@ TEST(VisibleDifference, RmsOfTheExcessOverTheThresholdInTheRegion) {
   EXPECT_EQ(perclod::visible_difference(a.data(), b.data(), 4, none.data(), 1.0), 0.0);
   EXPECT_THROW(perclod::visible_difference(a.data(), b.data(), 4, nullptr, 0.0), std::invalid_argument);
 }
+
+// visible_difference_local: the worst square's own RMS. A change of 2
+// thresholds beyond the threshold over one 8 x 8 corner of a 64 x 64 image
+// is diluted 8x by the whole image's figure and counted in full by a square
+// that holds it; a square needs a quarter of its pixels in the region.
+TEST(VisibleDifference, LocalFigureIsTheWorstSquaresOwn) {
+  const int w = 64, h = 64;
+  std::vector<float> a(size_t(w) * h, 10), b = a;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) b[size_t(y) * w + x] = 13;  // excess 2 over threshold 1
+  const double whole = perclod::visible_difference(a.data(), b.data(), a.size(), nullptr, 1.0);
+  EXPECT_NEAR(whole, 2.0 / 8, 1e-9);
+  EXPECT_NEAR(perclod::visible_difference_local(a.data(), b.data(), w, h, nullptr, 1.0, 8), 2.0, 1e-9);
+  EXPECT_NEAR(perclod::visible_difference_local(a.data(), b.data(), w, h, nullptr, 1.0, 16), 1.0, 1e-9);  // a quarter of 16 x 16
+  EXPECT_EQ(perclod::visible_difference_local(a.data(), a.data(), w, h, nullptr, 1.0, 16), 0.0);
+  // A uniform change reads the same locally and over the whole image.
+  std::vector<float> c(a.size(), 12.5f);
+  EXPECT_NEAR(perclod::visible_difference_local(a.data(), c.data(), w, h, nullptr, 1.0, 16),
+              perclod::visible_difference(a.data(), c.data(), a.size(), nullptr, 1.0), 1e-9);
+  // Squares with under a quarter of their pixels in the region do not count.
+  std::vector<uint8_t> region(a.size(), 0);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 8; ++x) region[size_t(y) * w + x] = 1;  // 32 pixels: a half of 8 x 8, an eighth of 16 x 16
+  EXPECT_NEAR(perclod::visible_difference_local(a.data(), b.data(), w, h, region.data(), 1.0, 8), 2.0, 1e-9);
+  EXPECT_EQ(perclod::visible_difference_local(a.data(), b.data(), w, h, region.data(), 1.0, 16), 0.0);
+  EXPECT_THROW(perclod::visible_difference_local(a.data(), b.data(), w, h, nullptr, 1.0, 1), std::invalid_argument);
+}

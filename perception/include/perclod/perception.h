@@ -186,4 +186,11 @@ double ssim_mean(const float* a, const float* b, int w, int h, const uint8_t* re
 // original moved by a quarter pixel (docs/usage.md#judging-a-lod).
 double visible_difference(const float* a, const float* b, size_t n, const uint8_t* region, double threshold);
 
+// The same figure, local: the largest over squares of block x block pixels
+// (stepped by half a block, each with at least a quarter of its pixels in
+// the region) of the square's own root mean square. A change confined to a
+// few windows, which the whole-building figure dilutes, shows in full.
+double visible_difference_local(const float* a, const float* b, int width, int height, const uint8_t* region,
+                                double threshold, int block);
+
 }  // namespace perclod

@@ -164,6 +164,11 @@ struct ViewComparer {
     f.visible_difference = visible;
     f.visible_floor = v.visible_floor;
     f.visible_ratio = v.visible_floor < 0 ? 0.0 : visible / std::max(v.visible_floor, kMinVisibleFloor);
+    f.visible_local = visible_difference_local(pr.simulated.data(), original.simulated.data(), img.width, img.height,
+                                               drawn_mask.data(), ps.threshold, kLocalBlockPx);
+    f.visible_floor_local = v.visible_floor_local;
+    f.visible_local_ratio =
+        v.visible_floor_local < 0 ? 0.0 : f.visible_local / std::max(v.visible_floor_local, kMinVisibleFloor);
     return f;
   }
 };
@@ -219,6 +224,9 @@ void measure_floors(Renderer& renderer, const Scene& original, std::vector<ViewR
         const size_t i = size_t(y) * size_t(img.width) + size_t(x);
         region[i] = !background[i] || !v.background_at(x, y);
       }
+    v.visible_floor_local = visible_difference_local(shifted.simulated.data(), unshifted.simulated.data(), img.width,
+                                                     img.height, region.data(), how.perception.threshold,
+                                                     kLocalBlockPx);
     v.visible_floor = visible_difference(shifted.simulated.data(), unshifted.simulated.data(), region.size(),
                                          region.data(), how.perception.threshold);
   }
@@ -227,12 +235,16 @@ void measure_floors(Renderer& renderer, const Scene& original, std::vector<ViewR
   // a floor near 0, and any LOD moving one edge there would look thousands
   // of times over it. No view's floor is below kFloorOfMedian times the
   // median of the distance's views.
-  std::vector<double> floors;
-  for (const ViewRecord& v : records) floors.push_back(v.visible_floor);
-  if (floors.empty()) return;
-  std::nth_element(floors.begin(), floors.begin() + long(floors.size() / 2), floors.end());
-  const double lowest = kFloorOfMedian * floors[floors.size() / 2];
-  for (ViewRecord& v : records) v.visible_floor = std::max(v.visible_floor, lowest);
+  auto clamp_to_median = [&](double ViewRecord::*floor) {
+    std::vector<double> floors;
+    for (const ViewRecord& v : records) floors.push_back(v.*floor);
+    if (floors.empty()) return;
+    std::nth_element(floors.begin(), floors.begin() + long(floors.size() / 2), floors.end());
+    const double lowest = kFloorOfMedian * floors[floors.size() / 2];
+    for (ViewRecord& v : records) v.*floor = std::max(v.*floor, lowest);
+  };
+  clamp_to_median(&ViewRecord::visible_floor);
+  clamp_to_median(&ViewRecord::visible_floor_local);
 }
 
 Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimits& limits) {
@@ -244,6 +256,7 @@ Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimit
     w.silhouette_mismatch = std::max(w.silhouette_mismatch, v.silhouette_mismatch);
     w.ssim_covered = std::min(w.ssim_covered, v.ssim_covered);
     w.visible_ratio = std::max(w.visible_ratio, v.visible_ratio);
+    w.visible_local_ratio = std::max(w.visible_local_ratio, v.visible_local_ratio);
     auto flag = [&](const char* measure, double value, double limit, bool over_limit) {
       if (over_limit) j.over_limits.push_back({v.view, v.set, measure, value, limit});
     };

@@ -163,7 +163,10 @@ nlohmann::json view_figures_json(const ViewFigures& v) {
                       {"silhouette_mismatch", v.silhouette_mismatch},
                       {"visible_difference", v.visible_difference},
                       {"visible_floor", v.visible_floor},
-                      {"visible_ratio", v.visible_ratio}};
+                      {"visible_ratio", v.visible_ratio},
+                      {"visible_local", v.visible_local},
+                      {"visible_floor_local", v.visible_floor_local},
+                      {"visible_local_ratio", v.visible_local_ratio}};
   if (!v.comparison_image.empty()) j["comparison_image"] = v.comparison_image;
   return j;
 }
@@ -176,7 +179,8 @@ nlohmann::json worst_figures_json(const WorstFigures& w) {
   return {{"changed_fraction", w.changed_fraction},
           {"ssim_covered", w.ssim_covered},
           {"silhouette_mismatch", w.silhouette_mismatch},
-          {"visible_ratio", w.visible_ratio}};
+          {"visible_ratio", w.visible_ratio},
+          {"visible_local_ratio", w.visible_local_ratio}};
 }
 
 nlohmann::json fidelity_limits_json(const FidelityLimits& l) {

@@ -55,6 +55,9 @@ void measure_floors(Renderer& renderer, const Scene& original, std::vector<ViewR
 // shift changes nothing (a blank or flat one) judges any visible change as
 // far over its floor, not as infinitely over.
 constexpr double kMinVisibleFloor = 0.01;
+// The squares of the local figure (visible_difference_local), pixels: about
+// a window at 56 m on the paper's display.
+constexpr int kLocalBlockPx = 16;
 
 // One judged view: how the LOD's render differs from the original's.
 struct ViewFigures {
@@ -70,6 +73,9 @@ struct ViewFigures {
   double visible_difference = 0;    // perclod/perception.h's, over the drawn pixels (thresholds)
   double visible_floor = -1;        // the view's floor (< 0: not measured)
   double visible_ratio = 0;         // visible_difference / max(floor, kMinVisibleFloor); 0 when unmeasured
+  double visible_local = 0;         // visible_difference_local (kLocalBlockPx squares)
+  double visible_floor_local = -1;
+  double visible_local_ratio = 0;   // visible_local over its own floor
   std::string comparison_image;     // the picture's file, when make_lods writes one
   bool operator==(const ViewFigures&) const = default;
 };
@@ -111,6 +117,7 @@ struct WorstFigures {
   double ssim_covered = 1;        // the lowest
   double silhouette_mismatch = 0;
   double visible_ratio = 0;
+  double visible_local_ratio = 0;  // reported; not a limit
 };
 
 // A view's figure over its limit (an SSIM is over when below min_ssim).

@@ -34,6 +34,7 @@ struct ViewRecord {
   // The judge's perceptual floor for this view (measure_floors): how visible
   // moving the original by a quarter pixel is; < 0 until measured.
   double visible_floor = -1;
+  double visible_floor_local = -1;  // the same, visible_difference_local (kLocalBlockPx)
 
   // Index into the kept arrays of image pixel (x, y), or -1 outside them.
   long kept(int x, int y) const {
