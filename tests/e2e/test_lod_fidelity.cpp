@@ -152,6 +152,11 @@ TEST(LodFidelity, VisibleDifferenceIsMeasuredAgainstTheQuarterPixelFloor) {
   double worst_local = 0;
   for (const ViewFigures& v : missing) worst_local = std::max(worst_local, v.visible_local_ratio);
   EXPECT_EQ(j.worst.visible_local_ratio, worst_local);
+  // max_visible_local (off by default) flags the local figure alone.
+  const Judgement local = judge_views(missing, FidelityLimits{1, 1, 0, 0, 1.0});
+  ASSERT_EQ(local.over_limits.size(), missing.size());
+  EXPECT_EQ(local.over_limits[0].measure, "visible_local_ratio");
+  EXPECT_EQ(FidelityLimits{}.max_visible_local, 0.0);
 }
 
 // A view where the quarter-pixel shift changes nothing (here: the camera

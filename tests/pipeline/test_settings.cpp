@@ -69,6 +69,7 @@ const std::map<std::string, Sample>& samples() {
       {"max_silhouette", {"max_silhouette: 0.02", ""}},
       {"min_ssim", {"min_ssim: 0.9", ""}},
       {"max_visible", {"max_visible: 2", ""}},
+      {"max_visible_local", {"max_visible_local: 1", ""}},
       {"strict", {"strict: true", ""}},
       {"tighten_to_limits", {"tighten_to_limits: false", ""}},
       {"explain", {"explain: true", ""}},
@@ -79,6 +80,8 @@ const std::map<std::string, Sample>& samples() {
        {"fidelity_target: {max_silhouette: 0.05}", "fidelity_target: {max_silhouette: 0.04}"}},
       {"fidelity_target.min_ssim", {"fidelity_target: {min_ssim: 0.9}", "fidelity_target: {min_ssim: 0.8}"}},
       {"fidelity_target.max_visible", {"fidelity_target: {max_visible: 1}", "fidelity_target: {max_visible: 0.5}"}},
+      {"fidelity_target.max_visible_local",
+       {"fidelity_target: {max_visible_local: 1}", "fidelity_target: {max_visible_local: 2}"}},
       {"cityjson_lod", {"cityjson_lod: \"2\"", ""}},
       {"crs", {"crs: EPSG:28992", ""}},
       {"crs_origin", {"crs_origin: {lat: 48.7, lon: 11.4}", ""}},
@@ -186,7 +189,7 @@ TEST(Settings, HashedKeysAreTheOnesThatChangeTheSettingsHash) {
 TEST(Settings, SettingsJsonHoldsTheHashedKeys) {
   Folder f;
   const nlohmann::json s = settings_json(
-      f.load("min_ssim: 0.9\nmax_visible: 1\nmask_per_sample: true\ne_undisplayable: 4\nexplain: true\n"
+      f.load("min_ssim: 0.9\nmax_visible: 1\nmax_visible_local: 1\nmask_per_sample: true\ne_undisplayable: 4\nexplain: true\n"
              "fidelity_target: {min_ssim: 0.95}\ncrs: EPSG:28992\ndisplay: screen.yaml",
              false)
           .models.at(0)

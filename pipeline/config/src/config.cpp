@@ -316,6 +316,10 @@ void read_limits(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   c.max_visible = get<double>(n, path, "max_visible", c.max_visible);
   if (!(c.max_visible >= 0 && std::isfinite(c.max_visible)))
     throw config_error(path, "'max_visible' must be a finite number >= 0 (times the perceptual floor; 0: no limit)");
+  c.max_visible_local = get<double>(n, path, "max_visible_local", c.max_visible_local);
+  if (!(c.max_visible_local >= 0 && std::isfinite(c.max_visible_local)))
+    throw config_error(path,
+                       "'max_visible_local' must be a finite number >= 0 (times the local perceptual floor; 0: no limit)");
   c.strict = get<bool>(n, path, "strict", c.strict);
   c.tighten_to_limits = get<bool>(n, path, "tighten_to_limits", c.tighten_to_limits);
   if (n["tighten_to_limits"] && c.simplify != "fidelity")
@@ -342,8 +346,10 @@ void read_fidelity_target(const YAML::Node& n, const std::string& path, BatchCon
   if (!(c.target_min_ssim >= 0 && c.target_min_ssim <= 1))
     throw config_error(path, "'fidelity_target': min_ssim must be within [0, 1]");
   c.target_max_visible = get<double>(t, path, "max_visible", c.max_visible);
-  if (!(c.target_max_visible >= 0 && std::isfinite(c.target_max_visible)))
-    throw config_error(path, "'fidelity_target': max_visible must be a finite number >= 0");
+  c.target_max_visible_local = get<double>(t, path, "max_visible_local", c.max_visible_local);
+  if (!(c.target_max_visible >= 0 && std::isfinite(c.target_max_visible)) ||
+      !(c.target_max_visible_local >= 0 && std::isfinite(c.target_max_visible_local)))
+    throw config_error(path, "'fidelity_target': max_visible and max_visible_local must be finite numbers >= 0");
 }
 
 // The mode's own settings (k, target, the undisplayable rule) and the LOD format.
@@ -566,12 +572,14 @@ LodJob lod_job(const BatchConfig& c) {
   job.limits.max_silhouette = c.max_silhouette;
   job.limits.min_ssim = c.min_ssim;
   job.limits.max_visible = c.max_visible;
+  job.limits.max_visible_local = c.max_visible_local;
   job.fidelity_target = c.fidelity_target;
   job.tighten_to_limits = c.tighten_to_limits;
   job.target.max_changed = c.target_max_changed;
   job.target.max_silhouette = c.target_max_silhouette;
   job.target.min_ssim = c.target_min_ssim;
   job.target.max_visible = c.target_max_visible;
+  job.target.max_visible_local = c.target_max_visible_local;
   job.lod_format = c.format;
   return job;
 }

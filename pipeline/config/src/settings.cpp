@@ -115,6 +115,10 @@ const std::vector<SettingSpec> kConfigSettings = {
      "Limit on a judged view's visible difference over its perceptual floor, the quarter-pixel shift "
      "(docs/usage.md#judging-a-lod)",
      kHashed, kAnyLevel, nullptr},
+    {"max_visible_local", "number (x floor)", "0 (no limit)", ">= 0",
+     "Limit on a judged view's local visible difference (its worst 16 px square) over its local floor "
+     "(docs/usage.md#judging-a-lod)",
+     kHashed, kAnyLevel, nullptr},
     {"strict", "boolean", "false", "",
      "Fail (exit 1, after every output is written) when a LOD exceeds max_visible, max_changed or "
      "max_silhouette, or falls below min_ssim, in any judged view",
@@ -138,6 +142,8 @@ const std::vector<SettingSpec> kConfigSettings = {
      nullptr},
     {"fidelity_target.max_visible", "number (x floor)", "max_visible", ">= 0",
      "The search's limit on visible difference over the floor", kHashed, kAnyLevel, nullptr},
+    {"fidelity_target.max_visible_local", "number (x floor)", "max_visible_local", ">= 0",
+     "The search's limit on local visible difference over the local floor", kHashed, kAnyLevel, nullptr},
     {"cityjson_lod", "string", "\"\" (each object's highest)", "a LOD such as 2, 2.2, 3",
      "CityJSON: the LOD geometry to read, e.g. 2 or 2.2", kHashed, kAnyLevel, nullptr},
     {"crs", "string", "(none: a CityJSON file's referenceSystem, else source coordinates)",

@@ -82,6 +82,11 @@ const std::map<std::string, HashWriter>& hash_writers() {
       // batches a manifest resumes) stay what they were before the key.
       {"min_ssim", [](const BatchConfig& c, json& s) { if (c.min_ssim > 0) s["min_ssim"] = c.min_ssim; }},
       {"max_visible", [](const BatchConfig& c, json& s) { if (c.max_visible > 0) s["max_visible"] = c.max_visible; }},
+      // Joins when set, so the hashes of configs without it stay.
+      {"max_visible_local",
+       [](const BatchConfig& c, json& s) {
+         if (c.max_visible_local > 0) s["max_visible_local"] = c.max_visible_local;
+       }},
       // Joins in fidelity mode, where it decides: a manifest redoes fidelity
       // LODs made before tightening existed (some would now be tighter).
       {"tighten_to_limits",
@@ -97,6 +102,7 @@ const std::map<std::string, HashWriter>& hash_writers() {
            target = {{"max_changed", c.target_max_changed}, {"max_silhouette", c.target_max_silhouette}};
            if (c.target_min_ssim > 0) target["min_ssim"] = c.target_min_ssim;
            if (c.target_max_visible > 0) target["max_visible"] = c.target_max_visible;
+           if (c.target_max_visible_local > 0) target["max_visible_local"] = c.target_max_visible_local;
          }
          s["fidelity_target"] = target;
        }},

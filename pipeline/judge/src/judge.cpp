@@ -265,6 +265,8 @@ Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimit
     flag("silhouette_mismatch", v.silhouette_mismatch, limits.max_silhouette,
          v.silhouette_mismatch > limits.max_silhouette);
     flag("visible_ratio", v.visible_ratio, limits.max_visible, limits.max_visible > 0 && v.visible_ratio > limits.max_visible);
+    flag("visible_local_ratio", v.visible_local_ratio, limits.max_visible_local,
+         limits.max_visible_local > 0 && v.visible_local_ratio > limits.max_visible_local);
   }
   return j;
 }

@@ -54,7 +54,9 @@ bool worth_tightening(const Judgement& judged, const FidelityLimits& limits) {
   if (judged.met()) return false;
   const WorstFigures& w = judged.worst;
   const bool ssim_within = limits.min_ssim <= 0 || 1 - w.ssim_covered <= kTightenReach * (1 - limits.min_ssim);
-  const bool visible_within = limits.max_visible <= 0 || w.visible_ratio <= kTightenReach * limits.max_visible;
+  const bool visible_within = (limits.max_visible <= 0 || w.visible_ratio <= kTightenReach * limits.max_visible) &&
+                              (limits.max_visible_local <= 0 ||
+                               w.visible_local_ratio <= kTightenReach * limits.max_visible_local);
   return w.changed_fraction <= kTightenReach * limits.max_changed &&
          w.silhouette_mismatch <= kTightenReach * limits.max_silhouette && ssim_within && visible_within;
 }

@@ -261,13 +261,14 @@ void DistanceRun::judge_written(LodSet& set) {
   for (const OverLimit& o : r_.fidelity.over_limits) {
     std::ostringstream ss;
     ss.precision(3);
-    const bool figure = o.measure == "ssim_covered" || o.measure == "visible_ratio";  // not a fraction
+    const bool figure = o.measure == "ssim_covered" || o.measure == "visible_ratio" ||
+                        o.measure == "visible_local_ratio";  // not a fraction
     ss << r_.lod_file << ": from view " << o.view << " (" << o.set << ") " << o.measure << " is ";
     if (figure) ss << std::setprecision(4) << o.value << " (limit " << o.limit << ")";
     else ss << 100 * o.value << "% (limit " << 100 * o.limit << "%)";
     // How visible the change is beside moving the original a quarter pixel,
     // so a reader can tell a real change from aliasing.
-    if (o.measure != "visible_ratio")
+    if (o.measure != "visible_ratio" && o.measure != "visible_local_ratio")
       for (const ViewFigures& v : r_.views)
         if (v.view == o.view && v.set == o.set && v.visible_floor >= 0)
           ss << std::setprecision(2) << "; visible difference " << v.visible_ratio << "x the quarter-pixel floor";

@@ -187,7 +187,8 @@ nlohmann::json fidelity_limits_json(const FidelityLimits& l) {
   return {{"max_changed", l.max_changed},
           {"max_silhouette", l.max_silhouette},
           {"min_ssim", l.min_ssim},
-          {"max_visible", l.max_visible}};
+          {"max_visible", l.max_visible},
+          {"max_visible_local", l.max_visible_local}};
 }
 
 nlohmann::json judgement_json(const Judgement& j) {

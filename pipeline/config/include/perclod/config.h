@@ -58,6 +58,7 @@ struct BatchConfig {
   double max_silhouette = 1;         // silhouette mismatch (1: no limit)
   double min_ssim = 0;               // lowest covered-region SSIM of a judged view (0: no limit)
   double max_visible = 1;            // visible difference over the perceptual floor (0: no limit)
+  double max_visible_local = 0;      // the same, the worst 16 px square's (0: no limit)
   bool strict = false;               // a LOD over a limit fails the run (after every output is written)
   // fidelity_target: {max_changed, max_silhouette, min_ssim}: search
   // e_imperceptible per distance for the fewest triangles within these
@@ -70,6 +71,7 @@ struct BatchConfig {
   // (SimplifyOptions::explain_stop; the report's simplify.refused).
   bool explain = false;
   double target_max_changed = 1, target_max_silhouette = 1, target_min_ssim = 0, target_max_visible = 1;
+  double target_max_visible_local = 0;
   std::string cityjson_lod;          // CityJSON input: the LOD geometry to read ("" = each object's highest)
   double memory_mb = 0;              // batch: this model's peak memory for memory_budget_mb (0 = estimate_memory_mb)
   bool tileset = true;               // also write the all-LOD GLB, a GLB per LOD and a 3D Tiles tileset.json

@@ -109,6 +109,7 @@ struct FidelityLimits {
   double max_silhouette = 1;      // silhouette_mismatch (1: no limit)
   double min_ssim = 0;            // ssim_covered (0: no limit)
   double max_visible = 1;         // visible_ratio (0: no limit): within the quarter-pixel floor
+  double max_visible_local = 0;   // visible_local_ratio (0: no limit)
 };
 
 // The worst of each figure over the judged views.
@@ -123,7 +124,7 @@ struct WorstFigures {
 // A view's figure over its limit (an SSIM is over when below min_ssim).
 struct OverLimit {
   std::string view, set;
-  std::string measure;  // "changed_fraction", "ssim_covered", "silhouette_mismatch" or "visible_ratio"
+  std::string measure;  // "changed_fraction", "ssim_covered", "silhouette_mismatch", "visible_ratio" or "visible_local_ratio"
   double value = 0, limit = 0;
 };
 
