@@ -118,7 +118,7 @@ struct WorstFigures {
   double ssim_covered = 1;        // the lowest
   double silhouette_mismatch = 0;
   double visible_ratio = 0;
-  double visible_local_ratio = 0;  // reported; not a limit
+  double visible_local_ratio = 0;  // held to max_visible_local when that is set
 };
 
 // A view's figure over its limit (an SSIM is over when below min_ssim).
