@@ -124,7 +124,9 @@ TEST(Crs, FrameSaysHowHeightsWereTaken) {
   // never as ellipsoidal heights.
   EXPECT_FALSE(rd.height_ballpark);
   EXPECT_NEAR(rd.height - kDelft[2], 43.5, 1.0);
-  if (rd.height_fallback == "EGM96") EXPECT_NEAR(rd.height - kDelft[2], 43.469, 0.01);
+  if (rd.height_fallback == "EGM96") {
+    EXPECT_NEAR(rd.height - kDelft[2], 43.469, 0.01);
+  }
   const CrsFrame utm = crs_frame("EPSG:32632", {678117.251, 5403764.2575, 421.24});
   EXPECT_TRUE(utm.height_ballpark);
   EXPECT_EQ(utm.height_operation, "");
