@@ -169,6 +169,7 @@ struct Judged {
   // show (NaN where that view is tiled), for checking the judge against an
   // independent metric such as butteraugli on the same images.
   double visible_worst = 0, visible_median = 0;
+  double visible_local_worst = 0;  // the worst view's visible_local_ratio (the worst 16 px square's)
   std::string visible_worst_view;  // the view of visible_worst, "<view>/<floor>" (which floor it was over)
   double pair_visible = NAN, pair_changed = NAN, pair_ssim = NAN;
   std::string pair_image;  // the --pairs file of this LOD ("" when none was written)
@@ -303,6 +304,7 @@ Judged judge(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>
     w.ssim = std::min(w.ssim, v.ssim_covered);
     w.silhouette = std::max(w.silhouette, v.silhouette_mismatch);
     ratios.push_back(v.visible_ratio);
+    j.visible_local_worst = std::max(j.visible_local_worst, v.visible_local_ratio);
     if (v.visible_ratio >= j.visible_worst) {
       j.visible_worst = v.visible_ratio;
       std::ostringstream ss;
@@ -432,8 +434,8 @@ Scene decimater_lod(const Scene& s, const MeshoptInput& in, size_t target, doubl
 
 // judge_views over what `perclod run` judges a LOD from by default: the
 // labelling views and the `held_out` preset (tiles named <view>_t<i>), the
-// run's default limits. What tighten_to_limits decides from.
-Judgement run_judged(const std::vector<ViewFigures>& views) {
+// run's default limits (or `limits`). What tighten_to_limits decides from.
+Judgement run_judged(const std::vector<ViewFigures>& views, const FidelityLimits& limits = FidelityLimits{}) {
   const std::vector<std::string> preset = parse_views(kDefaultJudgeViews, UpAxis::Z);  // names only
   std::vector<ViewFigures> judged;
   for (const ViewFigures& v : views) {
@@ -442,7 +444,7 @@ Judgement run_judged(const std::vector<ViewFigures>& views) {
     if (tile != std::string::npos) name.resize(tile);
     if (v.set == "labelling" || std::find(preset.begin(), preset.end(), name) != preset.end()) judged.push_back(v);
   }
-  return judge_views(judged, FidelityLimits{});
+  return judge_views(judged, limits);
 }
 
 struct Model {
@@ -470,11 +472,11 @@ void row(const Model& m, double d, const std::string& method, const Judged& j, c
               100 * j.hausdorff, j.visible_worst, j.visible_median, j.pair_visible, note.c_str());
   std::fflush(stdout);
   if (g_csv) {
-    std::fprintf(g_csv, "%s,%g,%s,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.3f,%.4f,%.4f,%.4f,%.5f,%.5f,%s,%s,%s\n",
+    std::fprintf(g_csv, "%s,%g,%s,%zu,%.4f,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%.6f,%.3f,%.4f,%.4f,%.4f,%.5f,%.5f,%s,%s,%s,%.4f\n",
                  m.key.c_str(), d, method.c_str(), j.triangles, j.seconds, j.labelling.changed, j.labelling.ssim,
                  j.labelling.silhouette, j.held_out.changed, j.held_out.ssim, j.held_out.silhouette, j.hausdorff,
                  g_label_seconds, j.visible_worst, j.visible_median, j.pair_visible, j.pair_changed, j.pair_ssim,
-                 j.pair_image.c_str(), j.visible_worst_view.c_str(), note.c_str());
+                 j.pair_image.c_str(), j.visible_worst_view.c_str(), note.c_str(), j.visible_local_worst);
     std::fflush(g_csv);
   }
 }
@@ -497,10 +499,11 @@ SimplifyOptions fidelity_options(double e_p, double e_i) {
 // A peer's sweep: each LOD's count with its worst-view SSIM and its worst
 // visible ratio (the judge's figure over the quarter-pixel floor).
 struct Sweep {
-  std::vector<bench::SweepPoint> ssim, visible;
+  std::vector<bench::SweepPoint> ssim, visible, local;
   void add(const Judged& j) {
     ssim.push_back({j.triangles, j.ssim_all()});
     visible.push_back({j.triangles, j.visible_worst});
+    local.push_back({j.triangles, j.visible_local_worst});
   }
 };
 
@@ -515,7 +518,8 @@ struct PeerRun {
   const LabelJob& job;
   const std::vector<Judged>& fidelity;
   const std::vector<double>& e_i;
-  const Judged* search = nullptr;  // the floor search's LOD (null: none)
+  const Judged* search = nullptr;        // the floor search's LOD (null: none)
+  const Judged* search_local = nullptr;  // the same held to the local floor too
 
   // meshopt_simplify of `scene` to `target` (and sloppy too where simplify
   // stalls above 1.1x the target), rows named `name`, points into `sweep`.
@@ -606,6 +610,14 @@ struct PeerRun {
       line("equal_visible " + name + " search", search->triangles, search->visible_worst,
            bench::fewest_reaching(peer.visible, search->visible_worst, false, full));
     }
+    // The local figure (the worst 16 px square's): the default LOD, and the
+    // search held to both floors, beside the peer at the same local figure.
+    if (!fidelity.empty())
+      line("equal_local " + name + " e_I=" + std::to_string(e_i[0]).substr(0, 4), fidelity[0].triangles,
+           fidelity[0].visible_local_worst, bench::fewest_reaching(peer.local, fidelity[0].visible_local_worst, false, full));
+    if (search_local)
+      line("equal_local " + name + " search_local", search_local->triangles, search_local->visible_local_worst,
+           bench::fewest_reaching(peer.local, search_local->visible_local_worst, false, full));
     const double at_floor = bench::fewest_reaching(ours.visible, 1.0, false, full);
     line("equal_visible " + name + " floor", size_t(std::lround(at_floor)), 1.0,
          bench::fewest_reaching(peer.visible, 1.0, false, full));
@@ -620,12 +632,12 @@ struct PeerRun {
 // and remove triangles (search_looser). `make(bounds, suffix, views)`
 // simplifies and judges one try. `note` receives the bounds written.
 template <class Make>
-Judged floor_search(const SimplifyOptions& asked, Make&& make, std::string& note) {
+Judged floor_search(const SimplifyOptions& asked, const FidelityLimits& limits, Make&& make, std::string& note) {
   std::vector<ViewFigures> views;
   std::vector<std::pair<FidelitySearchStep, Judged>> tried;  // each step tried and its LOD's figures
   auto attempt = [&](const FidelitySearchStep& step) {
     tried.push_back({step, make(fidelity_bounds(asked, step), "_search", &views)});
-    return run_judged(views).met();
+    return run_judged(views, limits).met();
   };
   size_t first = 0;
   while (first < std::size(kFidelitySearch) && !attempt(kFidelitySearch[first])) ++first;
@@ -738,11 +750,17 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       row(m, d, name.str(), fidelity.back(), note);
     }
     // What `fidelity_target: {}` writes: the search for the perceptual floor.
-    Judged search;
+    // And with the local figure held to its floor too: `fidelity_target: {max_visible_local: 1}`.
+    Judged search, search_local;
     if (g_search) {
       std::string note;
-      search = floor_search(fidelity_options(e_p, kDefaultBoundImperceptiblePx), simplified, note);
+      const SimplifyOptions asked = fidelity_options(e_p, kDefaultBoundImperceptiblePx);
+      search = floor_search(asked, FidelityLimits{}, simplified, note);
       row(m, d, "fidelity floor search", search, note);
+      FidelityLimits both;
+      both.max_visible_local = 1;
+      search_local = floor_search(asked, both, simplified, note);
+      row(m, d, "fidelity floor search local", search_local, note);
     }
     if (g_label_shift) {
       // What label flips do to the LOD: the labelling of bench_labels'
@@ -825,7 +843,8 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       j.seconds = sec;
       row(m, d, name.str(), j);
     }
-    PeerRun peers{renderer, m, d, tag, records, job, fidelity, e_i, g_search ? &search : nullptr};
+    PeerRun peers{renderer, m, d, tag, records, job, fidelity, e_i, g_search ? &search : nullptr,
+                  g_search ? &search_local : nullptr};
     const Sweep plain = peers.meshopt_sweep(scene, "meshopt", true);
     size_t seen = 0;
     const Scene culled = bench::visibility_culled(renderer, scene, m.up, job.display, d, 2, &seen);
@@ -900,7 +919,8 @@ int main(int argc, char** argv) {
     }
     std::fprintf(g_csv, "model,distance,method,triangles,seconds,lab_changed,lab_ssim,lab_silhouette,"
                         "held_changed,held_ssim,held_silhouette,hausdorff_rel,label_seconds,visible_worst,"
-                        "visible_median,pair_visible,pair_changed,pair_ssim,pair_image,visible_worst_view,note\n");
+                        "visible_median,pair_visible,pair_changed,pair_ssim,pair_image,visible_worst_view,note,"
+                        "visible_local_worst\n");
   }
 #ifndef PERCLOD_HAVE_MESHOPTIMIZER
   std::fprintf(stderr, "bench_fidelity: built without meshoptimizer: perclod rows only\n");

@@ -189,6 +189,8 @@ TEST(CliBatch, ManifestTilesetAndGlbsValidate) {
     EXPECT_EQ(t["total"].get<int>(),
               t["perceptible"].get<int>() + t["imperceptible"].get<int>() + t["undisplayable"].get<int>());
     EXPECT_EQ(lod["fidelity"]["views"].size(), 4u);  // the four facades (judge_views: none)
+    for (const auto& v : lod["fidelity"]["views"])  // both perceptual figures, against floors measured
+      EXPECT_TRUE(v.contains("visible_ratio") && v.contains("visible_local_ratio")) << v;
     for (const auto& key : {"report", "lods_glb", "tileset"})
       EXPECT_TRUE(fs::exists(dir / m["files"][key].get<std::string>())) << key;
     EXPECT_TRUE(fs::exists(dir / lod["file"].get<std::string>()));

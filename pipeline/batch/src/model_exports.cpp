@@ -240,7 +240,7 @@ nlohmann::json manifest_lod(const LodRange& r, const LodResult& e, const std::st
   for (const ViewFigures& v : e.views)
     views.push_back({{"view", v.view}, {"set", v.set}, {"changed_fraction", v.changed_fraction},
                      {"ssim_covered", v.ssim_covered}, {"silhouette_mismatch", v.silhouette_mismatch},
-                     {"visible_ratio", v.visible_ratio}});
+                     {"visible_ratio", v.visible_ratio}, {"visible_local_ratio", v.visible_local_ratio}});
   nlohmann::json l = {
       {"distance", r.distance},
       {"serves", {{"from", r.from}, {"to", std::isfinite(r.to) ? nlohmann::json(r.to) : nlohmann::json(nullptr)}}},
