@@ -6,6 +6,15 @@
 #include "perclod/perception.h"
 
 namespace perclod {
+namespace {
+
+// One pixel's squared difference beyond the threshold (0 within it).
+double excess_squared(float a, float b, double threshold) {
+  const double excess = std::abs(double(a) - double(b)) - threshold;
+  return excess > 0 ? excess * excess : 0.0;
+}
+
+}  // namespace
 
 double visible_difference(const float* a, const float* b, size_t n, const uint8_t* region, double threshold) {
   if (!(threshold > 0)) throw std::invalid_argument("visible_difference: the threshold must be positive");
@@ -14,8 +23,7 @@ double visible_difference(const float* a, const float* b, size_t n, const uint8_
   for (size_t i = 0; i < n; ++i) {
     if (region && !region[i]) continue;
     ++counted;
-    const double excess = std::abs(double(a[i]) - double(b[i])) - threshold;
-    if (excess > 0) sum += excess * excess;
+    sum += excess_squared(a[i], b[i], threshold);
   }
   return counted ? std::sqrt(sum / double(counted)) / threshold : 0.0;
 }
@@ -35,8 +43,7 @@ double visible_difference_local(const float* a, const float* b, int width, int h
           const size_t i = size_t(y) * size_t(width) + size_t(x);
           if (region && !region[i]) continue;
           ++counted;
-          const double excess = std::abs(double(a[i]) - double(b[i])) - threshold;
-          if (excess > 0) sum += excess * excess;
+          sum += excess_squared(a[i], b[i], threshold);
         }
       if (4 * counted >= block * block) worst = std::max(worst, std::sqrt(sum / counted) / threshold);
     }
