@@ -629,33 +629,22 @@ struct PeerRun {
 // limits: within the quarter-pixel floor): kFidelitySearch's steps from the
 // loosest down to the first within the limits in what the run judges
 // (run_judged), then, when the loosest met them, looser steps while they do
-// and remove triangles (search_looser). `make(bounds, suffix, views)`
+// and remove triangles: search_fidelity_target, as `run` does. `make(bounds, suffix, views)`
 // simplifies and judges one try. `note` receives the bounds written.
 template <class Make>
 Judged floor_search(const SimplifyOptions& asked, const FidelityLimits& limits, Make&& make, std::string& note) {
   std::vector<ViewFigures> views;
-  std::vector<std::pair<FidelitySearchStep, Judged>> tried;  // each step tried and its LOD's figures
-  auto attempt = [&](const FidelitySearchStep& step) {
-    tried.push_back({step, make(fidelity_bounds(asked, step), "_search", &views)});
-    return run_judged(views, limits).met();
-  };
-  size_t first = 0;
-  while (first < std::size(kFidelitySearch) && !attempt(kFidelitySearch[first])) ++first;
-  FidelitySearchStep chosen = kFidelitySearch[std::min(first, std::size(kFidelitySearch) - 1)];
-  if (first == 0)
-    chosen = search_looser(tried.back().second.triangles, [&](const FidelitySearchStep& step) {
-               const bool met = attempt(step);
-               return std::make_pair(met, tried.back().second.triangles);
-             }).step;
-  const SimplifyOptions b = fidelity_bounds(asked, chosen);
+  std::vector<Judged> tried;  // each try's LOD's figures, in order
+  const TargetSearch s = search_fidelity_target([&](const FidelitySearchStep& step, bool) {
+    tried.push_back(make(fidelity_bounds(asked, step), "_search", &views));
+    return std::make_pair(run_judged(views, limits).met(), tried.back().triangles);
+  });
+  const SimplifyOptions b = fidelity_bounds(asked, s.step);
   std::ostringstream ss;  // no comma: the CSV does not quote
-  ss << (first < std::size(kFidelitySearch) ? "" : "none within; ") << "e_I=" << b.bound_imperceptible_px
-     << " e_P=" << b.bound_perceptible_px << (b.delete_undisplayable ? "" : " undisplayable kept") << "; "
-     << tried.size() << " tries";
+  ss << (s.met ? "" : "none within; ") << "e_I=" << b.bound_imperceptible_px << " e_P=" << b.bound_perceptible_px
+     << (b.delete_undisplayable ? "" : " undisplayable kept") << "; " << s.tries << " tries";
   note = ss.str();
-  for (const auto& [step, j] : tried)  // deterministic: the chosen step's LOD need not be made again
-    if (step.e == chosen.e && step.keep_undisplayable == chosen.keep_undisplayable) return j;
-  return tried.back().second;
+  return tried.at(s.kept);  // deterministic: the kept try's LOD need not be made again
 }
 
 void run_model(const Model& m, const std::vector<double>& distances, const std::vector<double>& e_i, double e_p) {

@@ -88,4 +88,29 @@ LooserSearch search_looser(size_t triangles,
   return r;
 }
 
+TargetSearch search_fidelity_target(
+    const std::function<std::pair<bool, size_t>(const FidelitySearchStep&, bool looser)>& try_step) {
+  TargetSearch s;
+  const size_t n = std::size(kFidelitySearch);
+  size_t first = 0, triangles = 0;
+  for (; first < n; ++first) {
+    const auto [met, left] = try_step(kFidelitySearch[first], false);
+    ++s.tries;
+    triangles = left;
+    if (met) break;
+  }
+  s.met = first < n;
+  s.step = kFidelitySearch[std::min(first, n - 1)];
+  s.kept = s.tries - 1;  // the first that met, or the tightest
+  if (first == 0) {  // the loosest step met it: so may looser bounds
+    const LooserSearch l =
+        search_looser(triangles, [&](const FidelitySearchStep& step) { return try_step(step, true); });
+    s.tries += size_t(l.tries);
+    s.kept += size_t(l.kept + 1);
+    s.step = l.step;
+    s.remake = l.remake;
+  }
+  return s;
+}
+
 }  // namespace perclod

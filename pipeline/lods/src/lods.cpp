@@ -3,6 +3,7 @@
 // original, one distance at a time.
 #include "perclod/lods.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <iterator>
@@ -82,7 +83,6 @@ class DistanceRun {
   LabelResult lr_;
   std::vector<ViewRecord> judged_;  // the labelling views, then the held-out ones
   bool held_out_recorded_ = false;
-  bool floors_measured_ = false;
   SimplifyOptions asked_, so_;
   double exposure_ = -1;
   SimplifyStats st_;
@@ -145,12 +145,12 @@ Judgement DistanceRun::attempt(const SimplifyOptions& o) {
     held_out_recorded_ = true;
   }
   // Every judged view's floor, the labelling views' too when there are no
-  // held-out views (judge_views: none): once, before the first comparison.
-  if (!floors_measured_) {
+  // held-out views (judge_views: none): once, before the first comparison
+  // (a record's floor is < 0 until measured).
+  if (std::any_of(judged_.begin(), judged_.end(), [](const ViewRecord& v) { return v.visible_floor < 0; })) {
     const auto t_floor = Clock::now();
     measure_floors(tools_.renderer, scene_, judged_, judge_settings_of(lj_));
     r_.seconds_compare += since(t_floor);
-    floors_measured_ = true;
   }
   const auto t_cmp = Clock::now();
   pictures_.clear();
@@ -180,22 +180,16 @@ bool DistanceRun::log_try(const Judgement& f, const char* what) {
 // when that is the loosest, looser bounds while they meet it.
 void DistanceRun::search_target() {
   r_.tries_kind = LodTries::FidelitySearch;
-  size_t first_met = 0;
-  while (first_met < std::size(kFidelitySearch) &&
-         !log_try(attempt(fidelity_bounds(asked_, kFidelitySearch[first_met])), "fidelity target"))
-    ++first_met;
-  target_met_ = first_met < std::size(kFidelitySearch);
-  kept_try_ = r_.tries.size() - 1;  // the first that met, or the tightest
-  if (first_met == 0) {  // the loosest step met it: so may looser bounds
-    const LooserSearch l = search_looser(st_.total_after(), [&](const FidelitySearchStep& step) {
-      const bool looser_met = log_try(attempt(fidelity_bounds(asked_, step)), "fidelity target, looser");
-      return std::make_pair(looser_met, st_.total_after());
-    });
-    kept_try_ += size_t(l.kept + 1);
-    if (l.remake) {
-      if (progress_) progress_->looser_remade();
-      attempt(fidelity_bounds(asked_, l.step));
-    }
+  const TargetSearch s = search_fidelity_target([&](const FidelitySearchStep& step, bool looser) {
+    const char* what = looser ? "fidelity target, looser" : "fidelity target";
+    const bool met = log_try(attempt(fidelity_bounds(asked_, step)), what);
+    return std::make_pair(met, st_.total_after());
+  });
+  target_met_ = s.met;
+  kept_try_ = s.kept;
+  if (s.remake) {
+    if (progress_) progress_->looser_remade();
+    attempt(fidelity_bounds(asked_, s.step));
   }
 }
 

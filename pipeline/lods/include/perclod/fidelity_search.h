@@ -68,6 +68,24 @@ struct LooserSearch {
 LooserSearch search_looser(size_t triangles,
                            const std::function<std::pair<bool, size_t>(const FidelitySearchStep&)>& try_step);
 
+// The whole fidelity_target search, for `run` and the benchmarks that must
+// do as it does: kFidelitySearch's steps in order until one meets the
+// target, then, when the first (loosest) did, search_looser. `try_step(step,
+// looser)` makes and judges the LOD at `step` (looser: a try of
+// search_looser) and returns whether it met the target and its triangles.
+// The LOD to write is try `kept` (from 0) at `step`; when `remake`, the last
+// try is not that one and the caller makes it again. With no step within the
+// target (`met` false) it is the last, tightest try.
+struct TargetSearch {
+  FidelitySearchStep step;
+  size_t tries = 0;
+  size_t kept = 0;
+  bool met = false;
+  bool remake = false;
+};
+TargetSearch search_fidelity_target(
+    const std::function<std::pair<bool, size_t>(const FidelitySearchStep&, bool looser)>& try_step);
+
 SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& step);
 
 // ---- tightening a LOD that misses its limits (`tighten_to_limits`) ----------
