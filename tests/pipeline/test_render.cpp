@@ -1,6 +1,7 @@
 // Renderer: size, orientation, background, ID coverage, offset invariance.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -212,6 +213,23 @@ TEST(Render, CullingChangesNoPixel) {
     ++views;
   }
   EXPECT_EQ(views, 3u);
+  // Seen along the field from its -y end, with the far plane 3 m into it:
+  // the chunks beyond are skipped, the nearer ones drawn as before; with the
+  // near plane 6 m away, the first chunk is skipped.
+  for (auto [znear, zfar] : {std::pair{0.5, 5.0}, {6.0, 40.0}}) {
+    const Camera cam = look_at({10.0, -2.0, 1.0}, {10.0, 5.0, 0.0}, {0, 0, 1}, 0.9, 160, 120, znear, zfar);
+    RenderOptions all, culled;
+    all.cull = false;
+    all.want_depth = culled.want_depth = true;
+    all.color_by = culled.color_by = ColorBy::Component;
+    const RenderOutput a = r.render(cam, all), b = r.render(cam, culled);
+    EXPECT_LT(b.drawn_triangles, s.triangle_count()) << "near " << znear;
+    EXPECT_GT(b.drawn_triangles, 0u);
+    EXPECT_EQ(a.rgb, b.rgb) << "near " << znear;
+    EXPECT_EQ(a.ids, b.ids) << "near " << znear;
+    EXPECT_EQ(a.depth, b.depth) << "near " << znear;
+    EXPECT_GT(std::count_if(b.ids.begin(), b.ids.end(), [](uint32_t id) { return id != 0; }), 1000);
+  }
 }
 
 // The renderer keeps its own copies: a scene without component or material

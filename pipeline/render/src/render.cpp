@@ -9,12 +9,14 @@
 // Culling: the triangles are cut, in their own order, into chunks of
 // kChunkTriangles with a bounding box each. A render skips every chunk whose
 // box lies wholly outside one of the view's four side planes (widened by two
-// pixels) and draws the remaining runs of consecutive chunks in order, one
+// pixels) or wholly nearer than its near plane or beyond its far one, and
+// draws the remaining runs of consecutive chunks in order, one
 // draw each (`base` restores the triangle index that gl_PrimitiveID restarts).
 // A skipped triangle could have drawn no fragment, and the drawn ones keep
 // their order, so depth ties resolve as in one draw: the images, IDs and
 // depth are the same bit for bit (test Render.CullingChangesNoPixel). It
-// pays where a view sees part of the model: the tiles of a near view.
+// pays where a view sees part of the model: the tiles of a near view, and
+// the views framed on one building or group of a district.
 #include "perclod/render.h"
 
 #include <GL/osmesa.h>
@@ -297,15 +299,22 @@ void draw_range(GLint base, size_t first, size_t end, size_t& drawn) {
 }
 
 // The side planes of the clip volume, -w <= x, y <= w, from the rows of
-// view_proj (in double), widened by two pixels.
+// view_proj (in double), widened by two pixels; and the near and far planes
+// as eye depths along the view, widened by 1e-4 of their own.
 struct SidePlanes {
   Eigen::Vector4d p[4];
+  Eigen::Vector3d eye, forward;
+  double near_depth = 0, far_depth = 0;
 };
 SidePlanes side_planes(const Camera& cam) {
   const Eigen::Matrix4d m = cam.projection() * cam.view();
   const double wx = 1.0 + 4.0 / cam.width, wy = 1.0 + 4.0 / cam.height;
   return {{wx * m.row(3).transpose() + m.row(0).transpose(), wx * m.row(3).transpose() - m.row(0).transpose(),
-           wy * m.row(3).transpose() + m.row(1).transpose(), wy * m.row(3).transpose() - m.row(1).transpose()}};
+           wy * m.row(3).transpose() + m.row(1).transpose(), wy * m.row(3).transpose() - m.row(1).transpose()},
+          cam.eye,
+          cam.forward,
+          cam.znear * (1 - 1e-4),
+          cam.zfar * (1 + 1e-4)};
 }
 
 // Whether a chunk's box may be in view. A box is skipped when even its
@@ -314,6 +323,15 @@ SidePlanes side_planes(const Camera& cam) {
 // about 80 float epsilons): coordinates far from the origin never lose a
 // triangle the GPU draws.
 bool box_visible(const SidePlanes& planes, const Bounds& b) {
+  // Wholly nearer than the near plane or beyond the far one: its triangles
+  // are clipped away (a view framed on one building of a district).
+  double dmin = 0, dmax = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double f = planes.forward[k], lo = double(b.lo[k]) - planes.eye[k], hi = double(b.hi[k]) - planes.eye[k];
+    dmin += f * (f >= 0 ? lo : hi);
+    dmax += f * (f >= 0 ? hi : lo);
+  }
+  if (dmax < planes.near_depth || dmin > planes.far_depth) return false;
   for (const auto& pl : planes.p) {
     double v = pl[3], mag = std::fabs(pl[3]);
     for (int k = 0; k < 3; ++k) {
