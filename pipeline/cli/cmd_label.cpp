@@ -21,7 +21,7 @@ void register_label(CLI::App& app) {
     std::string samples = samples_name(kDefaultSamples);
     int spins = 1;
     bool verify = false, json = false, keep_unsampled_surface = false, mask_per_sample = false;
-    double ratio = 0.5, threshold = -1, closer = 0.25;
+    double ratio = 0.5, threshold = -1, closer = 0.25, group_span = kDefaultGroupSpan;
   };
   auto a = std::make_shared<Args>();
   a->model.add(cmd);
@@ -36,6 +36,8 @@ void register_label(CLI::App& app) {
   cmd->add_option("--spins", a->spins, key_help("spins", key_default("spins")))->check(CLI::IsMember({1, 2, 4}));
   cmd->add_option("--per-building", a->per_building, key_help("per_building", key_default("per_building")))
       ->check(CLI::IsMember({"true", "false", "auto"}));
+  cmd->add_option("--group-span", a->group_span, key_help("group_span", key_default("group_span")))
+      ->check(in_range(0, 100));
   cmd->add_option("--tracer", a->tracer, key_help("tracer", key_default("tracer")))
       ->check(CLI::IsMember({"octree", "embree"}));
   cmd->add_flag("--verify", a->verify, key_help("verify"));
@@ -65,6 +67,7 @@ void register_label(CLI::App& app) {
     job.keep_unsampled_surface = a->keep_unsampled_surface;
     job.mask_per_sample = a->mask_per_sample;
     job.per_building = parse_per_building(a->per_building);
+    job.group_span = a->group_span;
     job.distance = a->distance;
     job.ratio = a->ratio;
     job.combine = parse_combine_views(a->combine_views);

@@ -92,6 +92,27 @@ TEST(PerBuilding, BlockBuildingsAreLabelledFromTheirOwnViews) {
               s.triangle_count(), u_whole, u_per, p_whole, p_per);
   EXPECT_LT(u_per, u_whole);
   EXPECT_GT(p_per, p_whole + s.triangle_count() / 100);
+
+  // In groups (group_span 0.5: 66 m across) the six share fewer sets of
+  // views. Those views only add to the whole-model ones too, and find more
+  // than they do; they clip at the group's box, not each building's, so a
+  // group's front buildings hide its back ones and fewer are seen than
+  // building by building.
+  job.group_span = 0.5;
+  LabelResult grouped = label_scene(renderer, s, tracer, job);
+  EXPECT_LT(grouped.report.buildings.size(), 6u);
+  size_t in_groups = 0, u_grouped = 0;
+  for (const BuildingLabelling& e : grouped.report.buildings) in_groups += e.buildings;
+  EXPECT_EQ(in_groups, 6u);
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    if (whole.labels[t] != Label::Undisplayable) {
+      ASSERT_NE(grouped.labels[t], Label::Undisplayable) << t;
+    }
+    u_grouped += grouped.labels[t] == Label::Undisplayable;
+  }
+  std::printf("in %zu groups: undisplayable %zu\n", grouped.report.buildings.size(), u_grouped);
+  EXPECT_LT(u_grouped, u_whole);
+  EXPECT_GE(u_grouped, u_per);
 }
 
 }  // namespace

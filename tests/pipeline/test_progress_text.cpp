@@ -25,15 +25,35 @@ TEST(ProgressText, ALodLineGivesCountsWorstFiguresAndWhyItStopped) {
   r.simplify.triangles_after = {10, 30, 0};
   r.views.resize(3);
   r.fidelity.worst = {0.0125, 0.99, 0.001, 0.75};
+  r.seconds = 12.5, r.seconds_label = 9, r.seconds_simplify = 0.25, r.seconds_compare = 3, r.seconds_export = 0.125;
+  r.labelling.per_building = true;
+  r.labelling.seconds_buildings = 6;
   l.progress.lod_made(r);
-  ASSERT_EQ(l.got.size(), 1u);
+  ASSERT_EQ(l.got.size(), 2u);
   EXPECT_EQ(l.got[0], "  LOD 56 m: 100 -> 40 triangles (40%); worst of 3 views: 1.25% changed, SSIM 0.99, "
                       "silhouette 0.1%, visible 0.75x the floor; out/m_lod_56m.obj");
+  EXPECT_EQ(l.got[1], "  LOD 56 m took 12.5 s: label 9 s (own views 6 s), simplify 0.25 s, judge 3 s, export 0.125 s");
   r.simplify.refused_counted = true;
   r.simplify.refused.shape = 2;
   l.progress.lod_made(r);
+  ASSERT_EQ(l.got.size(), 5u);
+  EXPECT_EQ(l.got[3].rfind("  LOD 56 m stopped: 2 half-edges left:", 0), 0u) << l.got[3];
+  EXPECT_EQ(l.got[4], l.got[1]);
+}
+
+// A building's line, and a group's, with the time left once the pace is known.
+TEST(ProgressText, BuildingAndGroupLinesSayWhatIsLeft) {
+  Lines l;
+  BuildingLabelling b{"NL.1", 1, 21, 2, 0.5, {}};
+  l.progress.building_labelled(0, 3, b);
+  BuildingLabelling g{"NL.2", 4, 34, 0, 1.25, {}};
+  l.progress.building_labelled(1, 3, g);
+  l.progress.building_labelled(2, 3, b);
   ASSERT_EQ(l.got.size(), 3u);
-  EXPECT_EQ(l.got[2].rfind("  LOD 56 m stopped: 2 half-edges left:", 0), 0u) << l.got[2];
+  EXPECT_EQ(l.got[0], "  building 1/3 NL.1: 21 views, 0.5 s; 2 with the eye inside another building's box");
+  EXPECT_EQ(l.got[1].rfind("  group 2/3 (4 buildings from NL.2): 34 views, 1.25 s (about ", 0), 0u) << l.got[1];
+  EXPECT_NE(l.got[1].find(" left)"), std::string::npos) << l.got[1];
+  EXPECT_EQ(l.got[2].find("left"), std::string::npos) << "nothing is left after the last";
 }
 
 TEST(ProgressText, ATryNamesItsBoundsAndWhetherItMet) {

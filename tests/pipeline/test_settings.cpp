@@ -52,6 +52,7 @@ const std::map<std::string, Sample>& samples() {
       {"keep_unsampled_surface", {"keep_unsampled_surface: true", ""}},
       {"mask_per_sample", {"mask_per_sample: true", ""}},
       {"per_building", {"per_building: true", ""}},
+      {"group_span", {"group_span: 1", ""}},
       {"combine_views", {"combine_views: any", ""}},
       {"tracer", {"tracer: embree", ""}},
       {"verify", {"verify: true", ""}},

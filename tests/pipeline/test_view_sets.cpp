@@ -161,6 +161,77 @@ TEST(ViewSets, PerBuildingViewsLabelEachBuildingAtItsOwnDistance) {
     }
 }
 
+// Boxes 10 m wide every 12 m along x (Z up): each group's boxes span at
+// most the span across, every box is in exactly one group, a group holds
+// neighbours, and boxes stacked along the up axis span nothing across.
+TEST(ViewSets, GroupBoxesSplitUntilEachGroupFitsTheSpan) {
+  std::vector<Bounds> boxes;
+  for (int i = 0; i < 12; ++i) boxes.push_back({{12.0f * i, 0, 0}, {12.0f * i + 10, 10, 30}});
+  boxes.push_back(Bounds::empty());  // a building without triangles: in no group
+  const auto singles = group_boxes(boxes, UpAxis::Z, 0);
+  ASSERT_EQ(singles.size(), 12u);
+  for (uint32_t i = 0; i < 12; ++i) EXPECT_EQ(singles[i], std::vector<uint32_t>{i});
+  const auto groups = group_boxes(boxes, UpAxis::Z, 40);
+  EXPECT_GE(groups.size(), 4u);  // 142 m of row in parts of at most 40 m
+  EXPECT_LE(groups.size(), 6u);
+  std::vector<int> seen(boxes.size(), 0);
+  for (const auto& g : groups) {
+    float lo = INFINITY, hi = -INFINITY;
+    for (uint32_t b : g) ++seen[b], lo = std::min(lo, boxes[b].lo[0]), hi = std::max(hi, boxes[b].hi[0]);
+    EXPECT_LE(hi - lo, 40.0f);
+    EXPECT_EQ(g.back() - g.front() + 1, g.size());  // neighbours, not every other box
+  }
+  for (int i = 0; i < 12; ++i) EXPECT_EQ(seen[i], 1) << i;
+  EXPECT_EQ(seen[12], 0);
+  EXPECT_EQ(group_boxes(boxes, UpAxis::Z, 1000).size(), 1u);
+  // With Y up their 30 m of z lies across too: no box fits 25 m, while with
+  // Z up they pair up.
+  EXPECT_EQ(group_boxes(boxes, UpAxis::Y, 25).size(), 12u);
+  EXPECT_LE(group_boxes(boxes, UpAxis::Z, 25).size(), 8u);  // halving 12 into 34 m threes, then a pair and one
+  std::vector<Bounds> stack;  // ten floors of a 10 m tower, Y up
+  for (int i = 0; i < 10; ++i) stack.push_back({{0, 4.0f * i, 0}, {10, 4.0f * i + 4, 10}});
+  EXPECT_EQ(group_boxes(stack, UpAxis::Y, 12).size(), 1u);
+  EXPECT_EQ(group_boxes(stack, UpAxis::Z, 12).size(), 4u);  // with Z up the 40 m lie across: 12 m at most
+}
+
+// Two 10 m buildings 6 m apart, each with a 1.5 cm plaque on its +y face,
+// and a third 300 m away. With group_span 1 at 20 m the near two share one
+// set of views (the report names the group by its first building and counts
+// two), the far one keeps its own; each plaque is still found, as it is
+// from each building's own views.
+TEST(ViewSets, GroupsLabelNeighboursFromSharedViews) {
+  Scene s;
+  s.component_names = {"a/Building/1", "a/Window/2", "b/Building/1", "b/Window/2", "c/Building/1", "c/Window/2"};
+  const float x[3] = {0, 16, 300};
+  for (uint32_t k = 0; k < 3; ++k) {
+    add_box(s, {x[k], 0, 0}, {x[k] + 10, 10, 10}, 2 * k);
+    add_box(s, {x[k] + 5, 10.01f, 5}, {x[k] + 5.015f, 10.02f, 5.015f}, 2 * k + 1);
+  }
+  auto plaque_front = [](const LabelResult& r, size_t first) {
+    return r.labels[first + 6] != Label::Undisplayable || r.labels[first + 7] != Label::Undisplayable;
+  };
+  LabelJob job = job_for("az90el30", 20, 4);
+  job.per_building = PerBuilding::On;
+  LabelResult alone = label(s, job);
+  ASSERT_EQ(alone.report.buildings.size(), 3u);
+  job.group_span = 1.5;  // 30 m at 20 m: a and b (26 m across), not c
+  LabelResult grouped = label(s, job);
+  ASSERT_EQ(grouped.report.buildings.size(), 2u);
+  EXPECT_EQ(grouped.report.buildings[0].building, "a");
+  EXPECT_EQ(grouped.report.buildings[0].buildings, 2u);
+  EXPECT_EQ(grouped.report.buildings[1].building, "c");
+  EXPECT_EQ(grouped.report.buildings[1].buildings, 1u);
+  const nlohmann::json per_json = label_report_json(grouped.report)["per_building"];
+  EXPECT_EQ(per_json[0]["buildings"], 2);
+  EXPECT_FALSE(per_json[1].contains("buildings"));
+  for (size_t first : {12u, 36u, 60u}) {
+    EXPECT_TRUE(plaque_front(alone, first)) << first;
+    EXPECT_TRUE(plaque_front(grouped, first)) << first;
+  }
+  // The lone building is framed as before: its labels do not change.
+  for (size_t t = 48; t < 72; ++t) EXPECT_EQ(grouped.labels[t], alone.labels[t]) << t;
+}
+
 // A kiosk 36 m in front of a hall: framed on the kiosk at 56 m, the +x view
 // stands inside the hall's box. The report counts such views per building;
 // the hall's own views all stand outside the kiosk.

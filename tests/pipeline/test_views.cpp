@@ -202,6 +202,8 @@ TEST(Config, EveryMistakeIsAnErrorNamingTheFile) {
   expect_error(load_batch_config, write("both.yaml", base + "views: top\nfacades: all\n"), "not both");
   expect_error(load_batch_config, write("spp.yaml", base + "samples: 3\n"), "'samples'");
   expect_error(load_batch_config, write("pb.yaml", base + "per_building: maybe\n"), "'per_building'");
+  expect_error(load_batch_config, write("gs.yaml", base + "group_span: -1\n"), "'group_span'");
+  expect_error(load_batch_config, write("gs.yaml", base + "group_span: .nan\n"), "'group_span'");
   expect_error(load_batch_config, write("cv.yaml", base + "combine_views: all\n"),
                "'combine_views': combine_views must be any or pooled, not 'all'");
   expect_error(load_batch_config, write("out.yaml", base + "out: \"\"\n"), "'out'");

@@ -270,6 +270,8 @@ void read_sampling(const YAML::Node& n, const std::string& path, BatchConfig& c)
       throw config_error(path, std::string("'per_building': ") + e.what());
     }
   }
+  c.group_span = get<double>(n, path, "group_span", c.group_span);
+  if (!(c.group_span >= 0 && c.group_span <= 100)) throw config_error(path, "'group_span' must be within [0, 100]");
 }
 
 void read_label_rule(const YAML::Node& n, const std::string& path, BatchConfig& c) {
@@ -549,6 +551,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.label.mask_per_sample = c.mask_per_sample;
   job.label.perception.spins = c.spins;
   job.label.per_building = parse_per_building(c.per_building);
+  job.label.group_span = c.group_span;
   job.label.ratio = c.ratio;
   job.label.combine = parse_combine_views(c.combine_views);
   job.label.verify = c.verify;

@@ -92,12 +92,50 @@ BuildingTriangles building_triangles(const Scene& scene, const Buildings& buildi
   return bt;
 }
 
+// What per-building labelling frames its views on: buildings, or groups of
+// them (LabelJob::group_span). owner: each triangle's unit; box: each unit's.
+struct LabelUnits {
+  std::vector<std::vector<uint32_t>> members;  // buildings of each unit
+  std::vector<uint32_t> owner;
+  std::vector<Bounds> box;
+  std::vector<double> distance;  // what its views are framed at
+};
+// A building's views put its eye `distance` outside its bounding sphere; a
+// group's put the group's centre where its median building's centre would
+// be: its nearer buildings are seen closer, its farther ones further.
+double group_frame_distance(const BuildingTriangles& bt, const std::vector<uint32_t>& members, const Bounds& box,
+                            double distance) {
+  if (members.size() == 1) return distance;
+  std::vector<float> radius;
+  for (uint32_t b : members) radius.push_back(0.5f * bt.box[b].diagonal());
+  std::nth_element(radius.begin(), radius.begin() + radius.size() / 2, radius.end());
+  return std::max(0.5 * distance, distance - (0.5 * box.diagonal() - radius[radius.size() / 2]));
+}
+LabelUnits label_units(const BuildingTriangles& bt, UpAxis up, double span, double distance) {
+  LabelUnits u;
+  u.members = group_boxes(bt.box, up, span * distance);
+  std::vector<uint32_t> unit_of(bt.box.size(), 0);
+  u.box.assign(u.members.size(), Bounds::empty());
+  for (uint32_t g = 0; g < u.members.size(); ++g)
+    for (uint32_t b : u.members[g]) {
+      unit_of[b] = g;
+      u.box[g].grow(bt.box[b].lo.data());
+      u.box[g].grow(bt.box[b].hi.data());
+    }
+  for (uint32_t g = 0; g < u.members.size(); ++g)
+    u.distance.push_back(group_frame_distance(bt, u.members[g], u.box[g], distance));
+  u.owner.resize(bt.owner.size());
+  for (size_t t = 0; t < bt.owner.size(); ++t) u.owner[t] = unit_of[bt.owner[t]];
+  return u;
+}
+
 // A view framed on one building may put its eye inside a neighbour's box (a
 // kiosk beside a hall): it sees that neighbour from inside, and the
-// building's labels come from its other views. Counted per building.
-bool eye_inside_other(const Camera& cam, const std::vector<Bounds>& box, uint32_t b) {
+// building's labels come from its other views. Counted per building (or
+// group: the buildings outside it).
+bool eye_inside_other(const Camera& cam, const std::vector<Bounds>& box, const std::vector<uint32_t>& own) {
   for (uint32_t k = 0; k < box.size(); ++k) {
-    if (k == b) continue;
+    if (std::binary_search(own.begin(), own.end(), k) || box[k].is_empty()) continue;
     bool in = true;
     for (int a = 0; a < 3 && in; ++a) in = cam.eye[a] >= box[k].lo[a] && cam.eye[a] <= box[k].hi[a];
     if (in) return true;
@@ -121,11 +159,17 @@ class SceneLabeller {
   }
 
   LabelResult run() {
+    const auto t0 = Clock::now();
     if (write_files_) ensure_directory(job_.out.dir);
     renderer_.set_scene(scene_);
     begin_report();
     label_model_views();
-    if (labels_per_building()) label_buildings();
+    if (labels_per_building()) {
+      const auto t_b = Clock::now();
+      label_buildings();
+      res_.report.seconds_buildings = since(t_b);
+    }
+    res_.report.seconds = since(t0);
     return finish();
   }
 
@@ -137,8 +181,9 @@ class SceneLabeller {
   void label_model_views();
   bool labels_per_building();
   void label_buildings();
-  BuildingLabelling label_building(uint32_t b, const BuildingTriangles& bt, ViewPipeline& pipeline, size_t& first,
-                                std::vector<ViewPass>& own_passes, size_t& views, double& seconds);
+  BuildingLabelling label_unit(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
+                               ViewPipeline& pipeline, size_t& first, std::vector<ViewPass>& own_passes,
+                               size_t& views, double& seconds);
   LabelResult finish();
 
   Renderer& renderer_;
@@ -215,6 +260,7 @@ void SceneLabeller::on_model_view_seen(const ViewPass& vp, ViewOutcome& o) {
 // A whole-model view traced and counted: keep its IDs for the marking, report it.
 void SceneLabeller::on_model_view_counted(const ViewPass& vp, ViewOutcome& o) {
   const ViewTile& tile = tiles_[vp.tile];
+  for (const auto& [step, s] : o.report.seconds) res_.report.step_seconds[step] += s;
   if (vp.pass == 0) {
     if (write_files_ && job_.write_view_images)
       res_.id_buffers.push_back(IdBuffer{tile.name, kept_picture_camera(vp.camera, vp.grid()), std::move(o.packed_ids)});
@@ -236,7 +282,7 @@ void SceneLabeller::label_model_views() {
     pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
                  [&](ViewOutcome& o) {
                    count_view(scene_, tracer_, reference_, job_, vp.sampling, tiles_[vp.tile].name, vp.camera,
-                              nullptr, 0, res_, acc_, o);
+                              nullptr, 0, nullptr, res_, acc_, o);
                    if (vp.pass == 0 && write_files_ && job_.write_view_images)  // packed here, on the worker
                      o.packed_ids = pack_bytes(o.image.ids.data(), o.image.ids.size() * sizeof(uint32_t));
                  });
@@ -252,9 +298,11 @@ bool SceneLabeller::labels_per_building() {
   return job_.per_building == PerBuilding::On || buildings_.named >= 2;
 }
 
-// Per building: views framed on each building, counting its own triangles.
+// Per building: views framed on each building (or group of neighbours),
+// counting its own triangles.
 void SceneLabeller::label_buildings() {
   const BuildingTriangles bt = building_triangles(scene_, buildings_);
+  const LabelUnits units = label_units(bt, job_.up, job_.group_span, job_.distance);
   res_.report.per_building = true;
   size_t views = 0;  // of the building being labelled
   double seconds = 0;
@@ -262,18 +310,17 @@ void SceneLabeller::label_buildings() {
   std::vector<ViewPass> own_passes;  // of the building being labelled
   ViewPipeline pipeline(job_.overlap, [](size_t, ViewOutcome&) {}, [&](size_t k, ViewOutcome& o) {
     views += own_passes[k - first].pass == 0;
-    for (const auto& [key, v] : o.report.seconds) seconds += v;
+    for (const auto& [key, v] : o.report.seconds) seconds += v, res_.report.step_seconds[key] += v;
   });
-  for (uint32_t b = 0; b < buildings_.names.size(); ++b) {
-    if (bt.box[b].is_empty()) continue;  // a building without triangles
-    res_.report.buildings.push_back(label_building(b, bt, pipeline, first, own_passes, views, seconds));
-  }
+  for (uint32_t u = 0; u < units.members.size(); ++u)  // buildings without triangles are in no unit
+    res_.report.buildings.push_back(label_unit(u, units, bt, pipeline, first, own_passes, views, seconds));
 }
 
-// One building's own views through `pipeline`; returns its report entry.
-BuildingLabelling SceneLabeller::label_building(uint32_t b, const BuildingTriangles& bt, ViewPipeline& pipeline,
-                                             size_t& first, std::vector<ViewPass>& own_passes, size_t& views,
-                                             double& seconds) {
+// One building's (or group's) own views through `pipeline`; returns its
+// report entry.
+BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
+                                            ViewPipeline& pipeline, size_t& first, std::vector<ViewPass>& own_passes,
+                                            size_t& views, double& seconds) {
   views = 0;
   seconds = 0;
   size_t eyes_inside = 0;
@@ -281,24 +328,28 @@ BuildingLabelling SceneLabeller::label_building(uint32_t b, const BuildingTriang
   std::vector<std::string> own_names;
   std::map<std::string, size_t> own_chosen;
   for (const auto& view : job_.views)
-    for (const ViewTile& tile : frame_view(bt.box[b], job_.up, view, job_.distance, job_.display)) {
-      eyes_inside += eye_inside_other(tile.camera, bt.box, b);
-      const Camera window = perception_window(tile.camera, bt.box[b], ps_);
+    for (const ViewTile& tile : frame_view(units.box[u], job_.up, view, units.distance[u], job_.display)) {
+      eyes_inside += eye_inside_other(tile.camera, bt.box, units.members[u]);
+      const Camera window = perception_window(tile.camera, units.box[u], ps_);
       const ViewSampling vs = sampling_of(job_, tile.camera, window, nt_);
       if (automatic_) ++own_chosen[sampling_name(vs)];
-      add_view_passes(own_names.size(), tile.camera, window, vs, own_passes);
+      // Only the building's window is rendered and perceived: what the
+      // whole frame gives over the building (perception_window).
+      add_view_passes(own_names.size(), window, window, vs, own_passes);
       own_names.push_back(tile.name);
     }
   for (const ViewPass& vp : own_passes)
     pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
                  [&](ViewOutcome& o) {
-                   count_view(scene_, tracer_, nullptr, job_, vp.sampling, own_names[vp.tile], vp.camera, &bt.owner,
-                              b, res_, acc_, o);
+                   count_view(scene_, tracer_, nullptr, job_, vp.sampling, own_names[vp.tile], vp.camera,
+                              &units.owner, u, &units.box[u], res_, acc_, o);
                  });
   pipeline.drain();
   first += own_passes.size();
-  BuildingLabelling entry{buildings_.names[b], views, eyes_inside, seconds, own_chosen};
-  if (progress_) progress_->building_labelled(b, buildings_.names.size(), entry);
+  const std::vector<uint32_t>& members = units.members[u];
+  BuildingLabelling entry{buildings_.names[members.front()], members.size(), views, eyes_inside, seconds,
+                          own_chosen};
+  if (progress_) progress_->building_labelled(u, units.members.size(), entry);
   return entry;
 }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "perclod/label.h"
+#include "view_pass.h"
 
 namespace perclod {
 using namespace detail;
@@ -84,6 +85,64 @@ Buildings find_buildings(const Scene& scene) {
   return b;
 }
 
+namespace {
+
+// How far `members`' boxes reach along `axis`, together.
+float extent_along(const std::vector<Bounds>& boxes, const std::vector<uint32_t>& members, int axis) {
+  float lo = INFINITY, hi = -INFINITY;
+  for (uint32_t b : members) lo = std::min(lo, boxes[b].lo[axis]), hi = std::max(hi, boxes[b].hi[axis]);
+  return hi - lo;
+}
+
+void split_group(const std::vector<Bounds>& boxes, const int across[2], double span, std::vector<uint32_t> members,
+                 std::vector<std::vector<uint32_t>>& groups) {
+  const float ex[2] = {extent_along(boxes, members, across[0]), extent_along(boxes, members, across[1])};
+  if (members.size() == 1 || std::max(ex[0], ex[1]) <= span) {
+    groups.push_back(std::move(members));
+    return;
+  }
+  const int axis = across[ex[1] > ex[0] ? 1 : 0];
+  auto centre = [&](uint32_t b) { return boxes[b].lo[axis] + boxes[b].hi[axis]; };
+  // Ties broken by index, so the split does not depend on the sort.
+  std::sort(members.begin(), members.end(),
+            [&](uint32_t a, uint32_t b) { return centre(a) < centre(b) || (centre(a) == centre(b) && a < b); });
+  // Split where the longer part is shortest along the axis: at the middle of
+  // an even row, at the gap between two clusters; ties nearest the middle.
+  const size_t n = members.size();
+  std::vector<float> left_lo(n), right_hi(n);  // of members [0, k] and [k, n)
+  float lo = INFINITY, hi = -INFINITY;
+  for (size_t k = 0; k < n; ++k) left_lo[k] = lo = std::min(lo, boxes[members[k]].lo[axis]);
+  for (size_t k = n; k-- > 0;) right_hi[k] = hi = std::max(hi, boxes[members[k]].hi[axis]);
+  std::vector<float> left_hi(n), right_lo(n);
+  hi = -INFINITY, lo = INFINITY;
+  for (size_t k = 0; k < n; ++k) left_hi[k] = hi = std::max(hi, boxes[members[k]].hi[axis]);
+  for (size_t k = n; k-- > 0;) right_lo[k] = lo = std::min(lo, boxes[members[k]].lo[axis]);
+  size_t best = n / 2;
+  double best_len = INFINITY;
+  for (size_t k = 1; k < n; ++k) {  // [0, k) and [k, n)
+    const double len = std::max(left_hi[k - 1] - left_lo[k - 1], right_hi[k] - right_lo[k]);
+    const auto off_middle = [&](size_t i) { return std::abs(2 * double(i) - double(n)); };
+    if (len < best_len || (len == best_len && off_middle(k) < off_middle(best))) best_len = len, best = k;
+  }
+  split_group(boxes, across, span, {members.begin(), members.begin() + best}, groups);
+  split_group(boxes, across, span, {members.begin() + best, members.end()}, groups);
+}
+
+}  // namespace
+
+std::vector<std::vector<uint32_t>> group_boxes(const std::vector<Bounds>& boxes, UpAxis up, double span) {
+  std::vector<uint32_t> all;
+  for (uint32_t b = 0; b < boxes.size(); ++b)
+    if (!boxes[b].is_empty()) all.push_back(b);
+  std::vector<std::vector<uint32_t>> groups;
+  if (all.empty()) return groups;
+  const int across[2] = {0, up == UpAxis::Z ? 1 : 2};
+  split_group(boxes, across, span, std::move(all), groups);
+  for (auto& g : groups) std::sort(g.begin(), g.end());
+  std::sort(groups.begin(), groups.end(), [](const auto& a, const auto& b) { return a.front() < b.front(); });
+  return groups;
+}
+
 Framing framing_of(const LabelJob& job) { return {job.up, job.display, job.distance}; }
 
 PerceptionSettings perception_for(const LabelJob& job) {
@@ -95,14 +154,8 @@ PerceptionSettings perception_for(const LabelJob& job) {
 Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps) {
   const int levels = ps.levels > 0 ? ps.levels : default_levels(0.5 * ps.ppd, ps.k);
   const int align = 1 << std::min(levels, 10), margin = 12 * align;
-  double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-  for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d p(c & 1 ? box.hi[0] : box.lo[0], c & 2 ? box.hi[1] : box.lo[1], c & 4 ? box.hi[2] : box.lo[2]);
-    double px = 0, py = 0, depth = 0;
-    if (!cam.project(p, px, py, depth)) return cam;  // a corner behind the eye: the whole frame
-    lo[0] = std::min(lo[0], px), hi[0] = std::max(hi[0], px);
-    lo[1] = std::min(lo[1], py), hi[1] = std::max(hi[1], py);
-  }
+  double lo[2], hi[2];
+  if (!detail::projected_extent(cam, box, false, lo, hi)) return cam;  // a corner behind the eye: the whole frame
   const int size[2] = {cam.width, cam.height};
   int a[2], b[2];
   for (int k = 0; k < 2; ++k) {

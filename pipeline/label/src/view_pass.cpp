@@ -127,6 +127,19 @@ void decimate(const RenderOutput& fine, int s, int a, int b, RenderOutput& out) 
 }  // namespace
 
 
+bool projected_extent(const Camera& cam, const Bounds& box, bool past_near, double lo[2], double hi[2]) {
+  lo[0] = lo[1] = INFINITY;
+  hi[0] = hi[1] = -INFINITY;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d p(c & 1 ? box.hi[0] : box.lo[0], c & 2 ? box.hi[1] : box.lo[1], c & 4 ? box.hi[2] : box.lo[2]);
+    double px = 0, py = 0, depth = 0;
+    if (!cam.project(p, px, py, depth) || (past_near && !(depth > cam.znear))) return false;
+    lo[0] = std::min(lo[0], px), hi[0] = std::max(hi[0], px);
+    lo[1] = std::min(lo[1], py), hi[1] = std::max(hi[1], py);
+  }
+  return true;
+}
+
 // The camera of the picture a view keeps (its image, record, ID buffer):
 // `cam` itself, or with a grid of samples sample 0's picture of the refined
 // render, `cam` shifted by grid_offsets(grid)[0].
@@ -178,6 +191,35 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
 
 namespace {
 
+// Pixels [x, x + w) x [y, y + h) of a camera's image.
+struct PixelRect {
+  int x = 0, y = 0, w = 0, h = 0;
+};
+
+// The pixels of `cam` whose samples can hit something inside `box`: the
+// rectangle around its corners' projections, widened by two pixels for the
+// sample offsets and rounding; the whole image when a corner is behind the
+// eye (an empty rectangle when the box projects outside the image).
+PixelRect box_rect(const Camera& cam, const Bounds& box) {
+  double lo[2], hi[2];
+  if (!projected_extent(cam, box, true, lo, hi)) return {0, 0, cam.width, cam.height};
+  const int size[2] = {cam.width, cam.height};
+  int a[2], b[2];
+  for (int k = 0; k < 2; ++k) {
+    a[k] = int(std::clamp(std::floor(lo[k]) - 2.0, 0.0, double(size[k])));
+    b[k] = int(std::clamp(std::ceil(hi[k]) + 2.0, 0.0, double(size[k])));
+  }
+  return {a[0], a[1], std::max(0, b[0] - a[0]), std::max(0, b[1] - a[1])};
+}
+
+// A rectangle's samples placed in a width x height image of misses.
+std::vector<uint32_t> spread_rect(const std::vector<uint32_t>& part, const PixelRect& r, int width, int height) {
+  std::vector<uint32_t> full(size_t(width) * height, 0);
+  for (int y = 0; y < r.h; ++y)
+    std::copy_n(part.data() + size_t(y) * r.w, r.w, full.data() + size_t(r.y + y) * width + r.x);
+  return full;
+}
+
 // How a view's samples are traced: an ordered grid (its sample pictures each
 // a mask), one ray per pixel centre (a mask-per-sample pass), or the job's
 // samples from one picture; and whether verify's pixel centres ride along.
@@ -192,7 +234,7 @@ struct TracePlan {
 // render is one sample pass, its camera shifted by the pass's offset: one
 // ray per pixel centre.
 TracePlan trace_view(const Tracer& tracer, bool verify, bool whole_model, const ViewSampling& vs, const Camera& cam,
-                     size_t pixels, ViewOutcome& out) {
+                     const Bounds* only, size_t pixels, ViewOutcome& out) {
   TracePlan plan;
   plan.grid = sample_grid(vs.samples);
   plan.samples = plan.grid ? plan.grid * plan.grid : vs.mask_per_sample ? 1 : vs.samples;
@@ -207,16 +249,24 @@ TracePlan trace_view(const Tracer& tracer, bool verify, bool whole_model, const 
   if (plan.centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `base`
   std::vector<std::vector<uint32_t>>& traced = out.samples;
   traced.resize(offsets.size());
+  // The offsets are added to the camera's shift: a whole frame's is 0, a
+  // window's is its crop, a mask-per-sample pass's its own offset too (its
+  // one offset is zero).
+  const PixelRect rect = only ? box_rect(cam, *only) : PixelRect{0, 0, cam.width, cam.height};
+  const bool whole = rect.w == cam.width && rect.h == cam.height;
   std::vector<uint32_t*> buffers;
   for (auto& t : traced) {
-    t.resize(pixels);  // every pixel is written by the trace
+    if (whole) {
+      t.resize(pixels);  // every pixel is written by the trace
+    } else {
+      t.assign(size_t(rect.w) * rect.h, 0);
+    }
     buffers.push_back(t.data());
   }
-  // The offsets are from base's pixel centres: the view's camera unshifted,
-  // or a mask-per-sample pass's own camera (shifted, one offset of zero).
-  Camera base = cam;
-  if (!vs.mask_per_sample && !plan.grid) base.shift_x = base.shift_y = 0;
-  tracer.trace_samples(base, offsets, buffers.data());
+  if (rect.w > 0 && rect.h > 0)
+    tracer.trace_samples(whole ? cam : cropped(cam, rect.x, rect.y, rect.w, rect.h), offsets, buffers.data());
+  if (!whole)
+    for (auto& t : traced) t = spread_rect(t, rect, cam.width, cam.height);
   return plan;
 }
 
@@ -307,8 +357,8 @@ void verify_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* r
 
 void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
                 const ViewSampling& vs, const std::string& name, const Camera& cam,
-                const std::vector<uint32_t>* owner, uint32_t building, LabelResult& res, Accumulator& acc,
-                ViewOutcome& out) {
+                const std::vector<uint32_t>* owner, uint32_t building, const Bounds* own_box, LabelResult& res,
+                Accumulator& acc, ViewOutcome& out) {
   const size_t nt = scene.triangle_count();
   const double t_render = out.t_render, t_perceive = out.t_perceive;
   const size_t pixels = size_t(out.image.width) * out.image.height;
@@ -316,7 +366,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   counts.traced.assign(nt, 0);
   counts.imperceptible.assign(nt, 0);
   const auto t0 = Clock::now();
-  const TracePlan plan = trace_view(tracer, reference != nullptr, owner == nullptr, vs, cam, pixels, out);
+  const TracePlan plan = trace_view(tracer, reference != nullptr, owner == nullptr, vs, cam, own_box, pixels, out);
   const size_t unsampled_surface = count_samples(scene, job, plan, cam, owner, building, pixels, out, counts);
   const double t_trace = since(t0);
 

@@ -87,6 +87,11 @@ class ViewPipeline {
   std::future<void> pending_;
 };
 
+// The image rectangle [lo, hi] (pixel coordinates, unclipped) around the
+// projections of `box`'s corners; false when a corner is not in front of
+// the eye (not beyond znear when `past_near`).
+bool projected_extent(const Camera& cam, const Bounds& box, bool past_near, double lo[2], double hi[2]);
+
 // One render of a view to label: pass `pass` of the view's `passes`
 // (its first stands for the view in the records, images and report).
 struct ViewPass {
@@ -117,11 +122,13 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
 // The second half, on any thread: trace the view seen by see_view at
 // vs.samples samples per pixel (with vs.mask_per_sample, `cam` is one
 // sample pass, traced at its pixel centres); adds its counts and labels for
-// the triangles of `owner[t] == building` (all when `owner` is null).
+// the triangles of `owner[t] == building` (all when `owner` is null). With
+// `own_box` (the building's box) only the pixels where that box projects are
+// traced: no other sample can hit the building.
 void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
                 const ViewSampling& vs, const std::string& name, const Camera& cam,
-                const std::vector<uint32_t>* owner, uint32_t building, LabelResult& res, Accumulator& acc,
-                ViewOutcome& out);
+                const std::vector<uint32_t>* owner, uint32_t building, const Bounds* own_box, LabelResult& res,
+                Accumulator& acc, ViewOutcome& out);
 
 // How a view of camera `cam` is sampled: the job's samples, or with
 // kAutoSamples the choice for its window on the model (`window`,

@@ -93,10 +93,11 @@ class DistanceRun {
   size_t kept_try_ = 0;     // the try whose LOD is written
   bool searching_ = false;  // fidelity_target in the fidelity mode
   bool target_met_ = false;
+  Clock::time_point started_;
 };
 
 LodResult DistanceRun::run(LodSet& set, Scene* lod_out) {
-  const auto t_d = Clock::now();
+  started_ = Clock::now();
   r_.distance = d_;
   label();
   choose_bounds();
@@ -105,18 +106,19 @@ LodResult DistanceRun::run(LodSet& set, Scene* lod_out) {
   else tighten();
   write_lod(set);
   judge_written(set);
-  r_.seconds = since(t_d);
   if (lod_out) *lod_out = std::move(lod_);
   return std::move(r_);
 }
 
 // Labels the scene at this distance and writes the labels and markings.
 void DistanceRun::label() {
+  const auto t0 = Clock::now();
   lr_ = label_scene(tools_.renderer, scene_, *tools_.tracer, lj_, progress_, tools_.verify_tracer.get());
   write_label_outputs(tools_.renderer, scene_, lr_, lj_);
   release_free_memory();  // the ID buffers of the marking images
   judged_ = std::move(lr_.views);
   lr_.views.clear();
+  r_.seconds_label = since(t0);
 }
 
 // The asked bounds at this distance, with keep_undisplayable: auto decided.
@@ -134,15 +136,19 @@ void DistanceRun::choose_bounds() {
 // search's target (or the job's limits).
 Judgement DistanceRun::attempt(const SimplifyOptions& o) {
   so_ = o;
+  const auto t_simplify = Clock::now();
   lod_ = simplify(scene_, lr_.labels, so_, &st_);
   release_free_memory();  // the simplifier's mesh
+  r_.seconds_simplify += since(t_simplify);
   // The held-out views of the original are recorded after the first
   // simplification, so the simplifier's memory and theirs are not needed
   // at once (at 1M triangles each is a few hundred MB).
   if (!held_out_recorded_) {
+    const auto t_record = Clock::now();
     std::vector<ViewRecord> held = record_views(tools_.renderer, scene_, job_.judge_views, framing_of(lj_), "held_out");
     std::move(held.begin(), held.end(), std::back_inserter(judged_));
     held_out_recorded_ = true;
+    r_.seconds_compare += since(t_record);
   }
   // Every judged view's floor, the labelling views' too when there are no
   // held-out views (judge_views: none): once, before the first comparison
@@ -218,7 +224,9 @@ void DistanceRun::tighten() {
 // Exports the kept LOD and records how it was made.
 void DistanceRun::write_lod(LodSet& set) {
   r_.lod_file = job_.label.out.lod(d_, job_.lod_format);
+  const auto t_export = Clock::now();
   export_scene(lod_, r_.lod_file, ExportOptions{job_.label.up == UpAxis::Z});
+  r_.seconds_export = since(t_export);
   r_.labelling = std::move(lr_.report);
   r_.pixel_footprint = so_.pixel_footprint;
   r_.simplify = st_;
@@ -269,6 +277,7 @@ void DistanceRun::judge_written(LodSet& set) {
     warn(set, ss.str());
     ++set.over_limits;
   }
+  r_.seconds = since(started_);
   if (progress_) progress_->lod_made(r_);
 }
 

@@ -382,6 +382,12 @@ std::vector<std::pair<std::string, std::string>> lod_facts(const json& l, const 
                                         undisplayable_rule(bounds)});
   facts.push_back({"outside every view", count(num(l, "outside_views")) + " triangles"});
   facts.push_back({"time: total", seconds(num(l, "seconds"))});
+  if (const json* stages = member(l, "stage_seconds")) {
+    const json& st = *stages;
+    facts.push_back({"time: labelling", seconds(num(st, "label")) + " (own views of buildings " +
+                                            seconds(num(st, "label_buildings")) + ")"});
+    facts.push_back({"time: export", seconds(num(st, "export"))});
+  }
   facts.push_back({"time: simplify", seconds(num(simp, "seconds"))});
   facts.push_back({"time: judging", seconds(num(l, "seconds_compare"))});
   for (const char* key : {"lod_file", "labels_file"}) {

@@ -2,6 +2,7 @@
 // `perclod` has always printed them.
 #include "perclod/progress_text.h"
 
+#include <chrono>
 #include <cstdio>
 #include <iomanip>
 #include <sstream>
@@ -37,10 +38,20 @@ void TextProgress::view_labelled(const std::string& view, double distance, const
 void TextProgress::building_labelled(size_t index, size_t count, const BuildingLabelling& b) {
   std::ostringstream ss;
   ss.precision(3);
-  ss << "  building " << index + 1 << "/" << count << " " << b.building << ": " << b.views << " views, " << b.seconds
-     << " s";
+  const auto now = std::chrono::steady_clock::now();
+  if (index == 0) buildings_started_ = now;
+  if (b.buildings > 1)
+    ss << "  group " << index + 1 << "/" << count << " (" << b.buildings << " buildings from " << b.building << ")";
+  else
+    ss << "  building " << index + 1 << "/" << count << " " << b.building;
+  ss << ": " << b.views << " views, " << b.seconds << " s";
   if (b.eyes_inside_other_buildings)
     ss << "; " << b.eyes_inside_other_buildings << " with the eye inside another building's box";
+  // Time left from the pace since the first one (which it does not count).
+  if (index > 0 && index + 1 < count) {
+    const double spent = std::chrono::duration<double>(now - buildings_started_).count();
+    ss << " (about " << format_seconds(spent / double(index) * double(count - index - 1)) << " left)";
+  }
   say(ss.str());
 }
 
@@ -86,6 +97,13 @@ void TextProgress::lod_made(const LodResult& r) {
     stop << "  LOD " << r.distance << " m stopped: " << refused_text(st.refused);
     say(stop.str());
   }
+  std::ostringstream times;
+  times.precision(3);
+  times << "  LOD " << r.distance << " m took " << r.seconds << " s: label " << r.seconds_label << " s";
+  if (r.labelling.per_building) times << " (own views " << r.labelling.seconds_buildings << " s)";
+  times << ", simplify " << r.seconds_simplify << " s, judge " << r.seconds_compare << " s, export "
+        << r.seconds_export << " s";
+  say(times.str());
 }
 
 void TextProgress::model_loaded(const std::string& model, const Scene& scene) {

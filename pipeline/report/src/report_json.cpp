@@ -41,6 +41,7 @@ nlohmann::json building_labelling_json(const BuildingLabelling& b, bool automati
                       {"views", b.views},
                       {"eyes_inside_other_buildings", b.eyes_inside_other_buildings},
                       {"seconds", b.seconds}};
+  if (b.buildings > 1) j["buildings"] = b.buildings;  // a group, named by its first building
   if (automatic) j["sampling_chosen"] = b.sampling_chosen;
   return j;
 }
@@ -78,6 +79,15 @@ nlohmann::json lod_json(const LodResult& r) {
   entry["fidelity"] = judgement_json(r.fidelity);
   entry["seconds_compare"] = r.seconds_compare;
   entry["seconds"] = r.seconds;
+  // Wall time per stage; render, perceive and trace are thread time summed
+  // over the labelling views (a render overlaps the previous view's trace).
+  nlohmann::json stages = {{"label", r.seconds_label},
+                           {"label_buildings", r.labelling.seconds_buildings},
+                           {"simplify", r.seconds_simplify},
+                           {"judge", r.seconds_compare},
+                           {"export", r.seconds_export}};
+  for (const auto& [step, s] : r.labelling.step_seconds) stages[step] = s;
+  entry["stage_seconds"] = std::move(stages);
   return entry;
 }
 

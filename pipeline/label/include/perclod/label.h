@@ -29,6 +29,10 @@ TracerKind parse_tracer(const std::string& s);  // "octree" | "embree"
 // The production tracer of that kind (Embree in its fast packet mode).
 std::unique_ptr<Tracer> make_tracer(const Scene& scene, TracerKind kind);
 
+// LabelJob::group_span of `perclod run` and `perclod label`
+// (BENCHMARKS.md#building-groups).
+constexpr double kDefaultGroupSpan = 0.5;
+
 // How a model is split into buildings for per-building labelling.
 // Auto: on when component names give two or more buildings by their
 // "<building>/" prefix (CityGML-derived OBJ and CityJSON files).
@@ -53,6 +57,13 @@ struct Buildings {
   size_t named = 0;  // buildings named by a "<building>/" prefix (PerBuilding::Auto needs two)
 };
 Buildings find_buildings(const Scene& scene);
+
+// Buildings put in groups for labelling (LabelJob::group_span): the boxes
+// split at the median of their centres across the longer side, until a
+// part's boxes together span at most `span` across (the plane across `up`;
+// span 0: every box alone). Empty boxes belong to no group. Returns each
+// group's box indices, in the order of their first box.
+std::vector<std::vector<uint32_t>> group_boxes(const std::vector<Bounds>& boxes, UpAxis up, double span);
 
 // LabelJob::samples for "auto": each view picks how it is sampled
 // (choose_sampling).
@@ -130,6 +141,11 @@ struct LabelJob {
   // Also label each building from views framed on it (its neighbours drawn
   // and occluding); Auto = when find_buildings finds two or more.
   PerBuilding per_building = PerBuilding::Off;
+  // Per building: neighbours whose boxes together span at most this many
+  // times the distance across (the plane across `up`) share one set of
+  // views framed on the group, each view counting the group's triangles;
+  // 0 labels each building alone (docs/usage.md#building-groups).
+  double group_span = 0;  // run and label take kDefaultGroupSpan
   double distance = 56;
   double ratio = 0.5;                 // imperceptible / traced >= ratio -> imperceptible
   CombineViews combine = CombineViews::AnyView;  // the paper's; run and label take kDefaultCombineViews
@@ -166,9 +182,12 @@ struct ViewLabelling {
   size_t passes = 0;                   // with a render per sample: how many (0: one)
 };
 
-// How one building's own views went (per-building labelling).
+// How one building's own views went (per-building labelling), or one
+// group's (job.group_span): `building` is then its first building's name
+// and `buildings` how many it holds.
 struct BuildingLabelling {
   std::string building;
+  size_t buildings = 1;
   size_t views = 0;
   size_t eyes_inside_other_buildings = 0;
   double seconds = 0;
@@ -196,6 +215,11 @@ struct LabelReport {
   bool markings_written = false;
   std::vector<std::string> marking_renders;
   double tracer_build_seconds = -1;    // label_model: its tracer's build (< 0: not given)
+  double seconds = 0;                  // label_scene's wall time
+  double seconds_buildings = 0;        // of it, the per-building (or group) views'
+  // "render", "perceive", "trace" summed over every view and pass, whole-
+  // model and per-building: thread time (a render overlaps a trace).
+  std::map<std::string, double> step_seconds;
 };
 
 // What labelling tells while it works; perclod/progress_text.h's

@@ -69,7 +69,12 @@ struct LodResult {
   bool empty = false;               // no triangle of the model displayable here
   std::vector<ViewFigures> views;   // labelling views, then held-out ones
   Judgement fidelity;               // views against the job's limits
+  // Wall time of the distance, and of its stages: labelling (its steps in
+  // labelling.step_seconds), every try's simplification, judging (the
+  // held-out views' records, the floors and every try's comparison) and
+  // writing the LOD.
   double seconds_compare = 0, seconds = 0;
+  double seconds_label = 0, seconds_simplify = 0, seconds_export = 0;
 };
 
 // make_lods' result: the model, the job's tools, one LodResult per distance.

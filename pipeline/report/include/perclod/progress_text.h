@@ -3,6 +3,8 @@
 // LodProgress, ModelProgress), and the lines of a batch.
 #pragma once
 
+#include <chrono>
+
 #include <cstddef>
 #include <string>
 
@@ -37,6 +39,7 @@ class TextProgress final : public ModelProgress {
     if (sink_) sink_(line);
   }
   Progress sink_;
+  std::chrono::steady_clock::time_point buildings_started_;  // when the distance's first building was labelled
 };
 
 // "octree built in 120 ms, 4096 KiB": the line after a tracer build.
