@@ -13,5 +13,6 @@ void register_perceive(CLI::App& app);
 void register_label(CLI::App& app);
 void register_simplify(CLI::App& app);
 void register_run(CLI::App& app);
+void register_judge(CLI::App& app);
 
 }  // namespace perclod::cli

@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   perclod::cli::register_label(app);
   perclod::cli::register_simplify(app);
   perclod::cli::register_run(app);
+  perclod::cli::register_judge(app);
 
   // An interrupted run leaves no temporaries behind (finished files stay).
   perclod::remove_temporaries_on_signals();

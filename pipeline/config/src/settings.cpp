@@ -70,7 +70,7 @@ const std::vector<SettingSpec> kConfigSettings = {
      "Also label each building from views framed on it: true, false or auto (when the component names give two "
      "or more buildings; docs/usage.md#per-building)",
      kHashed, kAnyLevel, nullptr},
-    {"group_span", "number", "0.5", "0..100; 0 = each building alone",
+    {"group_span", "number", "0", "0..100; 0 = each building alone",
      "Per building: neighbours whose boxes together span at most this many times the distance across share one "
      "set of views framed on the group (docs/usage.md#building-groups)",
      kHashed, kAnyLevel, nullptr},

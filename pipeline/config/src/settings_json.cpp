@@ -50,7 +50,8 @@ const std::map<std::string, HashWriter>& hash_writers() {
       // Joins when on, so the hashes of older configs stay.
       {"mask_per_sample", [](const BatchConfig& c, json& s) { if (c.mask_per_sample) s["mask_per_sample"] = true; }},
       {"per_building", [](const BatchConfig& c, json& s) { s["per_building"] = c.per_building; }},
-      {"group_span", [](const BatchConfig& c, json& s) { s["group_span"] = c.group_span; }},
+      // Joins when set, so the hashes of older configs stay.
+      {"group_span", [](const BatchConfig& c, json& s) { if (c.group_span != 0) s["group_span"] = c.group_span; }},
       // Left out when it is the paper's rule; the default (pooled) joins, so
       // a manifest redoes models labelled before the key existed.
       {"combine_views",

@@ -29,9 +29,10 @@ TracerKind parse_tracer(const std::string& s);  // "octree" | "embree"
 // The production tracer of that kind (Embree in its fast packet mode).
 std::unique_ptr<Tracer> make_tracer(const Scene& scene, TracerKind kind);
 
-// LabelJob::group_span of `perclod run` and `perclod label`
+// LabelJob::group_span of `perclod run` and `perclod label`: each building
+// alone, since groups delete facades their own members hide
 // (BENCHMARKS.md#building-groups).
-constexpr double kDefaultGroupSpan = 0.5;
+constexpr double kDefaultGroupSpan = 0;
 
 // How a model is split into buildings for per-building labelling.
 // Auto: on when component names give two or more buildings by their
