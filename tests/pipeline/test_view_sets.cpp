@@ -192,6 +192,10 @@ TEST(ViewSets, GroupBoxesSplitUntilEachGroupFitsTheSpan) {
   for (int i = 0; i < 10; ++i) stack.push_back({{0, 4.0f * i, 0}, {10, 4.0f * i + 4, 10}});
   EXPECT_EQ(group_boxes(stack, UpAxis::Y, 12).size(), 1u);
   EXPECT_EQ(group_boxes(stack, UpAxis::Z, 12).size(), 4u);  // with Z up the 40 m lie across: 12 m at most
+  // Span 0 keeps boxes without extent across apart too (two posts, Z up).
+  const std::vector<Bounds> posts = {{{0, 0, 0}, {0, 0, 5}}, {{0, 0, 6}, {0, 0, 9}}};
+  EXPECT_EQ(group_boxes(posts, UpAxis::Z, 0).size(), 2u);
+  EXPECT_EQ(group_boxes(posts, UpAxis::Z, 1).size(), 1u);
 }
 
 // Two 10 m buildings 6 m apart, each with a 1.5 cm plaque on its +y face,

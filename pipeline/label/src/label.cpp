@@ -333,9 +333,10 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
       const Camera window = perception_window(tile.camera, units.box[u], ps_);
       const ViewSampling vs = sampling_of(job_, tile.camera, window, nt_);
       if (automatic_) ++own_chosen[sampling_name(vs)];
-      // Only the building's window is rendered and perceived: what the
-      // whole frame gives over the building (perception_window).
-      add_view_passes(own_names.size(), window, window, vs, own_passes);
+      // The whole frame is rendered, as for a whole-model view: rendering
+      // only the window moves the rasteriser's rounding (the Delft tile's
+      // labels at 56 m: 14,695 triangles' counts and 66 labels changed).
+      add_view_passes(own_names.size(), tile.camera, window, vs, own_passes);
       own_names.push_back(tile.name);
     }
   for (const ViewPass& vp : own_passes)

@@ -135,7 +135,10 @@ std::vector<std::vector<uint32_t>> group_boxes(const std::vector<Bounds>& boxes,
   for (uint32_t b = 0; b < boxes.size(); ++b)
     if (!boxes[b].is_empty()) all.push_back(b);
   std::vector<std::vector<uint32_t>> groups;
-  if (all.empty()) return groups;
+  if (!(span > 0)) {  // each alone, even boxes without extent across
+    for (uint32_t b : all) groups.push_back({b});
+    return groups;
+  }
   const int across[2] = {0, up == UpAxis::Z ? 1 : 2};
   split_group(boxes, across, span, std::move(all), groups);
   for (auto& g : groups) std::sort(g.begin(), g.end());
