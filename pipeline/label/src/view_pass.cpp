@@ -246,7 +246,7 @@ TracePlan trace_view(const Tracer& tracer, bool verify, bool whole_model, const 
   // walk, as one more sample, when the walk has room for it.
   plan.centre_in_walk =
       !plan.grid && verify && whole_model && plan.samples > 1 && plan.samples < OctreeTracer::kMaxSamples;
-  if (plan.centre_in_walk) offsets.push_back({cam.shift_x, cam.shift_y});  // trace(cam), relative to `base`
+  if (plan.centre_in_walk) offsets.push_back({0.0, 0.0});  // trace(cam): offsets add to cam's own shift
   std::vector<std::vector<uint32_t>>& traced = out.samples;
   traced.resize(offsets.size());
   // The offsets are added to the camera's shift: a whole frame's is 0, a
