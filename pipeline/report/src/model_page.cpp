@@ -384,8 +384,9 @@ std::vector<std::pair<std::string, std::string>> lod_facts(const json& l, const 
   facts.push_back({"time: total", seconds(num(l, "seconds"))});
   if (const json* stages = member(l, "stage_seconds")) {
     const json& st = *stages;
-    facts.push_back({"time: labelling", seconds(num(st, "label")) + " (own views of buildings " +
-                                            seconds(num(st, "label_buildings")) + ")"});
+    std::string label = seconds(num(st, "label"));
+    if (num(st, "label_buildings") > 0) label += " (own views of buildings " + seconds(num(st, "label_buildings")) + ")";
+    facts.push_back({"time: labelling", label});
     facts.push_back({"time: export", seconds(num(st, "export"))});
   }
   facts.push_back({"time: simplify", seconds(num(simp, "seconds"))});
