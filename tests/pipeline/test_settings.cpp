@@ -191,6 +191,7 @@ TEST(Settings, SettingsJsonHoldsTheHashedKeys) {
   Folder f;
   const nlohmann::json s = settings_json(
       f.load("min_ssim: 0.9\nmax_visible: 1\nmax_visible_local: 1\nmask_per_sample: true\ne_undisplayable: 4\nexplain: true\n"
+             "group_span: 0.5\n"
              "fidelity_target: {min_ssim: 0.95}\ncrs: EPSG:28992\ndisplay: screen.yaml",
              false)
           .models.at(0)
