@@ -23,16 +23,6 @@ struct JudgeArgs {
   bool strict = false, json = false;
 };
 
-// `lod`'s positions in `frame`'s recentred coordinates (both files' source
-// coordinates agree; each was recentred on its own box when loaded).
-void move_into_frame(Scene& lod, const Scene& frame) {
-  for (size_t v = 0; v < lod.positions.size(); ++v) {
-    const int k = int(v % 3);
-    lod.positions[v] = float(double(lod.positions[v]) + (lod.offset[k] - frame.offset[k]));
-  }
-  lod.offset = frame.offset;
-}
-
 // Returns whether every view is within max_visible.
 bool judge(const JudgeArgs& a) {
   set_error_files({a.model.path, a.lod});
@@ -43,10 +33,10 @@ bool judge(const JudgeArgs& a) {
   const std::vector<std::string> views = views_option(a.views, job.up);
   const std::vector<double> distances = check_distances(a.distances);
   const Scene original = a.model.load();
-  LoadOptions lo;
+  LoadOptions lo;  // the LOD in the original's frame: both files' source coordinates agree
   lo.scale = a.model.scale;
-  Scene lod = load_model(a.lod, lo);
-  move_into_frame(lod, original);
+  lo.centre = original.offset;
+  const Scene lod = load_model(a.lod, lo);
   FidelityLimits limits;
   limits.max_visible = a.max_visible;
   Renderer renderer;

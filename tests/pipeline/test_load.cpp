@@ -184,6 +184,23 @@ TEST(Load, UnitScaleAppliesToCoordinates) {
   EXPECT_NEAR(b.hi[1] - b.lo[1], 2.0, 1e-6);
 }
 
+// LoadOptions::centre: recentred on the point given (after the scale), so a
+// second file shares the first's frame; the source coordinates stay
+// position + offset.
+TEST(Load, RecentresOnTheCentreGiven) {
+  test::TempDir dir("centre");
+  auto path = dir.file("far.obj", "v 678000 5403500 0\nv 678010 5403500 0\nv 678000 5403520 0\nf 1 2 3\n");
+  const Scene own = load_scene(path);
+  EXPECT_EQ(own.offset, (std::array<double, 3>{678005, 5403510, 0}));
+  LoadOptions o;
+  o.centre = std::array<double, 3>{678000, 5403500, -5};
+  const Scene s = load_scene(path, o);
+  EXPECT_EQ(s.offset, *o.centre);
+  EXPECT_EQ(std::vector<float>(s.positions.begin(), s.positions.begin() + 3), (std::vector<float>{0, 0, 5}));
+  EXPECT_EQ(s.positions[3], 10.0f);
+  EXPECT_EQ(s.positions[7], 20.0f);
+}
+
 struct BadFile {
   const char* name;
   const char* text;  // nullptr: the file does not exist

@@ -66,7 +66,7 @@ Scene build_scene(RawModel&& m, const std::string& path, const LoadOptions& opt,
     if (!std::isfinite(lo[a]) || !std::isfinite(hi[a]))
       fail(path, "coordinates overflow" + scale_note + ": the model is too large or the unit scale is wrong");
   Scene s;
-  for (int a = 0; a < 3; ++a) s.offset[a] = 0.5 * (lo[a] + hi[a]);
+  for (int a = 0; a < 3; ++a) s.offset[a] = opt.centre ? (*opt.centre)[a] : 0.5 * (lo[a] + hi[a]);
   s.positions.resize(m.positions.size());
   for (size_t i = 0; i < m.positions.size(); ++i) {
     const double v = m.positions[i] * opt.scale - s.offset[i % 3];

@@ -36,6 +36,9 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+
+#include <array>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -61,6 +64,10 @@ struct LoadOptions {
   // ("2" matches "2.0", not "2.2"). A CityObject with geometry but none at
   // that LOD is skipped and counted (LoadReport::cityjson_objects_without_lod).
   std::string cityjson_lod = "";
+  // Recentre on this point (source coordinates times the scale) instead of
+  // the box's centre: a second file read into the first's frame (Scene::offset)
+  // gets the float positions the first would give, rounded once.
+  std::optional<std::array<double, 3>> centre = std::nullopt;
 };
 
 struct LoadReport {
