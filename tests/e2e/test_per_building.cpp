@@ -95,24 +95,28 @@ TEST(PerBuilding, BlockBuildingsAreLabelledFromTheirOwnViews) {
 
   // In groups (group_span 0.5: 66 m across) the six share fewer sets of
   // views. Those views only add to the whole-model ones too, and find more
-  // than they do; they clip at the group's box, not each building's, so a
-  // group's front buildings hide its back ones and fewer are seen than
-  // building by building.
+  // than they do. A group's views clip at the group's box, so where one
+  // member hides another the hidden one takes its own view in that
+  // direction: the groups leave about as much undisplayable as each
+  // building alone (within 1% of the triangles), not the walls only a
+  // member hides.
   job.group_span = 0.5;
   LabelResult grouped = label_scene(renderer, s, tracer, job);
   EXPECT_LT(grouped.report.buildings.size(), 6u);
-  size_t in_groups = 0, u_grouped = 0;
-  for (const BuildingLabelling& e : grouped.report.buildings) in_groups += e.buildings;
+  size_t in_groups = 0, u_grouped = 0, alone = 0;
+  for (const BuildingLabelling& e : grouped.report.buildings) in_groups += e.buildings, alone += e.members_alone;
   EXPECT_EQ(in_groups, 6u);
+  EXPECT_GT(alone, 0u);
   for (size_t t = 0; t < s.triangle_count(); ++t) {
     if (whole.labels[t] != Label::Undisplayable) {
       ASSERT_NE(grouped.labels[t], Label::Undisplayable) << t;
     }
     u_grouped += grouped.labels[t] == Label::Undisplayable;
   }
-  std::printf("in %zu groups: undisplayable %zu\n", grouped.report.buildings.size(), u_grouped);
+  std::printf("in %zu groups (%zu members with views of their own): undisplayable %zu\n",
+              grouped.report.buildings.size(), alone, u_grouped);
   EXPECT_LT(u_grouped, u_whole);
-  EXPECT_GE(u_grouped, u_per);
+  EXPECT_NEAR(double(u_grouped), double(u_per), 0.01 * double(s.triangle_count()));
 }
 
 }  // namespace

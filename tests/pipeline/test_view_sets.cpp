@@ -236,6 +236,39 @@ TEST(ViewSets, GroupsLabelNeighboursFromSharedViews) {
   for (size_t t = 48; t < 72; ++t) EXPECT_EQ(grouped.labels[t], alone.labels[t]) << t;
 }
 
+// Two 10 m buildings in a row along x, b (16-26 m) in front of a from +x.
+// In one group at 300 m, the group's +x view sees b where a's own view,
+// clipped at a's box, would see a's +x face: a takes its own +x view, and
+// that face is labelled as building by building. From -y nothing stands
+// in front of either, so the group's -y view serves both.
+TEST(ViewSets, AGroupMemberHiddenByAnotherTakesItsOwnViewInThatDirection) {
+  Scene s;
+  s.component_names = {"a/Building/1", "b/Building/1"};
+  add_box(s, {0, 0, 0}, {10, 10, 10}, 0);
+  add_box(s, {16, 0, 0}, {26, 10, 10}, 1);
+  LabelJob job = job_for("+x,-y", 300);
+  job.per_building = PerBuilding::On;
+  LabelResult alone = label(s, job);
+  job.group_span = 0.1;  // 30 m at 300 m
+  LabelResult grouped = label(s, job);
+  ASSERT_EQ(grouped.report.buildings.size(), 1u);
+  const BuildingLabelling& g = grouped.report.buildings[0];
+  EXPECT_EQ(g.buildings, 2u);
+  EXPECT_EQ(g.members_alone, 1u);  // a
+  EXPECT_EQ(g.own_views, 1u);      // a from +x
+  EXPECT_EQ(g.views, 3u);          // the group's two (one frame each) and a's
+  const nlohmann::json j = label_report_json(grouped.report)["per_building"][0];
+  EXPECT_EQ(j["own_views"], 1);
+  EXPECT_EQ(j["members_alone"], 1);
+  for (size_t t : {10u, 11u}) {  // a's +x face (from -y a grazing sliver between the two)
+    EXPECT_EQ(alone.labels[t], Label::Perceptible) << t;
+    EXPECT_EQ(grouped.labels[t], Label::Perceptible) << t;
+  }
+  for (size_t t : {4u, 5u, 16u, 17u}) {  // both -y faces, seen from the group's -y view
+    EXPECT_NE(grouped.labels[t], Label::Undisplayable) << t;
+  }
+}
+
 // A kiosk 36 m in front of a hall: framed on the kiosk at 56 m, the +x view
 // stands inside the hall's box. The report counts such views per building;
 // the hall's own views all stand outside the kiosk.

@@ -298,10 +298,10 @@ size_t count_samples(const Scene& scene, const LabelJob& job, const TracePlan& p
                                owner, building, counts);
 }
 
-// Adds the view's counts to the totals (weighted to sixteenths of a pixel
-// with samples auto), its labels to the combined ones and its frustum to
-// the triangles some view could see.
-void accumulate_view(const Scene& scene, const LabelJob& job, const ViewSampling& vs, const Camera& cam,
+}  // namespace
+
+// Weighted to sixteenths of a pixel with samples auto.
+void add_view_counts(const Scene& scene, const LabelJob& job, const ViewSampling& vs, const Camera& cam,
                      const std::vector<uint32_t>* owner, uint32_t building, const TriangleCounts& counts,
                      const std::vector<Label>& labels, LabelResult& res, Accumulator& acc) {
   const size_t nt = scene.triangle_count();
@@ -324,6 +324,8 @@ void accumulate_view(const Scene& scene, const LabelJob& job, const ViewSampling
     if (owner) acc.in_frustum[t] |= seen[t];
   }
 }
+
+namespace {
 
 // Rays against the renderer's ID buffer and, with verify, octree against
 // Embree: both at the pixel centres, where the rasteriser samples. With one
@@ -358,7 +360,7 @@ void verify_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* r
 void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
                 const ViewSampling& vs, const std::string& name, const Camera& cam,
                 const std::vector<uint32_t>* owner, uint32_t building, const Bounds* own_box, LabelResult& res,
-                Accumulator& acc, ViewOutcome& out) {
+                Accumulator& acc, ViewOutcome& out, bool add) {
   const size_t nt = scene.triangle_count();
   const double t_render = out.t_render, t_perceive = out.t_perceive;
   const size_t pixels = size_t(out.image.width) * out.image.height;
@@ -371,7 +373,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   const double t_trace = since(t0);
 
   const std::vector<Label> labels = label_triangles(counts, job.ratio);
-  accumulate_view(scene, job, vs, cam, owner, building, counts, labels, res, acc);
+  if (add) add_view_counts(scene, job, vs, cam, owner, building, counts, labels, res, acc);
   ViewLabelling& r = out.report;
   r = ViewLabelling{};
   r.view = name;
@@ -383,6 +385,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   r.unsampled_surface = unsampled_surface;
   r.seconds = {{"render", t_render}, {"perceive", t_perceive}, {"trace", t_trace}};
   if (!owner) verify_view(scene, tracer, reference, plan, cam, pixels, out);
+  if (!add) out.counts = std::move(counts);
 }
 
 // How a view of camera `cam` is sampled: the job's samples, or with

@@ -42,6 +42,7 @@ struct ViewOutcome {
   std::vector<std::vector<uint8_t>> more_masks;
   double t_render = 0, t_perceive = 0;
   ViewLabelling report;
+  TriangleCounts counts;  // count_view's, when told not to add them (add = false)
 };
 
 // Labels views one after another with the two halves overlapped: while a
@@ -124,11 +125,19 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
 // sample pass, traced at its pixel centres); adds its counts and labels for
 // the triangles of `owner[t] == building` (all when `owner` is null). With
 // `own_box` (the building's box) only the pixels where that box projects are
-// traced: no other sample can hit the building.
+// traced: no other sample can hit the building. add = false leaves the
+// counts in out.counts for the caller to add (add_view_counts) instead.
 void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
                 const ViewSampling& vs, const std::string& name, const Camera& cam,
                 const std::vector<uint32_t>* owner, uint32_t building, const Bounds* own_box, LabelResult& res,
-                Accumulator& acc, ViewOutcome& out);
+                Accumulator& acc, ViewOutcome& out, bool add = true);
+
+// Adds one view's counts of the triangles of `owner[t] == building` (all
+// when `owner` is null) to the totals, their labels (from `labels`) to the
+// combined ones, and the view's frustum to the triangles some view could see.
+void add_view_counts(const Scene& scene, const LabelJob& job, const ViewSampling& vs, const Camera& cam,
+                     const std::vector<uint32_t>* owner, uint32_t building, const TriangleCounts& counts,
+                     const std::vector<Label>& labels, LabelResult& res, Accumulator& acc);
 
 // How a view of camera `cam` is sampled: the job's samples, or with
 // kAutoSamples the choice for its window on the model (`window`,

@@ -45,6 +45,9 @@ void TextProgress::building_labelled(size_t index, size_t count, const BuildingL
   else
     ss << "  building " << index + 1 << "/" << count << " " << b.building;
   ss << ": " << b.views << " views, " << b.seconds << " s";
+  if (b.own_views)
+    ss << " (" << b.own_views << " of them framed on one of " << b.members_alone
+       << " buildings the group's views saw poorly)";
   if (b.eyes_inside_other_buildings)
     ss << "; " << b.eyes_inside_other_buildings << " with the eye inside another building's box";
   // Time left from the pace since the first one (which it does not count).

@@ -41,7 +41,11 @@ nlohmann::json building_labelling_json(const BuildingLabelling& b, bool automati
                       {"views", b.views},
                       {"eyes_inside_other_buildings", b.eyes_inside_other_buildings},
                       {"seconds", b.seconds}};
-  if (b.buildings > 1) j["buildings"] = b.buildings;  // a group, named by its first building
+  if (b.buildings > 1) {  // a group, named by its first building
+    j["buildings"] = b.buildings;
+    j["own_views"] = b.own_views;
+    j["members_alone"] = b.members_alone;
+  }
   if (automatic) j["sampling_chosen"] = b.sampling_chosen;
   return j;
 }

@@ -193,6 +193,9 @@ struct BuildingLabelling {
   size_t eyes_inside_other_buildings = 0;
   double seconds = 0;
   std::map<std::string, size_t> sampling_chosen;  // samples auto: views per setting
+  // A group's: views framed on one member (in a direction where the
+  // group's views saw it poorly), and members with such views.
+  size_t own_views = 0, members_alone = 0;
 };
 
 // What labelling at one distance did, as the reports give it.
