@@ -234,6 +234,9 @@ class SceneLabeller {
   BuildingLabelling label_unit(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
                                ViewPipeline& pipeline, size_t& first, std::vector<ViewPass>& own_passes,
                                size_t& views, double& seconds);
+  size_t add_framed_view(const Bounds& box, const std::vector<uint32_t>& own, const std::vector<Bounds>& boxes,
+                         size_t v, double distance, std::vector<ViewPass>& passes, std::vector<std::string>& names,
+                         std::map<std::string, size_t>& chosen, size_t& eyes_inside);
   void settle_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
                     const std::vector<size_t>& view_of, const std::vector<uint32_t>& tris,
                     const std::vector<TriangleCounts>& kept, const std::vector<std::vector<MemberSight>>& sight,
@@ -371,6 +374,29 @@ void SceneLabeller::label_buildings() {
     res_.report.buildings.push_back(label_unit(u, units, bt, pipeline, first, own_passes, views, seconds));
 }
 
+// View v of the job framed on `box` (the buildings `own` of `boxes`) at
+// `distance`: its tiles' passes and names appended, its samplings counted
+// in `chosen`, its eyes inside another building in `eyes_inside`; returns
+// how many tiles.
+size_t SceneLabeller::add_framed_view(const Bounds& box, const std::vector<uint32_t>& own,
+                                      const std::vector<Bounds>& boxes, size_t v, double distance,
+                                      std::vector<ViewPass>& passes, std::vector<std::string>& names,
+                                      std::map<std::string, size_t>& chosen, size_t& eyes_inside) {
+  const std::vector<ViewTile> tiles = frame_view(box, job_.up, job_.views[v], distance, job_.display);
+  for (const ViewTile& tile : tiles) {
+    eyes_inside += eye_inside_other(tile.camera, boxes, own);
+    const Camera window = perception_window(tile.camera, box, ps_);
+    const ViewSampling vs = sampling_of(job_, tile.camera, window, nt_);
+    if (automatic_) ++chosen[sampling_name(vs)];
+    // The whole frame is rendered, as for a whole-model view: rendering
+    // only the window moves the rasteriser's rounding (the Delft tile's
+    // labels at 56 m: 14,695 triangles' counts and 66 labels changed).
+    add_view_passes(names.size(), tile.camera, window, vs, passes);
+    names.push_back(tile.name);
+  }
+  return tiles.size();
+}
+
 // One building's own views, or a group's, through `pipeline`; returns its
 // report entry.
 BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
@@ -385,19 +411,11 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
   std::map<std::string, size_t> own_chosen;
   const std::vector<uint32_t>& members = units.members[u];
   const bool group = members.size() > 1;
-  for (size_t v = 0; v < job_.views.size(); ++v)
-    for (const ViewTile& tile : frame_view(units.box[u], job_.up, job_.views[v], units.distance[u], job_.display)) {
-      eyes_inside += eye_inside_other(tile.camera, bt.box, members);
-      const Camera window = perception_window(tile.camera, units.box[u], ps_);
-      const ViewSampling vs = sampling_of(job_, tile.camera, window, nt_);
-      if (automatic_) ++own_chosen[sampling_name(vs)];
-      // The whole frame is rendered, as for a whole-model view: rendering
-      // only the window moves the rasteriser's rounding (the Delft tile's
-      // labels at 56 m: 14,695 triangles' counts and 66 labels changed).
-      add_view_passes(own_names.size(), tile.camera, window, vs, own_passes);
-      own_names.push_back(tile.name);
-      view_of.push_back(v);
-    }
+  for (size_t v = 0; v < job_.views.size(); ++v) {
+    const size_t tiles = add_framed_view(units.box[u], members, bt.box, v, units.distance[u], own_passes, own_names,
+                                         own_chosen, eyes_inside);
+    view_of.insert(view_of.end(), tiles, v);
+  }
   // A group's views keep their counts of the group's triangles (`kept`,
   // in the order of `tris`) and how well each view saw each member, until
   // every view is in: a member is counted from the group's views in the
@@ -491,16 +509,9 @@ void SceneLabeller::settle_group(uint32_t u, const LabelUnits& units, const Buil
     for (size_t v = 0; v < nv; ++v) {
       if (!alone[j * nv + v]) continue;
       any = true;
-      for (const ViewTile& tile : frame_view(bt.box[b], job_.up, job_.views[v], job_.distance, job_.display)) {
-        eyes_inside += eye_inside_other(tile.camera, bt.box, {b});
-        const Camera window = perception_window(tile.camera, bt.box[b], ps_);
-        const ViewSampling vs = sampling_of(job_, tile.camera, window, nt_);
-        if (automatic_) ++chosen[sampling_name(vs)];
-        add_view_passes(names.size(), tile.camera, window, vs, passes);
-        names.push_back(tile.name);
-        building_of_tile.push_back(b);
-        ++entry.own_views;
-      }
+      const size_t tiles = add_framed_view(bt.box[b], {b}, bt.box, v, job_.distance, passes, names, chosen, eyes_inside);
+      building_of_tile.insert(building_of_tile.end(), tiles, b);
+      entry.own_views += tiles;
     }
     entry.members_alone += any;
   }
