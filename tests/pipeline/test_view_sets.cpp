@@ -269,6 +269,31 @@ TEST(ViewSets, AGroupMemberHiddenByAnotherTakesItsOwnViewInThatDirection) {
   }
 }
 
+// A house (a, 0-10 m) against a taller one (b, from 10.1 m, 20 m high):
+// a's +x wall is a party wall. b's -x wall stands 0.1 m in front of it,
+// beyond the near plane of a's own views (1% of a's diagonal before a), so
+// in place b hides that wall from every view. With own_views_alone each
+// building's own views show it alone: the wall is seen and kept.
+TEST(ViewSets, OwnViewsAloneSeeThePartyWallANeighbourHides) {
+  Scene s;
+  s.component_names = {"a/Building/1", "b/Building/1"};
+  add_box(s, {0, 0, 0}, {10, 10, 10}, 0);
+  add_box(s, {10.1f, 0, 0}, {20.1f, 10, 20}, 1);
+  LabelJob job = job_for("+x,-y", 300);
+  job.per_building = PerBuilding::On;
+  LabelResult in_place = label(s, job);
+  job.own_views_alone = true;
+  LabelResult alone = label(s, job);
+  for (size_t t : {10u, 11u}) {  // a's +x face
+    EXPECT_NE(in_place.labels[t], Label::Perceptible) << t;
+    EXPECT_EQ(alone.labels[t], Label::Perceptible) << t;
+  }
+  ASSERT_EQ(alone.report.buildings.size(), 2u);
+  for (const BuildingLabelling& b : alone.report.buildings) EXPECT_EQ(b.views, 2u) << b.building;
+  // Faces nothing hides are labelled alike either way.
+  for (size_t t : {4u, 5u, 16u, 17u, 22u, 23u}) EXPECT_EQ(alone.labels[t], in_place.labels[t]) << t;
+}
+
 // A kiosk 36 m in front of a hall: framed on the kiosk at 56 m, the +x view
 // stands inside the hall's box. The report counts such views per building;
 // the hall's own views all stand outside the kiosk.

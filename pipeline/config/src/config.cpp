@@ -270,6 +270,7 @@ void read_sampling(const YAML::Node& n, const std::string& path, BatchConfig& c)
       throw config_error(path, std::string("'per_building': ") + e.what());
     }
   }
+  c.own_views_alone = get<bool>(n, path, "own_views_alone", c.own_views_alone);
   c.group_span = get<double>(n, path, "group_span", c.group_span);
   if (!(c.group_span >= 0 && c.group_span <= 100)) throw config_error(path, "'group_span' must be within [0, 100]");
 }
@@ -552,6 +553,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.label.perception.spins = c.spins;
   job.label.per_building = parse_per_building(c.per_building);
   job.label.group_span = c.group_span;
+  job.label.own_views_alone = c.own_views_alone;
   job.label.ratio = c.ratio;
   job.label.combine = parse_combine_views(c.combine_views);
   job.label.verify = c.verify;

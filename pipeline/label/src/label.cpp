@@ -143,6 +143,37 @@ bool eye_inside_other(const Camera& cam, const std::vector<Bounds>& box, const s
   return false;
 }
 
+// One building as a scene of its own: its triangles on its own vertices,
+// with their components and materials, and which of the model's triangles
+// each one is.
+struct BuildingAlone {
+  Scene scene;
+  std::vector<uint32_t> triangle;
+};
+BuildingAlone building_alone(const Scene& scene, const std::vector<uint32_t>& owner, uint32_t building) {
+  BuildingAlone a;
+  a.scene.component_names = scene.component_names;
+  a.scene.materials = scene.materials;
+  a.scene.offset = scene.offset;
+  std::vector<uint32_t> vertex(scene.vertex_count(), UINT32_MAX);  // the model's vertex -> the building's
+  for (uint32_t t = 0; t < owner.size(); ++t) {
+    if (owner[t] != building) continue;
+    a.triangle.push_back(t);
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t v = scene.indices[3 * size_t(t) + c];
+      if (vertex[v] == UINT32_MAX) {
+        vertex[v] = uint32_t(a.scene.positions.size() / 3);
+        a.scene.positions.insert(a.scene.positions.end(), &scene.positions[3 * size_t(v)],
+                                 &scene.positions[3 * size_t(v)] + 3);
+      }
+      a.scene.indices.push_back(vertex[v]);
+    }
+    if (!scene.component.empty()) a.scene.component.push_back(scene.component[t]);
+    if (!scene.material.empty()) a.scene.material.push_back(scene.material[t]);
+  }
+  return a;
+}
+
 // How well a group's view saw one of its buildings, over the pixels whose
 // centre ray crosses the building's box: `own` drew the building, `hidden`
 // drew something nearer than the near plane of the building's own view
@@ -237,6 +268,8 @@ class SceneLabeller {
   size_t add_framed_view(const Bounds& box, const std::vector<uint32_t>& own, const std::vector<Bounds>& boxes,
                          size_t v, double distance, std::vector<ViewPass>& passes, std::vector<std::string>& names,
                          std::map<std::string, size_t>& chosen, size_t& eyes_inside);
+  void count_alone(uint32_t building, const Bounds& box, const BuildingTriangles& bt,
+                   const std::vector<ViewPass>& passes, const std::vector<std::string>& names, ViewPipeline& pipeline);
   void settle_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
                     const std::vector<size_t>& view_of, const std::vector<uint32_t>& tris,
                     const std::vector<TriangleCounts>& kept, const std::vector<std::vector<MemberSight>>& sight,
@@ -256,6 +289,7 @@ class SceneLabeller {
   const bool automatic_;  // samples auto: each view picks its sampling
   const bool write_files_;
   std::unique_ptr<EmbreeTracer> own_;
+  std::unique_ptr<Renderer> alone_renderer_;  // job.own_views_alone: the building being labelled alone
   const EmbreeTracer* reference_ = nullptr;
   LabelResult res_;
   Accumulator acc_;
@@ -426,7 +460,8 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
       if (units.owner[t] == u) tris.push_back(t);
   std::vector<TriangleCounts> kept(group ? own_passes.size() : 0);
   std::vector<std::vector<MemberSight>> sight(group ? own_names.size() : 0);
-  for (size_t k = 0; k < own_passes.size(); ++k) {
+  if (job_.own_views_alone && !group) count_alone(members.front(), units.box[u], bt, own_passes, own_names, pipeline);
+  for (size_t k = 0; k < (job_.own_views_alone && !group ? 0 : own_passes.size()); ++k) {
     const ViewPass& vp = own_passes[k];
     pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_ || group, o, vp.grid()); },
                  [&, k](ViewOutcome& o) {
@@ -459,6 +494,38 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
   entry.sampling_chosen = own_chosen;
   if (progress_) progress_->building_labelled(u, units.members.size(), entry);
   return entry;
+}
+
+// A building's own views of it alone (job.own_views_alone): rendered,
+// perceived and traced as a scene of its own triangles, so nothing else
+// stands in front of or beside it; its counts go to its triangles of the model.
+void SceneLabeller::count_alone(uint32_t building, const Bounds& box, const BuildingTriangles& bt,
+                                const std::vector<ViewPass>& passes, const std::vector<std::string>& names,
+                                ViewPipeline& pipeline) {
+  const BuildingAlone alone = building_alone(scene_, bt.owner, building);
+  if (!alone_renderer_) alone_renderer_ = std::make_unique<Renderer>();
+  alone_renderer_->set_scene(alone.scene);
+  const OctreeTracer tracer(alone.scene);
+  const size_t n = alone.triangle.size();
+  const std::vector<uint32_t> all_one(n, 0);  // every triangle of it is the building's: no verify against the model
+  LabelResult unused;
+  Accumulator unused_acc(n);
+  std::vector<uint32_t> skip(nt_, 1);  // 0: the building's triangles
+  for (uint32_t t : alone.triangle) skip[t] = 0;
+  TriangleCounts model{std::vector<uint32_t>(nt_, 0), std::vector<uint32_t>(nt_, 0)};
+  for (const ViewPass& vp : passes)
+    pipeline.add([&](ViewOutcome& o) { see_view(*alone_renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
+                 [&](ViewOutcome& o) {
+                   count_view(alone.scene, tracer, nullptr, job_, vp.sampling, names[vp.tile], vp.camera, &all_one, 0,
+                              &box, unused, unused_acc, o, false);
+                   for (size_t i = 0; i < n; ++i) {
+                     model.traced[alone.triangle[i]] = o.counts.traced[i];
+                     model.imperceptible[alone.triangle[i]] = o.counts.imperceptible[i];
+                   }
+                   add_view_counts(scene_, job_, vp.sampling, vp.camera, &skip, 0, model,
+                                   label_triangles(model, job_.ratio), res_, acc_);
+                 });
+  pipeline.drain();
 }
 
 // A group's views counted: each member's counts come from the group's

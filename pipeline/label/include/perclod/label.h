@@ -147,6 +147,10 @@ struct LabelJob {
   // views framed on the group, each view counting the group's triangles;
   // 0 labels each building alone (docs/usage.md#building-groups).
   double group_span = 0;  // run and label take kDefaultGroupSpan
+  // Per building: each building's own views render and trace the building
+  // alone (its walls that only neighbours hide are seen). A group's views,
+  // with group_span, stay in the district.
+  bool own_views_alone = false;
   double distance = 56;
   double ratio = 0.5;                 // imperceptible / traced >= ratio -> imperceptible
   CombineViews combine = CombineViews::AnyView;  // the paper's; run and label take kDefaultCombineViews
