@@ -236,18 +236,29 @@ TEST(ViewSets, GroupsLabelNeighboursFromSharedViews) {
   for (size_t t = 48; t < 72; ++t) EXPECT_EQ(grouped.labels[t], alone.labels[t]) << t;
 }
 
+// Buildings a (a 10 m cube at the origin) and b (10 m along x from b_x,
+// 10 m deep, b_height high), Z up, labelled per building.
+Scene two_buildings(float b_x, float b_height) {
+  Scene s;
+  s.component_names = {"a/Building/1", "b/Building/1"};
+  add_box(s, {0, 0, 0}, {10, 10, 10}, 0);
+  add_box(s, {b_x, 0, 0}, {b_x + 10, 10, b_height}, 1);
+  return s;
+}
+LabelJob per_building_job(const std::string& views, double d) {
+  LabelJob job = job_for(views, d);
+  job.per_building = PerBuilding::On;
+  return job;
+}
+
 // Two 10 m buildings in a row along x, b (16-26 m) in front of a from +x.
 // In one group at 300 m, the group's +x view sees b where a's own view,
 // clipped at a's box, would see a's +x face: a takes its own +x view, and
 // that face is labelled as building by building. From -y nothing stands
 // in front of either, so the group's -y view serves both.
 TEST(ViewSets, AGroupMemberHiddenByAnotherTakesItsOwnViewInThatDirection) {
-  Scene s;
-  s.component_names = {"a/Building/1", "b/Building/1"};
-  add_box(s, {0, 0, 0}, {10, 10, 10}, 0);
-  add_box(s, {16, 0, 0}, {26, 10, 10}, 1);
-  LabelJob job = job_for("+x,-y", 300);
-  job.per_building = PerBuilding::On;
+  const Scene s = two_buildings(16, 10);
+  LabelJob job = per_building_job("+x,-y", 300);
   LabelResult alone = label(s, job);
   job.group_span = 0.1;  // 30 m at 300 m
   LabelResult grouped = label(s, job);
@@ -275,12 +286,8 @@ TEST(ViewSets, AGroupMemberHiddenByAnotherTakesItsOwnViewInThatDirection) {
 // in place b hides that wall from every view. With own_views_alone each
 // building's own views show it alone: the wall is seen and kept.
 TEST(ViewSets, OwnViewsAloneSeeThePartyWallANeighbourHides) {
-  Scene s;
-  s.component_names = {"a/Building/1", "b/Building/1"};
-  add_box(s, {0, 0, 0}, {10, 10, 10}, 0);
-  add_box(s, {10.1f, 0, 0}, {20.1f, 10, 20}, 1);
-  LabelJob job = job_for("+x,-y", 300);
-  job.per_building = PerBuilding::On;
+  const Scene s = two_buildings(10.1f, 20);
+  LabelJob job = per_building_job("+x,-y", 300);
   LabelResult in_place = label(s, job);
   job.own_views_alone = true;
   LabelResult alone = label(s, job);
