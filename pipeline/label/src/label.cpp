@@ -177,7 +177,7 @@ BuildingAlone building_alone(const Scene& scene, const std::vector<uint32_t>& ow
 // How well a group's view saw one of its buildings, over the pixels whose
 // centre ray crosses the building's box: `own` drew the building, `hidden`
 // drew something nearer than the near plane of the building's own view
-// (fit_clip_planes on its box), which that view leaves out: a member in
+// (box_near_depth), which that view leaves out: a member in
 // front, the far side of a yard.
 struct MemberSight {
   uint64_t own = 0, hidden = 0;
@@ -185,21 +185,10 @@ struct MemberSight {
 MemberSight member_sight(const Camera& cam, const RenderOutput& image, const Bounds& box,
                          const std::vector<uint32_t>& building_of, uint32_t building) {
   MemberSight s;
-  double near = INFINITY;
-  for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d p(c & 1 ? box.hi[0] : box.lo[0], c & 2 ? box.hi[1] : box.lo[1], c & 4 ? box.hi[2] : box.lo[2]);
-    near = std::min(near, (p - cam.eye).dot(cam.forward));
-  }
-  near -= 0.01 * box.diagonal();
-  int x0 = 0, y0 = 0, x1 = image.width, y1 = image.height;
-  if (double lo[2], hi[2]; projected_extent(cam, box, true, lo, hi)) {
-    x0 = int(std::clamp(std::floor(lo[0]) - 1, 0.0, double(image.width)));
-    x1 = int(std::clamp(std::ceil(hi[0]) + 1, 0.0, double(image.width)));
-    y0 = int(std::clamp(std::floor(lo[1]) - 1, 0.0, double(image.height)));
-    y1 = int(std::clamp(std::ceil(hi[1]) + 1, 0.0, double(image.height)));
-  }
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
+  const double near = box_near_depth(cam, box);
+  const PixelRect r = box_rect(cam, box);  // wider than the rays that can cross the box
+  for (int y = r.y; y < r.y + r.h; ++y)
+    for (int x = r.x; x < r.x + r.w; ++x) {
       const size_t i = size_t(y) * image.width + x;
       const uint32_t id = image.ids[i];
       if (!id) continue;
@@ -460,8 +449,9 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
       if (units.owner[t] == u) tris.push_back(t);
   std::vector<TriangleCounts> kept(group ? own_passes.size() : 0);
   std::vector<std::vector<MemberSight>> sight(group ? own_names.size() : 0);
-  if (job_.own_views_alone && !group) count_alone(members.front(), units.box[u], bt, own_passes, own_names, pipeline);
-  for (size_t k = 0; k < (job_.own_views_alone && !group ? 0 : own_passes.size()); ++k) {
+  const bool alone = job_.own_views_alone && !group;
+  if (alone) count_alone(members.front(), units.box[u], bt, own_passes, own_names, pipeline);
+  for (size_t k = 0; k < own_passes.size() && !alone; ++k) {
     const ViewPass& vp = own_passes[k];
     pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_ || group, o, vp.grid()); },
                  [&, k](ViewOutcome& o) {

@@ -189,17 +189,6 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
   out.t_perceive = since(t0);
 }
 
-namespace {
-
-// Pixels [x, x + w) x [y, y + h) of a camera's image.
-struct PixelRect {
-  int x = 0, y = 0, w = 0, h = 0;
-};
-
-// The pixels of `cam` whose samples can hit something inside `box`: the
-// rectangle around its corners' projections, widened by two pixels for the
-// sample offsets and rounding; the whole image when a corner is behind the
-// eye (an empty rectangle when the box projects outside the image).
 PixelRect box_rect(const Camera& cam, const Bounds& box) {
   double lo[2], hi[2];
   if (!projected_extent(cam, box, true, lo, hi)) return {0, 0, cam.width, cam.height};
@@ -211,6 +200,8 @@ PixelRect box_rect(const Camera& cam, const Bounds& box) {
   }
   return {a[0], a[1], std::max(0, b[0] - a[0]), std::max(0, b[1] - a[1])};
 }
+
+namespace {
 
 // A rectangle's samples placed in a width x height image of misses.
 std::vector<uint32_t> spread_rect(const std::vector<uint32_t>& part, const PixelRect& r, int width, int height) {

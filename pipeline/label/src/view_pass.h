@@ -93,6 +93,17 @@ class ViewPipeline {
 // the eye (not beyond znear when `past_near`).
 bool projected_extent(const Camera& cam, const Bounds& box, bool past_near, double lo[2], double hi[2]);
 
+// Pixels [x, x + w) x [y, y + h) of a camera's image.
+struct PixelRect {
+  int x = 0, y = 0, w = 0, h = 0;
+};
+
+// The pixels of `cam` whose samples can hit something inside `box`: the
+// rectangle around its corners' projections, widened by two pixels for the
+// sample offsets and rounding; the whole image when a corner is behind the
+// eye (an empty rectangle when the box projects outside the image).
+PixelRect box_rect(const Camera& cam, const Bounds& box);
+
 // One render of a view to label: pass `pass` of the view's `passes`
 // (its first stands for the view in the records, images and report).
 struct ViewPass {

@@ -134,18 +134,32 @@ std::vector<std::string> parse_views(const std::string& spec, UpAxis up) {
   return parse_views(std::vector<std::string>{spec}, up);
 }
 
-void fit_clip_planes(Camera& cam, const Bounds& b) {
-  double dmin = INFINITY, dmax = -INFINITY;
+namespace {
+// The least and greatest eye depth of the box's corners along cam.forward.
+void box_depths(const Camera& cam, const Bounds& b, double& dmin, double& dmax) {
+  dmin = INFINITY, dmax = -INFINITY;
   for (int i = 0; i < 8; ++i) {
     Eigen::Vector3d corner(i & 1 ? b.hi[0] : b.lo[0], i & 2 ? b.hi[1] : b.lo[1], i & 4 ? b.hi[2] : b.lo[2]);
     double d = (corner - cam.eye).dot(cam.forward);
     dmin = std::min(dmin, d);
     dmax = std::max(dmax, d);
   }
-  double diag = std::max(double(b.diagonal()), 1e-6);
-  cam.zfar = std::max(dmax, 0.0) + 0.01 * diag + 1e-3;
+}
+double clip_margin(const Bounds& b) { return 0.01 * std::max(double(b.diagonal()), 1e-6); }
+}  // namespace
+
+double box_near_depth(const Camera& cam, const Bounds& b) {
+  double dmin, dmax;
+  box_depths(cam, b, dmin, dmax);
+  return dmin - clip_margin(b);
+}
+
+void fit_clip_planes(Camera& cam, const Bounds& b) {
+  double dmin, dmax;
+  box_depths(cam, b, dmin, dmax);
+  cam.zfar = std::max(dmax, 0.0) + clip_margin(b) + 1e-3;
   // Stay in front of the eye; a box that surrounds the eye clips at a small fraction of its size.
-  cam.znear = std::max(dmin - 0.01 * diag, std::max(1e-4 * cam.zfar, 1e-3));
+  cam.znear = std::max(dmin - clip_margin(b), std::max(1e-4 * cam.zfar, 1e-3));
 }
 
 Camera facade_camera(const Bounds& b, UpAxis up, const std::string& facade, double distance,

@@ -98,6 +98,10 @@ double display_pixel_footprint(const DisplayProfile& display, double distance);
 
 // Near/far fitted to the box as seen by `cam` (near stays positive).
 void fit_clip_planes(Camera& cam, const Bounds& bounds);
+// The near plane fit_clip_planes puts before `bounds`, as an eye depth of
+// `cam` before the clamps that keep it in front of the eye: the same plane
+// for every eye looking along cam.forward.
+double box_near_depth(const Camera& cam, const Bounds& bounds);
 
 // Frames each of `views` at every distance (frame_view) around `bounds`, so
 // a view that cannot be framed (too many tiles) fails before any rendering
