@@ -17,10 +17,11 @@ void register_label(CLI::App& app) {
     DisplayArgs display;
     double distance = 0;
     std::string views = kDefaultViews, out = "out", tracer = "octree", per_building = "auto",
+                own_views_alone = kDefaultOwnViewsAlone ? "true" : "false",
                 combine_views = kDefaultCombineViews;
     std::string samples = samples_name(kDefaultSamples);
     int spins = 1;
-    bool verify = false, json = false, keep_unsampled_surface = false, mask_per_sample = false, own_views_alone = false;
+    bool verify = false, json = false, keep_unsampled_surface = false, mask_per_sample = false;
     double ratio = 0.5, threshold = -1, closer = 0.25, group_span = kDefaultGroupSpan;
   };
   auto a = std::make_shared<Args>();
@@ -38,7 +39,9 @@ void register_label(CLI::App& app) {
       ->check(CLI::IsMember({"true", "false", "auto"}));
   cmd->add_option("--group-span", a->group_span, key_help("group_span", key_default("group_span")))
       ->check(in_range(0, 100));
-  cmd->add_flag("--own-views-alone", a->own_views_alone, key_help("own_views_alone"));
+  cmd->add_option("--own-views-alone", a->own_views_alone,
+                  key_help("own_views_alone", key_default("own_views_alone")))
+      ->check(CLI::IsMember({"true", "false"}));
   cmd->add_option("--tracer", a->tracer, key_help("tracer", key_default("tracer")))
       ->check(CLI::IsMember({"octree", "embree"}));
   cmd->add_flag("--verify", a->verify, key_help("verify"));
@@ -69,7 +72,7 @@ void register_label(CLI::App& app) {
     job.mask_per_sample = a->mask_per_sample;
     job.per_building = parse_per_building(a->per_building);
     job.group_span = a->group_span;
-    job.own_views_alone = a->own_views_alone;
+    job.own_views_alone = a->own_views_alone == "true";
     job.distance = a->distance;
     job.ratio = a->ratio;
     job.combine = parse_combine_views(a->combine_views);

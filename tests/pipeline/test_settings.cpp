@@ -53,7 +53,7 @@ const std::map<std::string, Sample>& samples() {
       {"mask_per_sample", {"mask_per_sample: true", ""}},
       {"per_building", {"per_building: true", ""}},
       {"group_span", {"group_span: 1", ""}},
-      {"own_views_alone", {"own_views_alone: true", ""}},
+      {"own_views_alone", {"own_views_alone: false", ""}},
       {"combine_views", {"combine_views: any", ""}},
       {"tracer", {"tracer: embree", ""}},
       {"verify", {"verify: true", ""}},
@@ -192,7 +192,7 @@ TEST(Settings, SettingsJsonHoldsTheHashedKeys) {
   Folder f;
   const nlohmann::json s = settings_json(
       f.load("min_ssim: 0.9\nmax_visible: 1\nmax_visible_local: 1\nmask_per_sample: true\ne_undisplayable: 4\nexplain: true\n"
-             "group_span: 0.5\nown_views_alone: true\n"
+             "group_span: 0.5\n"
              "fidelity_target: {min_ssim: 0.95}\ncrs: EPSG:28992\ndisplay: screen.yaml",
              false)
           .models.at(0)

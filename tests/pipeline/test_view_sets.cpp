@@ -283,11 +283,13 @@ TEST(ViewSets, AGroupMemberHiddenByAnotherTakesItsOwnViewInThatDirection) {
 // A house (a, 0-10 m) against a taller one (b, from 10.1 m, 20 m high):
 // a's +x wall is a party wall. b's -x wall stands 0.1 m in front of it,
 // beyond the near plane of a's own views (1% of a's diagonal before a), so
-// in place b hides that wall from every view. With own_views_alone each
-// building's own views show it alone: the wall is seen and kept.
+// in place (own_views_alone false) b hides that wall from every view. With
+// own_views_alone (the default) each building's own views show it alone:
+// the wall is seen and kept.
 TEST(ViewSets, OwnViewsAloneSeeThePartyWallANeighbourHides) {
   const Scene s = two_buildings(10.1f, 20);
   LabelJob job = per_building_job("+x,-y", 300);
+  job.own_views_alone = false;
   LabelResult in_place = label(s, job);
   job.own_views_alone = true;
   LabelResult alone = label(s, job);

@@ -74,9 +74,9 @@ const std::vector<SettingSpec> kConfigSettings = {
      "Per building: neighbours whose boxes together span at most this many times the distance across share one "
      "set of views framed on the group (docs/usage.md#building-groups)",
      kHashed, kAnyLevel, nullptr},
-    {"own_views_alone", "boolean", "false", "",
+    {"own_views_alone", "boolean", "true", "",
      "Per building: each building's own views show the building alone, so the walls only its neighbours hide "
-     "are labelled as seen and kept (docs/usage.md#own-views-of-the-building-alone)",
+     "are labelled as seen and kept; false: in place, neighbours drawn (docs/usage.md#own-views-of-the-building-alone)",
      kHashed, kAnyLevel, nullptr},
     {"combine_views", "string", "pooled", "pooled, any",
      "How views combine perceptible and imperceptible: pooled (imperceptible/traced >= ratio over every view's "

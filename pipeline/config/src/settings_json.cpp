@@ -52,8 +52,7 @@ const std::map<std::string, HashWriter>& hash_writers() {
       {"per_building", [](const BatchConfig& c, json& s) { s["per_building"] = c.per_building; }},
       // Joins when set, so the hashes of older configs stay.
       {"group_span", [](const BatchConfig& c, json& s) { if (c.group_span != 0) s["group_span"] = c.group_span; }},
-      {"own_views_alone",
-       [](const BatchConfig& c, json& s) { if (c.own_views_alone) s["own_views_alone"] = true; }},
+      {"own_views_alone", [](const BatchConfig& c, json& s) { s["own_views_alone"] = c.own_views_alone; }},
       // Left out when it is the paper's rule; the default (pooled) joins, so
       // a manifest redoes models labelled before the key existed.
       {"combine_views",

@@ -79,14 +79,17 @@ LabelJob checked_job(const LabelJob& asked) {
 struct BuildingTriangles {
   std::vector<uint32_t> owner;
   std::vector<Bounds> box;
+  std::vector<size_t> count;  // each building's triangles
 };
 BuildingTriangles building_triangles(const Scene& scene, const Buildings& buildings) {
   BuildingTriangles bt;
   const size_t nt = scene.triangle_count();
   bt.owner.resize(nt);
   bt.box.assign(buildings.names.size(), Bounds::empty());
+  bt.count.assign(buildings.names.size(), 0);
   for (size_t t = 0; t < nt; ++t) {
     bt.owner[t] = buildings.of_component[scene.component_of(t)];
+    ++bt.count[bt.owner[t]];
     for (int k = 0; k < 3; ++k) bt.box[bt.owner[t]].grow(&scene.positions[3 * size_t(scene.indices[3 * t + k])]);
   }
   return bt;
@@ -213,6 +216,24 @@ MemberSight member_sight(const Camera& cam, const RenderOutput& image, const Bou
 // are over 2%, 40% over 20%; at 0 a single pixel would do.)
 constexpr double kHiddenShareLimit = 0.02;
 
+// The views framed on one building or group: their passes (pipeline
+// items), tile names, samplings chosen and eyes inside other buildings.
+struct OwnViews {
+  std::vector<ViewPass> passes;
+  std::vector<std::string> names;
+  std::map<std::string, size_t> chosen;
+  size_t eyes_inside = 0;
+};
+// What a group's views leave for settle_group: per tile its direction (an
+// index into job.views) and how well it saw each member; per pass its
+// counts of the group's triangles, in the order of `tris`.
+struct GroupViews {
+  std::vector<size_t> view_of;
+  std::vector<std::vector<MemberSight>> sight;
+  std::vector<uint32_t> tris;
+  std::vector<TriangleCounts> kept;
+};
+
 // label_scene's work: the whole-model views, then each building's own, then
 // the labels from what they counted.
 class SceneLabeller {
@@ -252,18 +273,15 @@ class SceneLabeller {
   bool labels_per_building();
   void label_buildings();
   BuildingLabelling label_unit(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
-                               ViewPipeline& pipeline, size_t& first, std::vector<ViewPass>& own_passes,
-                               size_t& views, double& seconds);
+                               ViewPipeline& pipeline, OwnViews& own);
   size_t add_framed_view(const Bounds& box, const std::vector<uint32_t>& own, const std::vector<Bounds>& boxes,
-                         size_t v, double distance, std::vector<ViewPass>& passes, std::vector<std::string>& names,
-                         std::map<std::string, size_t>& chosen, size_t& eyes_inside);
-  void count_alone(uint32_t building, const Bounds& box, const BuildingTriangles& bt,
-                   const std::vector<ViewPass>& passes, const std::vector<std::string>& names, ViewPipeline& pipeline);
-  void settle_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
-                    const std::vector<size_t>& view_of, const std::vector<uint32_t>& tris,
-                    const std::vector<TriangleCounts>& kept, const std::vector<std::vector<MemberSight>>& sight,
-                    ViewPipeline& pipeline, std::vector<ViewPass>& passes, std::vector<std::string>& names,
-                    std::map<std::string, size_t>& chosen, size_t& eyes_inside, BuildingLabelling& entry);
+                         size_t v, double distance, size_t triangles, OwnViews& out);
+  void count_alone(uint32_t building, const BuildingTriangles& bt, const OwnViews& own, size_t from,
+                   ViewPipeline& pipeline);
+  void count_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt, ViewPipeline& pipeline,
+                   const OwnViews& own, GroupViews& gv);
+  void settle_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt, const GroupViews& gv,
+                    ViewPipeline& pipeline, OwnViews& own, BuildingLabelling& entry);
   LabelResult finish();
 
   Renderer& renderer_;
@@ -388,200 +406,199 @@ void SceneLabeller::label_buildings() {
   size_t views = 0;  // of the building being labelled
   double seconds = 0;
   size_t first = 0;  // the pipeline's item number of the building's first pass
-  std::vector<ViewPass> own_passes;  // of the building being labelled
+  OwnViews own;      // of the building being labelled
   ViewPipeline pipeline(job_.overlap, [](size_t, ViewOutcome&) {}, [&](size_t k, ViewOutcome& o) {
-    views += own_passes[k - first].pass == 0;
+    views += own.passes[k - first].pass == 0;
     for (const auto& [key, v] : o.report.seconds) seconds += v, res_.report.step_seconds[key] += v;
   });
-  for (uint32_t u = 0; u < units.members.size(); ++u)  // buildings without triangles are in no unit
-    res_.report.buildings.push_back(label_unit(u, units, bt, pipeline, first, own_passes, views, seconds));
+  for (uint32_t u = 0; u < units.members.size(); ++u) {  // buildings without triangles are in no unit
+    views = 0;
+    seconds = 0;
+    own = OwnViews{};
+    BuildingLabelling entry = label_unit(u, units, bt, pipeline, own);
+    first += own.passes.size();
+    entry.views = views;
+    entry.seconds = seconds;
+    if (progress_) progress_->building_labelled(u, units.members.size(), entry);
+    res_.report.buildings.push_back(std::move(entry));
+  }
 }
 
 // View v of the job framed on `box` (the buildings `own` of `boxes`) at
-// `distance`: its tiles' passes and names appended, its samplings counted
-// in `chosen`, its eyes inside another building in `eyes_inside`; returns
-// how many tiles.
+// `distance`, its sampling chosen for a scene of `triangles`: its tiles'
+// passes and names appended to `out`, its samplings and eyes inside
+// another building counted there; returns how many tiles.
 size_t SceneLabeller::add_framed_view(const Bounds& box, const std::vector<uint32_t>& own,
-                                      const std::vector<Bounds>& boxes, size_t v, double distance,
-                                      std::vector<ViewPass>& passes, std::vector<std::string>& names,
-                                      std::map<std::string, size_t>& chosen, size_t& eyes_inside) {
+                                      const std::vector<Bounds>& boxes, size_t v, double distance, size_t triangles,
+                                      OwnViews& out) {
   const std::vector<ViewTile> tiles = frame_view(box, job_.up, job_.views[v], distance, job_.display);
   for (const ViewTile& tile : tiles) {
-    eyes_inside += eye_inside_other(tile.camera, boxes, own);
+    out.eyes_inside += eye_inside_other(tile.camera, boxes, own);
     const Camera window = perception_window(tile.camera, box, ps_);
-    const ViewSampling vs = sampling_of(job_, tile.camera, window, nt_);
-    if (automatic_) ++chosen[sampling_name(vs)];
+    const ViewSampling vs = sampling_of(job_, tile.camera, window, triangles);
+    if (automatic_) ++out.chosen[sampling_name(vs)];
     // The whole frame is rendered, as for a whole-model view: rendering
     // only the window moves the rasteriser's rounding (the Delft tile's
     // labels at 56 m: 14,695 triangles' counts and 66 labels changed).
-    add_view_passes(names.size(), tile.camera, window, vs, passes);
-    names.push_back(tile.name);
+    add_view_passes(out.names.size(), tile.camera, window, vs, out.passes);
+    out.names.push_back(tile.name);
   }
   return tiles.size();
 }
 
-// One building's own views, or a group's, through `pipeline`; returns its
-// report entry.
+// One building's own views, or a group's, through `pipeline` (its passes in
+// `own`); returns its report entry, views and seconds left to the caller.
 BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
-                                            ViewPipeline& pipeline, size_t& first, std::vector<ViewPass>& own_passes,
-                                            size_t& views, double& seconds) {
-  views = 0;
-  seconds = 0;
-  size_t eyes_inside = 0;
-  own_passes.clear();
-  std::vector<std::string> own_names;
-  std::vector<size_t> view_of;  // per tile: its index in job_.views
-  std::map<std::string, size_t> own_chosen;
+                                            ViewPipeline& pipeline, OwnViews& own) {
   const std::vector<uint32_t>& members = units.members[u];
   const bool group = members.size() > 1;
-  for (size_t v = 0; v < job_.views.size(); ++v) {
-    const size_t tiles = add_framed_view(units.box[u], members, bt.box, v, units.distance[u], own_passes, own_names,
-                                         own_chosen, eyes_inside);
-    view_of.insert(view_of.end(), tiles, v);
-  }
-  // A group's views keep their counts of the group's triangles (`kept`,
-  // in the order of `tris`) and how well each view saw each member, until
-  // every view is in: a member is counted from the group's views in the
-  // directions where they saw it well and from its own views elsewhere.
-  std::vector<uint32_t> tris;
-  if (group)
-    for (uint32_t t = 0; t < nt_; ++t)
-      if (units.owner[t] == u) tris.push_back(t);
-  std::vector<TriangleCounts> kept(group ? own_passes.size() : 0);
-  std::vector<std::vector<MemberSight>> sight(group ? own_names.size() : 0);
   const bool alone = job_.own_views_alone && !group;
-  if (alone) count_alone(members.front(), units.box[u], bt, own_passes, own_names, pipeline);
-  for (size_t k = 0; k < own_passes.size() && !alone; ++k) {
-    const ViewPass& vp = own_passes[k];
-    pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_ || group, o, vp.grid()); },
+  // A building alone is a scene of its own triangles: its views sample as
+  // they ask (choose_sampling), not as the district's would.
+  const size_t triangles = alone ? bt.count[members.front()] : nt_;
+  GroupViews gv;
+  for (size_t v = 0; v < job_.views.size(); ++v) {
+    const size_t tiles = add_framed_view(units.box[u], members, bt.box, v, units.distance[u], triangles, own);
+    gv.view_of.insert(gv.view_of.end(), tiles, v);
+  }
+  BuildingLabelling entry;
+  entry.building = buildings_.names[members.front()];
+  entry.buildings = members.size();
+  if (alone) count_alone(members.front(), bt, own, 0, pipeline);
+  if (!alone && !group) {
+    for (const ViewPass& vp : own.passes)
+      pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
+                   [&](ViewOutcome& o) {
+                     count_view(scene_, tracer_, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera,
+                                &units.owner, u, &units.box[u], res_, acc_, o);
+                   });
+    pipeline.drain();
+  }
+  if (group) {
+    count_group(u, units, bt, pipeline, own, gv);
+    settle_group(u, units, bt, gv, pipeline, own, entry);
+  }
+  entry.eyes_inside_other_buildings = own.eyes_inside;
+  entry.sampling_chosen = own.chosen;
+  return entry;
+}
+
+// A group's views: each keeps its counts of the group's triangles
+// (gv.kept, in the order of gv.tris) and how well it saw each member
+// (gv.sight) until every view is in (settle_group).
+void SceneLabeller::count_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
+                                ViewPipeline& pipeline, const OwnViews& own, GroupViews& gv) {
+  const std::vector<uint32_t>& members = units.members[u];
+  for (uint32_t t = 0; t < nt_; ++t)
+    if (units.owner[t] == u) gv.tris.push_back(t);
+  gv.kept.resize(own.passes.size());
+  gv.sight.resize(own.names.size());
+  for (size_t k = 0; k < own.passes.size(); ++k) {
+    const ViewPass& vp = own.passes[k];
+    pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, true, o, vp.grid()); },
                  [&, k](ViewOutcome& o) {
-                   count_view(scene_, tracer_, nullptr, job_, vp.sampling, own_names[vp.tile], vp.camera,
-                              &units.owner, u, &units.box[u], res_, acc_, o, !group);
-                   if (!group) return;
-                   kept[k].traced.resize(tris.size());
-                   kept[k].imperceptible.resize(tris.size());
-                   for (size_t i = 0; i < tris.size(); ++i) {
-                     kept[k].traced[i] = o.counts.traced[tris[i]];
-                     kept[k].imperceptible[i] = o.counts.imperceptible[tris[i]];
+                   count_view(scene_, tracer_, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera,
+                              &units.owner, u, &units.box[u], res_, acc_, o, false);
+                   TriangleCounts& kept = gv.kept[k];
+                   kept.traced.resize(gv.tris.size());
+                   kept.imperceptible.resize(gv.tris.size());
+                   for (size_t i = 0; i < gv.tris.size(); ++i) {
+                     kept.traced[i] = o.counts.traced[gv.tris[i]];
+                     kept.imperceptible[i] = o.counts.imperceptible[gv.tris[i]];
                    }
                    if (vp.pass) return;
                    const Camera drawn = kept_picture_camera(vp.camera, vp.grid());
                    for (uint32_t b : members)
-                     sight[vp.tile].push_back(member_sight(drawn, o.image, bt.box[b], bt.owner, b));
+                     gv.sight[vp.tile].push_back(member_sight(drawn, o.image, bt.box[b], bt.owner, b));
                  });
   }
   pipeline.drain();
-  BuildingLabelling entry;
-  if (group)
-    settle_group(u, units, bt, view_of, tris, kept, sight, pipeline, own_passes, own_names, own_chosen, eyes_inside,
-                 entry);
-  first += own_passes.size();
-  entry.building = buildings_.names[members.front()];
-  entry.buildings = members.size();
-  entry.views = views;
-  entry.eyes_inside_other_buildings = eyes_inside;
-  entry.seconds = seconds;
-  entry.sampling_chosen = own_chosen;
-  if (progress_) progress_->building_labelled(u, units.members.size(), entry);
-  return entry;
 }
 
-// A building's own views of it alone (job.own_views_alone): rendered,
-// perceived and traced as a scene of its own triangles, so nothing else
-// stands in front of or beside it; its counts go to its triangles of the model.
-void SceneLabeller::count_alone(uint32_t building, const Bounds& box, const BuildingTriangles& bt,
-                                const std::vector<ViewPass>& passes, const std::vector<std::string>& names,
+// A building's own views of it alone (job.own_views_alone), own.passes from
+// `from` on: rendered, perceived and traced as a scene of its own
+// triangles, so nothing else stands in front of or beside it; its counts
+// go to its triangles of the model.
+void SceneLabeller::count_alone(uint32_t building, const BuildingTriangles& bt, const OwnViews& own, size_t from,
                                 ViewPipeline& pipeline) {
   const BuildingAlone alone = building_alone(scene_, bt.owner, building);
   if (!alone_renderer_) alone_renderer_ = std::make_unique<Renderer>();
   alone_renderer_->set_scene(alone.scene);
   const OctreeTracer tracer(alone.scene);
-  const size_t n = alone.triangle.size();
-  const std::vector<uint32_t> all_one(n, 0);  // every triangle of it is the building's: no verify against the model
+  const std::vector<uint32_t> all_one(alone.triangle.size(), 0);  // every triangle of it is the building's
   LabelResult unused;
-  Accumulator unused_acc(n);
-  std::vector<uint32_t> skip(nt_, 1);  // 0: the building's triangles
-  for (uint32_t t : alone.triangle) skip[t] = 0;
-  TriangleCounts model{std::vector<uint32_t>(nt_, 0), std::vector<uint32_t>(nt_, 0)};
-  for (const ViewPass& vp : passes)
+  Accumulator unused_acc(0);
+  for (size_t k = from; k < own.passes.size(); ++k) {
+    const ViewPass& vp = own.passes[k];
     pipeline.add([&](ViewOutcome& o) { see_view(*alone_renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
                  [&](ViewOutcome& o) {
-                   count_view(alone.scene, tracer, nullptr, job_, vp.sampling, names[vp.tile], vp.camera, &all_one, 0,
-                              &box, unused, unused_acc, o, false);
-                   for (size_t i = 0; i < n; ++i) {
-                     model.traced[alone.triangle[i]] = o.counts.traced[i];
-                     model.imperceptible[alone.triangle[i]] = o.counts.imperceptible[i];
-                   }
-                   add_view_counts(scene_, job_, vp.sampling, vp.camera, &skip, 0, model,
-                                   label_triangles(model, job_.ratio), res_, acc_);
+                   count_view(alone.scene, tracer, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera,
+                              &all_one, 0, &bt.box[building], unused, unused_acc, o, false);
+                   add_part_counts(alone.scene, alone.triangle, job_, vp.sampling, vp.camera, o.counts, res_, acc_);
                  });
+  }
   pipeline.drain();
 }
 
 // A group's views counted: each member's counts come from the group's
 // views in the directions where they saw it well (MemberSight, at most
-// kHiddenShareLimit hidden), and from views framed on it alone (as
-// without groups) in the others. passes/names: the group's, to which the
-// members' own are appended.
+// kHiddenShareLimit hidden), and from views framed on it (as without
+// groups; alone with job.own_views_alone) in the others, appended to `own`.
 void SceneLabeller::settle_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
-                                 const std::vector<size_t>& view_of, const std::vector<uint32_t>& tris,
-                                 const std::vector<TriangleCounts>& kept,
-                                 const std::vector<std::vector<MemberSight>>& sight, ViewPipeline& pipeline,
-                                 std::vector<ViewPass>& passes, std::vector<std::string>& names,
-                                 std::map<std::string, size_t>& chosen, size_t& eyes_inside,
+                                 const GroupViews& gv, ViewPipeline& pipeline, OwnViews& own,
                                  BuildingLabelling& entry) {
   const std::vector<uint32_t>& members = units.members[u];
   const size_t nv = job_.views.size(), nm = members.size();
   std::vector<MemberSight> seen(nm * nv);  // member j in direction v: [j * nv + v]
-  for (size_t tile = 0; tile < sight.size(); ++tile)
+  for (size_t tile = 0; tile < gv.sight.size(); ++tile)
     for (size_t j = 0; j < nm; ++j) {
-      seen[j * nv + view_of[tile]].own += sight[tile][j].own;
-      seen[j * nv + view_of[tile]].hidden += sight[tile][j].hidden;
+      seen[j * nv + gv.view_of[tile]].own += gv.sight[tile][j].own;
+      seen[j * nv + gv.view_of[tile]].hidden += gv.sight[tile][j].hidden;
     }
   std::vector<uint8_t> alone(nm * nv);
   for (size_t i = 0; i < alone.size(); ++i)
     alone[i] = double(seen[i].hidden) > kHiddenShareLimit * double(seen[i].own + seen[i].hidden);
   // The group's views: each adds the counts of the members it saw well.
+  const std::vector<uint32_t>& tris = gv.tris;
   std::vector<uint32_t> member_of(tris.size());
   for (size_t i = 0; i < tris.size(); ++i)
     member_of[i] = uint32_t(std::lower_bound(members.begin(), members.end(), bt.owner[tris[i]]) - members.begin());
   std::vector<uint32_t> skip(nt_, 1);  // 0: this view's count of the triangle is added
   TriangleCounts full{std::vector<uint32_t>(nt_, 0), std::vector<uint32_t>(nt_, 0)};
-  for (size_t k = 0; k < kept.size(); ++k) {
-    const ViewPass& vp = passes[k];
+  for (size_t k = 0; k < gv.kept.size(); ++k) {
+    const ViewPass& vp = own.passes[k];
     for (size_t i = 0; i < tris.size(); ++i) {
-      skip[tris[i]] = alone[member_of[i] * nv + view_of[vp.tile]];
-      full.traced[tris[i]] = kept[k].traced[i];
-      full.imperceptible[tris[i]] = kept[k].imperceptible[i];
+      skip[tris[i]] = alone[member_of[i] * nv + gv.view_of[vp.tile]];
+      full.traced[tris[i]] = gv.kept[k].traced[i];
+      full.imperceptible[tris[i]] = gv.kept[k].imperceptible[i];
     }
     add_view_counts(scene_, job_, vp.sampling, vp.camera, &skip, 0, full, label_triangles(full, job_.ratio), res_,
                     acc_);
   }
-  // The others: each member alone in the directions the group's views saw it poorly.
-  const size_t from = passes.size();
-  std::vector<uint32_t> building_of_tile(names.size(), 0);
+  // The others: each member framed on its own in the directions the group's
+  // views saw it poorly.
   for (size_t j = 0; j < nm; ++j) {
     const uint32_t b = members[j];
-    bool any = false;
-    for (size_t v = 0; v < nv; ++v) {
-      if (!alone[j * nv + v]) continue;
-      any = true;
-      const size_t tiles = add_framed_view(bt.box[b], {b}, bt.box, v, job_.distance, passes, names, chosen, eyes_inside);
-      building_of_tile.insert(building_of_tile.end(), tiles, b);
-      entry.own_views += tiles;
+    const size_t from = own.passes.size();
+    const size_t triangles = job_.own_views_alone ? bt.count[b] : nt_;
+    for (size_t v = 0; v < nv; ++v)
+      if (alone[j * nv + v]) entry.own_views += add_framed_view(bt.box[b], {b}, bt.box, v, job_.distance, triangles, own);
+    if (from == own.passes.size()) continue;
+    ++entry.members_alone;
+    if (job_.own_views_alone) {
+      count_alone(b, bt, own, from, pipeline);
+      continue;
     }
-    entry.members_alone += any;
+    for (size_t k = from; k < own.passes.size(); ++k) {
+      const ViewPass& vp = own.passes[k];
+      pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
+                   [&, b](ViewOutcome& o) {
+                     count_view(scene_, tracer_, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera,
+                                &bt.owner, b, &bt.box[b], res_, acc_, o);
+                   });
+    }
+    pipeline.drain();
   }
-  for (size_t k = from; k < passes.size(); ++k) {
-    const ViewPass& vp = passes[k];
-    const uint32_t b = building_of_tile[vp.tile];
-    pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
-                 [&, b](ViewOutcome& o) {
-                   count_view(scene_, tracer_, nullptr, job_, vp.sampling, names[vp.tile], vp.camera, &bt.owner, b,
-                              &bt.box[b], res_, acc_, o);
-                 });
-  }
-  pipeline.drain();
 }
 
 // The labels from what every view counted, and the report's totals.

@@ -289,9 +289,14 @@ size_t count_samples(const Scene& scene, const LabelJob& job, const TracePlan& p
                                owner, building, counts);
 }
 
+// With samples auto the views' sample counts differ (4 or 16 a pixel): the
+// totals count sixteenths of a pixel, so every view weighs by area.
+uint32_t count_weight(const LabelJob& job, const ViewSampling& vs) {
+  return job.samples == kAutoSamples ? uint32_t(kAutoCountUnit / vs.samples) : 1;
+}
+
 }  // namespace
 
-// Weighted to sixteenths of a pixel with samples auto.
 void add_view_counts(const Scene& scene, const LabelJob& job, const ViewSampling& vs, const Camera& cam,
                      const std::vector<uint32_t>* owner, uint32_t building, const TriangleCounts& counts,
                      const std::vector<Label>& labels, LabelResult& res, Accumulator& acc) {
@@ -304,15 +309,29 @@ void add_view_counts(const Scene& scene, const LabelJob& job, const ViewSampling
   } else {
     mark_in_frustum(scene, cam, acc.in_frustum);
   }
-  // With samples auto the views' sample counts differ (4 or 16 a pixel):
-  // the totals count sixteenths of a pixel, so every view weighs by area.
-  const uint32_t weight = job.samples == kAutoSamples ? uint32_t(kAutoCountUnit / vs.samples) : 1;
+  const uint32_t weight = count_weight(job, vs);
   for (size_t t = 0; t < nt; ++t) {
     if (owner && (*owner)[t] != building) continue;
     res.totals.traced[t] += weight * counts.traced[t];
     res.totals.imperceptible[t] += weight * counts.imperceptible[t];
     acc.combined[t] = combine_labels(acc.combined[t], labels[t]);
     if (owner) acc.in_frustum[t] |= seen[t];
+  }
+}
+
+void add_part_counts(const Scene& part, const std::vector<uint32_t>& triangle, const LabelJob& job,
+                     const ViewSampling& vs, const Camera& cam, const TriangleCounts& counts, LabelResult& res,
+                     Accumulator& acc) {
+  std::vector<uint8_t> seen(part.triangle_count(), 0);
+  mark_in_frustum(part, cam, seen);
+  const std::vector<Label> labels = label_triangles(counts, job.ratio);
+  const uint32_t weight = count_weight(job, vs);
+  for (size_t i = 0; i < triangle.size(); ++i) {
+    const uint32_t t = triangle[i];
+    res.totals.traced[t] += weight * counts.traced[i];
+    res.totals.imperceptible[t] += weight * counts.imperceptible[i];
+    acc.combined[t] = combine_labels(acc.combined[t], labels[i]);
+    acc.in_frustum[t] |= seen[i];
   }
 }
 

@@ -150,6 +150,13 @@ void add_view_counts(const Scene& scene, const LabelJob& job, const ViewSampling
                      const std::vector<uint32_t>* owner, uint32_t building, const TriangleCounts& counts,
                      const std::vector<Label>& labels, LabelResult& res, Accumulator& acc);
 
+// add_view_counts for a view of `part`, a scene of some of the model's
+// triangles (its triangle i is the model's triangle[i]): its counts, their
+// labels and its frustum go to those triangles of the model.
+void add_part_counts(const Scene& part, const std::vector<uint32_t>& triangle, const LabelJob& job,
+                     const ViewSampling& vs, const Camera& cam, const TriangleCounts& counts, LabelResult& res,
+                     Accumulator& acc);
+
 // How a view of camera `cam` is sampled: the job's samples, or with
 // kAutoSamples the choice for its window on the model (`window`,
 // perception_window).

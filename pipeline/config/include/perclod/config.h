@@ -33,7 +33,7 @@ struct BatchConfig {
   bool keep_unsampled_surface = false;  // label rule: sub-pixel triangles between the samples of a drawn surface are seen (LabelJob)
   bool mask_per_sample = false;      // one render and perception mask per sample offset (LabelJob)
   std::string per_building = "auto"; // true | false | auto (two or more buildings named "<building>/<part>")
-  bool own_views_alone = false;  // per building: own views of the building alone (LabelJob)
+  bool own_views_alone = kDefaultOwnViewsAlone;  // per building: own views of the building alone (LabelJob)
   double group_span = kDefaultGroupSpan;  // per building: neighbours within this many distances share views (LabelJob)
   std::string out = "out";
   std::string tracer = "octree";     // octree | embree

@@ -33,6 +33,9 @@ std::unique_ptr<Tracer> make_tracer(const Scene& scene, TracerKind kind);
 // alone, since groups delete facades their own members hide
 // (BENCHMARKS.md#building-groups).
 constexpr double kDefaultGroupSpan = 0;
+// Whether a building's own views show it alone (LabelJob::own_views_alone)
+// unless told otherwise: since 0.5.0 (BENCHMARKS.md#building-groups).
+constexpr bool kDefaultOwnViewsAlone = true;
 
 // How a model is split into buildings for per-building labelling.
 // Auto: on when component names give two or more buildings by their
@@ -147,10 +150,12 @@ struct LabelJob {
   // views framed on the group, each view counting the group's triangles;
   // 0 labels each building alone (docs/usage.md#building-groups).
   double group_span = 0;  // run and label take kDefaultGroupSpan
-  // Per building: each building's own views render and trace the building
-  // alone (its walls that only neighbours hide are seen). A group's views,
-  // with group_span, stay in the district.
-  bool own_views_alone = false;
+  // Per building: each building's own views render, perceive and trace the
+  // building alone (its walls that only neighbours hide are seen), and
+  // sample as its own triangles ask (choose_sampling). A group's views, with
+  // group_span, stay in the district; its hidden members' own views are
+  // alone too. false: own views in place, neighbours drawn and occluding.
+  bool own_views_alone = kDefaultOwnViewsAlone;
   double distance = 56;
   double ratio = 0.5;                 // imperceptible / traced >= ratio -> imperceptible
   CombineViews combine = CombineViews::AnyView;  // the paper's; run and label take kDefaultCombineViews
