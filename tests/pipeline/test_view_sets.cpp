@@ -565,6 +565,33 @@ size_t add_fine_grid(Scene& s, float y, float cell, uint32_t comp) {
   return first;
 }
 
+// samples auto picks a view's sampling from the triangles it draws
+// (choose_sampling): a neighbour of 20,000 triangles puts the scene over a
+// sixteenth of the 320 x 256 frame's pixels, so every view of it in place
+// is one render at 4 samples, while a's own views of a alone (12
+// triangles, a small window at 300 m) take a render per sample.
+TEST(ViewSets, OwnViewsAloneSampleAsTheBuildingsOwnTrianglesAsk) {
+  Scene s = two_buildings(16, 10);
+  add_fine_grid(s, 11.0f, 0.01f, 1);  // b's, behind a
+  ASSERT_GT(16 * s.triangle_count(), size_t(320 * 256));
+  LabelJob job = per_building_job("+x,-y", 300);
+  job.samples = kAutoSamples;
+  job.own_views_alone = false;
+  const LabelResult in_place = label(s, job);
+  job.own_views_alone = true;
+  const LabelResult alone = label(s, job);
+  ASSERT_EQ(in_place.report.buildings.size(), 2u);
+  ASSERT_EQ(alone.report.buildings.size(), 2u);
+  EXPECT_EQ(in_place.report.buildings[0].sampling_chosen, (std::map<std::string, size_t>{{"4", 2}}));
+  // (Its window, with the perception's margin, is over a sixteenth of
+  // this small frame: a mask per sample.)
+  EXPECT_EQ(alone.report.buildings[0].sampling_chosen, (std::map<std::string, size_t>{{"4 (mask per sample)", 2}}));
+  // b alone still draws its 20,012 triangles: one render at 4 samples.
+  EXPECT_EQ(alone.report.buildings[1].sampling_chosen, (std::map<std::string, size_t>{{"4", 2}}));
+  // a's faces that some view sees are labelled from its own views either way.
+  for (size_t t : {4u, 5u, 10u, 11u}) EXPECT_NE(alone.labels[t], Label::Undisplayable) << t;
+}
+
 // A surface of triangles a fifth of a pixel across: the four samples and the
 // centre of a pixel hit at most five of its 50 triangles, so the paper's rule
 // calls nine in ten undisplayable, and a LOD without them is perforated.
