@@ -304,8 +304,9 @@ TEST(ViewSets, OwnViewsAloneSeeThePartyWallANeighbourHides) {
 }
 
 // A kiosk 36 m in front of a hall: framed on the kiosk at 56 m, the +x view
-// stands inside the hall's box. The report counts such views per building;
-// the hall's own views all stand outside the kiosk.
+// stands inside the hall's box. With the neighbours in place the report
+// counts such views per building; the hall's own views all stand outside
+// the kiosk. Own views of each building alone draw no neighbour to stand in.
 TEST(ViewSets, PerBuildingReportCountsViewsWhoseEyeIsInsideANeighbour) {
   Scene s;
   s.component_names = {"kiosk/Building/1", "hall/Building/1"};
@@ -313,6 +314,7 @@ TEST(ViewSets, PerBuildingReportCountsViewsWhoseEyeIsInsideANeighbour) {
   add_box(s, {40, -30, 0}, {120, 30, 40}, 1);
   LabelJob job = job_for("+x,-x", 56);
   job.per_building = PerBuilding::On;
+  job.own_views_alone = false;
   LabelResult r = label(s, job);
   const std::vector<BuildingLabelling>& per = r.report.buildings;
   ASSERT_TRUE(r.report.per_building);
@@ -327,6 +329,10 @@ TEST(ViewSets, PerBuildingReportCountsViewsWhoseEyeIsInsideANeighbour) {
   size_t visible = 0;
   for (size_t t = 0; t < 12; ++t) visible += r.labels[t] != Label::Undisplayable;
   EXPECT_GT(visible, 0u);
+  job.own_views_alone = true;
+  const LabelResult alone = label(s, job);
+  ASSERT_EQ(alone.report.buildings.size(), 2u);
+  for (const BuildingLabelling& b : alone.report.buildings) EXPECT_EQ(b.eyes_inside_other_buildings, 0u) << b.building;
 }
 
 // One sample per pixel of the default labelling reproduces the paper's

@@ -217,12 +217,14 @@ MemberSight member_sight(const Camera& cam, const RenderOutput& image, const Bou
 constexpr double kHiddenShareLimit = 0.02;
 
 // The views framed on one building or group: their passes (pipeline
-// items), tile names, samplings chosen and eyes inside other buildings.
+// items), tile names, samplings chosen and eyes inside other buildings
+// (counted only for views that draw them: not `alone`).
 struct OwnViews {
   std::vector<ViewPass> passes;
   std::vector<std::string> names;
   std::map<std::string, size_t> chosen;
   size_t eyes_inside = 0;
+  bool alone = false;  // the views being added show their building alone
 };
 // What a group's views leave for settle_group: per tile its direction (an
 // index into job.views) and how well it saw each member; per pass its
@@ -433,7 +435,7 @@ size_t SceneLabeller::add_framed_view(const Bounds& box, const std::vector<uint3
                                       OwnViews& out) {
   const std::vector<ViewTile> tiles = frame_view(box, job_.up, job_.views[v], distance, job_.display);
   for (const ViewTile& tile : tiles) {
-    out.eyes_inside += eye_inside_other(tile.camera, boxes, own);
+    if (!out.alone) out.eyes_inside += eye_inside_other(tile.camera, boxes, own);
     const Camera window = perception_window(tile.camera, box, ps_);
     const ViewSampling vs = sampling_of(job_, tile.camera, window, triangles);
     if (automatic_) ++out.chosen[sampling_name(vs)];
@@ -456,6 +458,7 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
   // A building alone is a scene of its own triangles: its views sample as
   // they ask (choose_sampling), not as the district's would.
   const size_t triangles = alone ? bt.count[members.front()] : nt_;
+  own.alone = alone;
   GroupViews gv;
   for (size_t v = 0; v < job_.views.size(); ++v) {
     const size_t tiles = add_framed_view(units.box[u], members, bt.box, v, units.distance[u], triangles, own);
@@ -577,6 +580,7 @@ void SceneLabeller::settle_group(uint32_t u, const LabelUnits& units, const Buil
   }
   // The others: each member framed on its own in the directions the group's
   // views saw it poorly.
+  own.alone = job_.own_views_alone;
   for (size_t j = 0; j < nm; ++j) {
     const uint32_t b = members[j];
     const size_t from = own.passes.size();
