@@ -65,10 +65,11 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_VIEWS = "facades,ring8el30,ring8el60,top"  # perclod's kDefaultViews (pipeline/render/include/perclod/views.h)
 SECTIONS = ("tracers", "simplifiers", "sweeps", "stability", "scaling", "failures")
 
-# --smoke: bench_fidelity at half the display's resolution (a quarter of the
-# pixels to label, render and judge; 24 -> 10 s for the simplifiers section's
-# run). The smoke checks the machinery, and its figures mean nothing anyway.
-SMOKE_FIDELITY = ["--set", "resolution=0.5"]
+# --smoke: bench_fidelity at a quarter of the display's resolution (a
+# sixteenth of the pixels to label, render and judge; 24 -> 5 s for the
+# simplifiers section's run). The smoke checks the machinery, and its
+# figures mean nothing anyway.
+SMOKE_FIDELITY = ["--set", "resolution=0.25"]
 
 # The perceptual pipeline's settings, one at a time from the default
 # (bench_fidelity --set KEY=VALUE; "default" changes nothing).
@@ -177,9 +178,11 @@ def run_simplifiers(a, out):
 
 
 def run_sweeps(a, out):
-    sweeps = SWEEPS[:2] if a.smoke else SWEEPS
+    # The smoke: the default and one --set that costs no more (resolution=1.5
+    # would render 2.25x the pixels).
+    sweeps = [SWEEPS[0], SWEEPS[2]] if a.smoke else SWEEPS
     args = ["--models", "demo", "--distances", "427" if a.smoke else "56,132,427", "--e-imperceptible", "0.5",
-            "--only-fidelity"]
+            "--only-fidelity"] + (SMOKE_FIDELITY if a.smoke else [])
     merged, header = [], None
     with open(out("sweeps.txt"), "w") as txt:
         for name, sets in sweeps:
@@ -407,24 +410,26 @@ def run_failures(a, out):
     demo = os.path.join(ROOT, "data/ingolstadt/bldg_4018215.obj")
     demo_parts = read_obj_parts(demo)
     d = [427] if a.smoke else [56, 132, 427]
+    # The smoke labels from the four facades (and a case's own extra views).
+    base_views = "facades" if a.smoke else DEFAULT_VIEWS
     cases = []  # (name, parts or path, distances, views, extra, writer options)
     facade = facade_parts()
     dup = facade + [("dup_" + n, t) for n, t in facade if n.startswith("win")]
-    cases.append(("reference facade", facade, d, DEFAULT_VIEWS, "", {}))
-    cases.append(("coplanar duplicates", dup, d, DEFAULT_VIEWS, "", {}))
-    cases.append(("+ views at 85 degrees, verify", facade, d, DEFAULT_VIEWS + ",az85el0,az95el0", "verify: true\n", {}))
-    cases.append(("demo building", demo_parts, d, DEFAULT_VIEWS, "", {}))
-    cases.append(("demo at UTM 500 km / 5400 km", demo_parts, d, DEFAULT_VIEWS, "",
+    cases.append(("reference facade", facade, d, base_views, "", {}))
+    cases.append(("coplanar duplicates", dup, d, base_views, "", {}))
+    cases.append(("+ views at 85 degrees, verify", facade, d, base_views + ",az85el0,az95el0", "verify: true\n", {}))
+    cases.append(("demo building", demo_parts, d, base_views, "", {}))
+    cases.append(("demo at UTM 500 km / 5400 km", demo_parts, d, base_views, "",
                   {"offset": (500000.0, 5400000.0, 300.0)}))
-    cases.append(("demo as a triangle soup", demo_parts, d, DEFAULT_VIEWS, "", {"soup": True}))
+    cases.append(("demo as a triangle soup", demo_parts, d, base_views, "", {"soup": True}))
     cases.append(("single-pixel ornaments", facade_parts(ornament=0.1), [132, 427] if not a.smoke else [427],
-                  DEFAULT_VIEWS, "", {}))
+                  base_views, "", {}))
     kiosk = [("kiosk", box_tris((0, 0, 0), (2, 2, 3))), ("roof", box_tris((-0.2, -0.2, 3), (2.2, 2.2, 3.15)))]
-    cases.append(("under 500 pixels", kiosk, [427], DEFAULT_VIEWS, "", {}))
+    cases.append(("under 500 pixels", kiosk, [427], base_views, "", {}))
     # Per building, a small building's views at 56 m stand inside its big
     # neighbour (a hall 36 m away): those views see the hall from inside.
     neighbours = [("kiosk", box_tris((0, 0, 0), (4, 4, 4))), ("hall", box_tris((40, -30, 0), (120, 30, 40)))]
-    cases.append(("eye inside a neighbour (per building)", neighbours, [427] if a.smoke else [56], DEFAULT_VIEWS,
+    cases.append(("eye inside a neighbour (per building)", neighbours, [427] if a.smoke else [56], base_views,
                   "per_building: true\n", {}))
     if not a.smoke:
         cases.append(("eye 1 m from the model", facade, [1], "facades", "judge_views: none\n", {}))
