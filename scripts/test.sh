@@ -59,9 +59,10 @@ stage_asan() {
 # (JudgeCli.StrictFailsOnALodOverItsFloor, LodFidelity.SeesNoChange...),
 # CityJSON with its CRS (CrsCli.RunPlacesACityJsonFileByItsOwnCrs; the
 # loader is fuzzed under ASan too), labelling per building and its samples
-# (ViewSets.*). Under ASan the skipped ones took 5-92 s each (Release: 1-17 s);
-# the stage's tests took 246 s of a 15 min 19 s suite (2-core VM) with the
-# list before its last 15 entries, which saved about 100 s of test time.
+# (ViewSets.*). Under ASan the skipped ones took 1-92 s each (Release: 1-17 s).
+# From a fresh clone on the 2-core VM the stage's tests took 246 s of a
+# 15 min 19 s suite with the first 14 entries, and 156 s of 12 min 53 s with
+# all 29 (docs/ci.md#how-long-it-takes).
 asan_skip='^('
 # Whole runs of the pipeline and the fidelity search on good input.
 asan_skip+='CliPipeline\.(TightenToLimitsRemakesALodJustOverItsLimits|LabelTakesViewSetsSamplesAndTilesCloseViews'

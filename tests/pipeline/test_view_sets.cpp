@@ -258,25 +258,29 @@ LabelJob per_building_job(const std::string& views, double d) {
 // in front of either, so the group's -y view serves both.
 TEST(ViewSets, AGroupMemberHiddenByAnotherTakesItsOwnViewInThatDirection) {
   const Scene s = two_buildings(16, 10);
-  LabelJob job = per_building_job("+x,-y", 300);
-  LabelResult alone = label(s, job);
-  job.group_span = 0.1;  // 30 m at 300 m
-  LabelResult grouped = label(s, job);
-  ASSERT_EQ(grouped.report.buildings.size(), 1u);
-  const BuildingLabelling& g = grouped.report.buildings[0];
-  EXPECT_EQ(g.buildings, 2u);
-  EXPECT_EQ(g.members_alone, 1u);  // a
-  EXPECT_EQ(g.own_views, 1u);      // a from +x
-  EXPECT_EQ(g.views, 3u);          // the group's two (one frame each) and a's
-  const nlohmann::json j = label_report_json(grouped.report)["per_building"][0];
-  EXPECT_EQ(j["own_views"], 1);
-  EXPECT_EQ(j["members_alone"], 1);
-  for (size_t t : {10u, 11u}) {  // a's +x face (from -y a grazing sliver between the two)
-    EXPECT_EQ(alone.labels[t], Label::Perceptible) << t;
-    EXPECT_EQ(grouped.labels[t], Label::Perceptible) << t;
-  }
-  for (size_t t : {4u, 5u, 16u, 17u}) {  // both -y faces, seen from the group's -y view
-    EXPECT_NE(grouped.labels[t], Label::Undisplayable) << t;
+  for (bool own_views_alone : {false, true}) {  // a's own +x view in place, or of a alone
+    SCOPED_TRACE(own_views_alone ? "own views alone" : "own views in place");
+    LabelJob job = per_building_job("+x,-y", 300);
+    job.own_views_alone = own_views_alone;
+    LabelResult alone = label(s, job);
+    job.group_span = 0.1;  // 30 m at 300 m
+    LabelResult grouped = label(s, job);
+    ASSERT_EQ(grouped.report.buildings.size(), 1u);
+    const BuildingLabelling& g = grouped.report.buildings[0];
+    EXPECT_EQ(g.buildings, 2u);
+    EXPECT_EQ(g.members_alone, 1u);  // a
+    EXPECT_EQ(g.own_views, 1u);      // a from +x
+    EXPECT_EQ(g.views, 3u);          // the group's two (one frame each) and a's
+    const nlohmann::json j = label_report_json(grouped.report)["per_building"][0];
+    EXPECT_EQ(j["own_views"], 1);
+    EXPECT_EQ(j["members_alone"], 1);
+    for (size_t t : {10u, 11u}) {  // a's +x face (from -y a grazing sliver between the two)
+      EXPECT_EQ(alone.labels[t], Label::Perceptible) << t;
+      EXPECT_EQ(grouped.labels[t], Label::Perceptible) << t;
+    }
+    for (size_t t : {4u, 5u, 16u, 17u}) {  // both -y faces, seen from the group's -y view
+      EXPECT_NE(grouped.labels[t], Label::Undisplayable) << t;
+    }
   }
 }
 
