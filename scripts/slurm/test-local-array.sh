@@ -5,7 +5,8 @@
 #   scripts/slurm/test-local-array.sh [--tasks N] [--quick]
 #
 # It writes a batch config listing the real models in ../shared/data (beside
-# the repository; DATA=dir to use another), submits it as an N-task array
+# the repository; DATA=dir to use another: its OBJ and CityJSON files, such as
+# a district split by scripts/split_cityjson.py), submits it as an N-task array
 # (default 3) with `sbatch --wait`, and checks that
 #   - every array task ended COMPLETED with exit code 0 (scontrol keeps
 #     finished jobs for an hour in the local setup; no accounting needed),
@@ -23,7 +24,8 @@
 # held-out judging. Measured on one core of a 2-core machine (shared with
 # other builds), one model takes 10-30 s at these settings and
 # ingolstadt_lod3_all53.obj (148k triangles) 40-80 s; the whole test with 3
-# tasks takes about 1.5-2 minutes. --quick leaves the big model out.
+# tasks takes about 1.5-2 minutes. --quick leaves the big models out (the
+# block and the Delft tile, a CityJSON file of 432 buildings).
 #
 # Environment: PERCLOD (default build/perclod of this repository) is the binary
 # the array runs; it must have `perclod run --shard`. Slurm daemons started by
@@ -49,7 +51,10 @@ fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
 say() { echo "test-local-array: $*"; }
 
 [[ -x $PERCLOD ]] || { echo "no perclod binary at $PERCLOD; set PERCLOD" >&2; exit 2; }
-if ! "$PERCLOD" run --help 2>&1 | grep -q -- --shard; then
+# The help read whole first: with pipefail, `grep -q` stopping at its match
+# would fail the pipe by perclod's SIGPIPE once the help outgrew the pipe.
+run_help=$("$PERCLOD" run --help 2>&1 || true)
+if ! grep -q -- --shard <<<"$run_help"; then
     echo "$PERCLOD has no 'run --shard' (the batch feature); build a perclod that has it" >&2
     exit 2
 fi
@@ -87,11 +92,12 @@ models=()
     echo "models:"
     while IFS= read -r obj; do
         name=$(basename "$obj" .obj)
-        if [[ $name == ingolstadt_lod3_all53 && $quick == yes ]]; then continue; fi
-        case $obj in */ingolstadt/*) up=z ;; *) up=y ;; esac
+        name=${name%.city.json}
+        if [[ ($name == ingolstadt_lod3_all53 || $name == 3dbag_5910_delft) && $quick == yes ]]; then continue; fi
+        case $obj in */ingolstadt/*|*.city.json) up=z ;; *) up=y ;; esac
         echo "  - {model: $obj, up: $up}"
         models+=("$name")
-    done < <(find "$(cd "$DATA" && pwd)" -name '*.obj' | sort)
+    done < <(find "$(cd "$DATA" && pwd)" \( -name '*.obj' -o -name '*.city.json' \) | sort)
 } >"$config"
 say "$("$PERCLOD" --version 2>/dev/null || echo perclod) at $PERCLOD"
 say "${#models[@]} models (${models[*]}), $tasks tasks; work dir $work"
