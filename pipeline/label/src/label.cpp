@@ -79,17 +79,17 @@ LabelJob checked_job(const LabelJob& asked) {
 struct BuildingTriangles {
   std::vector<uint32_t> owner;
   std::vector<Bounds> box;
-  std::vector<size_t> count;  // each building's triangles
+  std::vector<std::vector<uint32_t>> triangles;  // each building's, in model order
 };
 BuildingTriangles building_triangles(const Scene& scene, const Buildings& buildings) {
   BuildingTriangles bt;
   const size_t nt = scene.triangle_count();
   bt.owner.resize(nt);
   bt.box.assign(buildings.names.size(), Bounds::empty());
-  bt.count.assign(buildings.names.size(), 0);
+  bt.triangles.resize(buildings.names.size());
   for (size_t t = 0; t < nt; ++t) {
     bt.owner[t] = buildings.of_component[scene.component_of(t)];
-    ++bt.count[bt.owner[t]];
+    bt.triangles[bt.owner[t]].push_back(uint32_t(t));
     for (int k = 0; k < 3; ++k) bt.box[bt.owner[t]].grow(&scene.positions[3 * size_t(scene.indices[3 * t + k])]);
   }
   return bt;
@@ -146,22 +146,24 @@ bool eye_inside_other(const Camera& cam, const std::vector<Bounds>& box, const s
   return false;
 }
 
-// One building as a scene of its own: its triangles on its own vertices,
-// with their components and materials, and which of the model's triangles
-// each one is.
+// One building as a scene of its own: its triangles (`triangles` of the
+// model, which `triangle` keeps) on its own vertices, with their components
+// and materials. `vertex`: the model's vertex -> the building's, all
+// UINT32_MAX on entry and again on return (kept by the caller, so a
+// district's buildings do not each fill one the size of the district).
 struct BuildingAlone {
   Scene scene;
   std::vector<uint32_t> triangle;
 };
-BuildingAlone building_alone(const Scene& scene, const std::vector<uint32_t>& owner, uint32_t building) {
+BuildingAlone building_alone(const Scene& scene, const std::vector<uint32_t>& triangles,
+                             std::vector<uint32_t>& vertex) {
   BuildingAlone a;
   a.scene.component_names = scene.component_names;
   a.scene.materials = scene.materials;
   a.scene.offset = scene.offset;
-  std::vector<uint32_t> vertex(scene.vertex_count(), UINT32_MAX);  // the model's vertex -> the building's
-  for (uint32_t t = 0; t < owner.size(); ++t) {
-    if (owner[t] != building) continue;
-    a.triangle.push_back(t);
+  a.triangle = triangles;
+  vertex.resize(scene.vertex_count(), UINT32_MAX);
+  for (const uint32_t t : triangles) {
     for (int c = 0; c < 3; ++c) {
       const uint32_t v = scene.indices[3 * size_t(t) + c];
       if (vertex[v] == UINT32_MAX) {
@@ -174,6 +176,8 @@ BuildingAlone building_alone(const Scene& scene, const std::vector<uint32_t>& ow
     if (!scene.component.empty()) a.scene.component.push_back(scene.component[t]);
     if (!scene.material.empty()) a.scene.material.push_back(scene.material[t]);
   }
+  for (const uint32_t t : triangles)
+    for (int c = 0; c < 3; ++c) vertex[scene.indices[3 * size_t(t) + c]] = UINT32_MAX;
   return a;
 }
 
@@ -280,6 +284,8 @@ class SceneLabeller {
                          size_t v, double distance, size_t triangles, OwnViews& out);
   void count_alone(uint32_t building, const BuildingTriangles& bt, const OwnViews& own, size_t from,
                    ViewPipeline& pipeline);
+  void count_in_place(const std::vector<uint32_t>& owner, uint32_t unit, const Bounds& box, const OwnViews& own,
+                      size_t from, ViewPipeline& pipeline);
   void count_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt, ViewPipeline& pipeline,
                    const OwnViews& own, GroupViews& gv);
   void settle_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt, const GroupViews& gv,
@@ -299,6 +305,7 @@ class SceneLabeller {
   const bool write_files_;
   std::unique_ptr<EmbreeTracer> own_;
   std::unique_ptr<Renderer> alone_renderer_;  // job.own_views_alone: the building being labelled alone
+  std::vector<uint32_t> alone_vertex_;        // building_alone's vertex map, kept between buildings
   const EmbreeTracer* reference_ = nullptr;
   LabelResult res_;
   Accumulator acc_;
@@ -457,7 +464,7 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
   const bool alone = job_.own_views_alone && !group;
   // A building alone is a scene of its own triangles: its views sample as
   // they ask (choose_sampling), not as the district's would.
-  const size_t triangles = alone ? bt.count[members.front()] : nt_;
+  const size_t triangles = alone ? bt.triangles[members.front()].size() : nt_;
   own.alone = alone;
   GroupViews gv;
   for (size_t v = 0; v < job_.views.size(); ++v) {
@@ -468,15 +475,7 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
   entry.building = buildings_.names[members.front()];
   entry.buildings = members.size();
   if (alone) count_alone(members.front(), bt, own, 0, pipeline);
-  if (!alone && !group) {
-    for (const ViewPass& vp : own.passes)
-      pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
-                   [&](ViewOutcome& o) {
-                     count_view(scene_, tracer_, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera,
-                                &units.owner, u, &units.box[u], res_, acc_, o);
-                   });
-    pipeline.drain();
-  }
+  if (!alone && !group) count_in_place(units.owner, u, units.box[u], own, 0, pipeline);
   if (group) {
     count_group(u, units, bt, pipeline, own, gv);
     settle_group(u, units, bt, gv, pipeline, own, entry);
@@ -492,8 +491,8 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
 void SceneLabeller::count_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
                                 ViewPipeline& pipeline, const OwnViews& own, GroupViews& gv) {
   const std::vector<uint32_t>& members = units.members[u];
-  for (uint32_t t = 0; t < nt_; ++t)
-    if (units.owner[t] == u) gv.tris.push_back(t);
+  for (uint32_t b : members) gv.tris.insert(gv.tris.end(), bt.triangles[b].begin(), bt.triangles[b].end());
+  std::sort(gv.tris.begin(), gv.tris.end());  // model order
   gv.kept.resize(own.passes.size());
   gv.sight.resize(own.names.size());
   for (size_t k = 0; k < own.passes.size(); ++k) {
@@ -518,13 +517,28 @@ void SceneLabeller::count_group(uint32_t u, const LabelUnits& units, const Build
   pipeline.drain();
 }
 
+// Own views in place (own.passes from `from` on): the whole model drawn,
+// counting the triangles of `owner[t] == unit`, traced where `box` lies.
+void SceneLabeller::count_in_place(const std::vector<uint32_t>& owner, uint32_t unit, const Bounds& box,
+                                   const OwnViews& own, size_t from, ViewPipeline& pipeline) {
+  for (size_t k = from; k < own.passes.size(); ++k) {
+    const ViewPass& vp = own.passes[k];
+    pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
+                 [&](ViewOutcome& o) {
+                   count_view(scene_, tracer_, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera, &owner,
+                              unit, &box, res_, acc_, o);
+                 });
+  }
+  pipeline.drain();
+}
+
 // A building's own views of it alone (job.own_views_alone), own.passes from
 // `from` on: rendered, perceived and traced as a scene of its own
 // triangles, so nothing else stands in front of or beside it; its counts
 // go to its triangles of the model.
 void SceneLabeller::count_alone(uint32_t building, const BuildingTriangles& bt, const OwnViews& own, size_t from,
                                 ViewPipeline& pipeline) {
-  const BuildingAlone alone = building_alone(scene_, bt.owner, building);
+  const BuildingAlone alone = building_alone(scene_, bt.triangles[building], alone_vertex_);
   if (!alone_renderer_) alone_renderer_ = std::make_unique<Renderer>();
   alone_renderer_->set_scene(alone.scene);
   const OctreeTracer tracer(alone.scene);
@@ -584,24 +598,15 @@ void SceneLabeller::settle_group(uint32_t u, const LabelUnits& units, const Buil
   for (size_t j = 0; j < nm; ++j) {
     const uint32_t b = members[j];
     const size_t from = own.passes.size();
-    const size_t triangles = job_.own_views_alone ? bt.count[b] : nt_;
+    const size_t triangles = job_.own_views_alone ? bt.triangles[b].size() : nt_;
     for (size_t v = 0; v < nv; ++v)
       if (alone[j * nv + v]) entry.own_views += add_framed_view(bt.box[b], {b}, bt.box, v, job_.distance, triangles, own);
     if (from == own.passes.size()) continue;
     ++entry.members_alone;
-    if (job_.own_views_alone) {
+    if (job_.own_views_alone)
       count_alone(b, bt, own, from, pipeline);
-      continue;
-    }
-    for (size_t k = from; k < own.passes.size(); ++k) {
-      const ViewPass& vp = own.passes[k];
-      pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
-                   [&, b](ViewOutcome& o) {
-                     count_view(scene_, tracer_, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera,
-                                &bt.owner, b, &bt.box[b], res_, acc_, o);
-                   });
-    }
-    pipeline.drain();
+    else
+      count_in_place(bt.owner, b, bt.box[b], own, from, pipeline);
   }
 }
 
