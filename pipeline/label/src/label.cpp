@@ -4,13 +4,16 @@
 // and marking renders.
 #include <cstdio>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <future>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "perclod/image_io.h"
 #include "perclod/labels_io.h"
@@ -239,6 +242,13 @@ struct GroupViews {
   std::vector<uint32_t> tris;
   std::vector<TriangleCounts> kept;
 };
+// What labelling a building alone needs of its own: an OpenGL context and
+// building_alone's vertex map (kept between buildings). Each thread that
+// labels buildings alone has one.
+struct AloneLane {
+  std::unique_ptr<Renderer> renderer;
+  std::vector<uint32_t> vertex;
+};
 
 // label_scene's work: the whole-model views, then each building's own, then
 // the labels from what they counted.
@@ -278,12 +288,13 @@ class SceneLabeller {
   void label_model_views();
   bool labels_per_building();
   void label_buildings();
+  void label_buildings_in_lanes(const LabelUnits& units, const BuildingTriangles& bt, size_t lanes);
   BuildingLabelling label_unit(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
-                               ViewPipeline& pipeline, OwnViews& own);
+                               ViewPipeline& pipeline, OwnViews& own, AloneLane& lane);
   size_t add_framed_view(const Bounds& box, const std::vector<uint32_t>& own, const std::vector<Bounds>& boxes,
                          size_t v, double distance, size_t triangles, OwnViews& out);
   void count_alone(uint32_t building, const BuildingTriangles& bt, const OwnViews& own, size_t from,
-                   ViewPipeline& pipeline);
+                   ViewPipeline& pipeline, AloneLane& lane);
   void count_in_place(const std::vector<uint32_t>& owner, uint32_t unit, const Bounds& box, const OwnViews& own,
                       size_t from, ViewPipeline& pipeline);
   void count_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt, ViewPipeline& pipeline,
@@ -304,8 +315,7 @@ class SceneLabeller {
   const bool automatic_;  // samples auto: each view picks its sampling
   const bool write_files_;
   std::unique_ptr<EmbreeTracer> own_;
-  std::unique_ptr<Renderer> alone_renderer_;  // job.own_views_alone: the building being labelled alone
-  std::vector<uint32_t> alone_vertex_;        // building_alone's vertex map, kept between buildings
+  AloneLane lane_;  // job.own_views_alone: for buildings labelled alone on this thread
   const EmbreeTracer* reference_ = nullptr;
   LabelResult res_;
   Accumulator acc_;
@@ -412,6 +422,13 @@ void SceneLabeller::label_buildings() {
   const BuildingTriangles bt = building_triangles(scene_, buildings_);
   const LabelUnits units = label_units(bt, job_.up, job_.group_span, job_.distance);
   res_.report.per_building = true;
+  // Buildings alone share nothing: each counts only its own triangles, from
+  // renders of itself, so several threads can label them at once and the
+  // labels are the ones one thread gives.
+  const bool all_alone = job_.own_views_alone && std::all_of(units.members.begin(), units.members.end(),
+                                                             [](const auto& m) { return m.size() == 1; });
+  const size_t lanes = std::min<size_t>(building_lanes(job_), units.members.size());
+  if (all_alone && lanes > 1) return label_buildings_in_lanes(units, bt, lanes);
   size_t views = 0;  // of the building being labelled
   double seconds = 0;
   size_t first = 0;  // the pipeline's item number of the building's first pass
@@ -424,13 +441,64 @@ void SceneLabeller::label_buildings() {
     views = 0;
     seconds = 0;
     own = OwnViews{};
-    BuildingLabelling entry = label_unit(u, units, bt, pipeline, own);
+    BuildingLabelling entry = label_unit(u, units, bt, pipeline, own, lane_);
     first += own.passes.size();
     entry.views = views;
     entry.seconds = seconds;
     if (progress_) progress_->building_labelled(u, units.members.size(), entry);
     res_.report.buildings.push_back(std::move(entry));
   }
+}
+
+// label_buildings with every building alone, on `lanes` threads (this one
+// and lanes - 1 more), each taking the next building when it is done with
+// one: each its own OpenGL context, tracer and pipeline. Their counts go to
+// disjoint triangles; the report lists the buildings in model order.
+void SceneLabeller::label_buildings_in_lanes(const LabelUnits& units, const BuildingTriangles& bt, size_t lanes) {
+  const size_t n = units.members.size();
+  std::vector<BuildingLabelling> entries(n);
+  std::atomic<size_t> next{0};
+  std::mutex lock;  // progress, the report's step times, the first error
+  size_t done = 0;
+  std::exception_ptr error;
+  auto run_lane = [&](AloneLane& lane) {
+    try {
+      size_t views = 0, first = 0;
+      double seconds = 0;
+      OwnViews own;
+      std::map<std::string, double> steps;
+      ViewPipeline pipeline(job_.overlap, [](size_t, ViewOutcome&) {}, [&](size_t k, ViewOutcome& o) {
+        views += own.passes[k - first].pass == 0;
+        for (const auto& [key, v] : o.report.seconds) seconds += v, steps[key] += v;
+      });
+      for (size_t u; (u = next++) < n;) {
+        views = 0;
+        seconds = 0;
+        own = OwnViews{};
+        BuildingLabelling entry = label_unit(uint32_t(u), units, bt, pipeline, own, lane);
+        first += own.passes.size();
+        entry.views = views;
+        entry.seconds = seconds;
+        std::lock_guard<std::mutex> g(lock);
+        if (progress_) progress_->building_labelled(done, n, entry);
+        ++done;
+        entries[u] = std::move(entry);
+      }
+      std::lock_guard<std::mutex> g(lock);
+      for (const auto& [key, v] : steps) res_.report.step_seconds[key] += v;
+    } catch (...) {
+      next = n;  // the other lanes stop after their building
+      std::lock_guard<std::mutex> g(lock);
+      if (!error) error = std::current_exception();
+    }
+  };
+  std::vector<AloneLane> more(lanes - 1);
+  std::vector<std::thread> threads;
+  for (AloneLane& lane : more) threads.emplace_back(run_lane, std::ref(lane));
+  run_lane(lane_);
+  for (std::thread& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+  for (BuildingLabelling& e : entries) res_.report.buildings.push_back(std::move(e));
 }
 
 // View v of the job framed on `box` (the buildings `own` of `boxes`) at
@@ -458,7 +526,7 @@ size_t SceneLabeller::add_framed_view(const Bounds& box, const std::vector<uint3
 // One building's own views, or a group's, through `pipeline` (its passes in
 // `own`); returns its report entry, views and seconds left to the caller.
 BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
-                                            ViewPipeline& pipeline, OwnViews& own) {
+                                            ViewPipeline& pipeline, OwnViews& own, AloneLane& lane) {
   const std::vector<uint32_t>& members = units.members[u];
   const bool group = members.size() > 1;
   const bool alone = job_.own_views_alone && !group;
@@ -474,7 +542,7 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
   BuildingLabelling entry;
   entry.building = buildings_.names[members.front()];
   entry.buildings = members.size();
-  if (alone) count_alone(members.front(), bt, own, 0, pipeline);
+  if (alone) count_alone(members.front(), bt, own, 0, pipeline, lane);
   if (!alone && !group) count_in_place(units.owner, u, units.box[u], own, 0, pipeline);
   if (group) {
     count_group(u, units, bt, pipeline, own, gv);
@@ -537,17 +605,17 @@ void SceneLabeller::count_in_place(const std::vector<uint32_t>& owner, uint32_t 
 // triangles, so nothing else stands in front of or beside it; its counts
 // go to its triangles of the model.
 void SceneLabeller::count_alone(uint32_t building, const BuildingTriangles& bt, const OwnViews& own, size_t from,
-                                ViewPipeline& pipeline) {
-  const BuildingAlone alone = building_alone(scene_, bt.triangles[building], alone_vertex_);
-  if (!alone_renderer_) alone_renderer_ = std::make_unique<Renderer>();
-  alone_renderer_->set_scene(alone.scene);
+                                ViewPipeline& pipeline, AloneLane& lane) {
+  const BuildingAlone alone = building_alone(scene_, bt.triangles[building], lane.vertex);
+  if (!lane.renderer) lane.renderer = std::make_unique<Renderer>();
+  lane.renderer->set_scene(alone.scene);
   const OctreeTracer tracer(alone.scene);
   const std::vector<uint32_t> all_one(alone.triangle.size(), 0);  // every triangle of it is the building's
   LabelResult unused;
   Accumulator unused_acc(0);
   for (size_t k = from; k < own.passes.size(); ++k) {
     const ViewPass& vp = own.passes[k];
-    pipeline.add([&](ViewOutcome& o) { see_view(*alone_renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
+    pipeline.add([&](ViewOutcome& o) { see_view(*lane.renderer, ps_, vp.camera, depth_, o, vp.grid()); },
                  [&](ViewOutcome& o) {
                    count_view(alone.scene, tracer, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera,
                               &all_one, 0, &bt.box[building], unused, unused_acc, o, false);
@@ -604,7 +672,7 @@ void SceneLabeller::settle_group(uint32_t u, const LabelUnits& units, const Buil
     if (from == own.passes.size()) continue;
     ++entry.members_alone;
     if (job_.own_views_alone)
-      count_alone(b, bt, own, from, pipeline);
+      count_alone(b, bt, own, from, pipeline, lane_);
     else
       count_in_place(bt.owner, b, bt.box[b], own, from, pipeline);
   }

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
+
+#include <sched.h>
 
 #include "perclod/label.h"
 #include "view_pass.h"
@@ -144,6 +147,13 @@ std::vector<std::vector<uint32_t>> group_boxes(const std::vector<Bounds>& boxes,
   for (auto& g : groups) std::sort(g.begin(), g.end());
   std::sort(groups.begin(), groups.end(), [](const auto& a, const auto& b) { return a.front() < b.front(); });
   return groups;
+}
+
+size_t building_lanes(const LabelJob& job) {
+  if (job.building_threads > 0) return size_t(job.building_threads);
+  cpu_set_t cpus;  // the CPUs this process may run on (a Slurm task's, a taskset's)
+  if (sched_getaffinity(0, sizeof cpus, &cpus) == 0 && CPU_COUNT(&cpus) > 0) return size_t(CPU_COUNT(&cpus));
+  return std::max<size_t>(1, std::thread::hardware_concurrency());
 }
 
 Framing framing_of(const LabelJob& job) { return {job.up, job.display, job.distance}; }

@@ -171,7 +171,15 @@ struct LabelJob {
   // Render view k+1 while view k is traced (labelling) or compared (judging),
   // on a second thread; false runs them one after another (same results).
   bool overlap = true;
+  // Threads that label buildings alone at once (own_views_alone without
+  // groups): each its own OpenGL context and pipeline; the labels do not
+  // depend on it. 0: one per CPU this process may run on.
+  int building_threads = 0;
 };
+
+// The threads job.building_threads asks for (0: the CPUs this process may
+// run on).
+size_t building_lanes(const LabelJob& job);
 
 // How one labelling view (or tile) went: its first pass, with the pixels and
 // timings of its later passes added.
@@ -243,7 +251,9 @@ class LabelProgress {
   virtual void tracer_built(const Tracer& tracer) = 0;
   // A whole-model view (or tile) `view` at `distance` is labelled, all its passes.
   virtual void view_labelled(const std::string& view, double distance, const ViewLabelling& v) = 0;
-  // Building `index` of `count` is labelled from its own views.
+  // A building (or group) is labelled from its own views, the index-th of
+  // `count` to finish (buildings alone on several threads finish out of
+  // model order; b names it).
   virtual void building_labelled(size_t index, size_t count, const BuildingLabelling& b) = 0;
 };
 
