@@ -159,6 +159,43 @@ TEST(LodFidelity, VisibleDifferenceIsMeasuredAgainstTheQuarterPixelFloor) {
   EXPECT_EQ(FidelityLimits{}.max_visible_local, 0.0);
 }
 
+// Floors and figures do not depend on how many threads work on the views
+// (JudgeSettings::workers) or on whether the renders overlap that work.
+TEST(LodFidelity, JudgingOnSeveralThreadsGivesTheFiguresOfOne) {
+  Renderer renderer;
+  Labelled l = label_building(renderer);
+  const Scene cut = without_perceptible(l);
+  JudgeSettings one = judge_settings_of(l.job);
+  one.overlap = false;
+  std::vector<ViewRecord> records = l.result.views;
+  measure_floors(renderer, l.scene, records, one);
+  const std::vector<ViewFigures> expected = compare_lod_views(renderer, cut, records, one);
+  for (size_t workers : {1u, 2u, 3u}) {
+    SCOPED_TRACE(std::to_string(workers) + " workers");
+    JudgeSettings how = one;
+    how.overlap = true;
+    how.workers = workers;
+    std::vector<ViewRecord> again = l.result.views;
+    measure_floors(renderer, l.scene, again, how);
+    ASSERT_EQ(again.size(), records.size());
+    for (size_t k = 0; k < records.size(); ++k) {
+      EXPECT_EQ(again[k].visible_floor, records[k].visible_floor) << k;
+      EXPECT_EQ(again[k].visible_floor_local, records[k].visible_floor_local) << k;
+    }
+    std::vector<Rgb8Image> pictures;
+    const std::vector<ViewFigures> got = compare_lod_views(renderer, cut, again, how, &pictures);
+    ASSERT_EQ(got.size(), expected.size());
+    EXPECT_EQ(pictures.size(), expected.size());
+    for (size_t k = 0; k < got.size(); ++k) {
+      EXPECT_EQ(got[k].view, expected[k].view);
+      EXPECT_EQ(got[k].changed_pixels, expected[k].changed_pixels) << k;
+      EXPECT_EQ(got[k].visible_difference, expected[k].visible_difference) << k;
+      EXPECT_EQ(got[k].visible_ratio, expected[k].visible_ratio) << k;
+      EXPECT_EQ(got[k].ssim_covered, expected[k].ssim_covered) << k;
+    }
+  }
+}
+
 // A view where the quarter-pixel shift changes nothing (here: the camera
 // turned away, nothing drawn) has no floor of its own; it gets half the
 // median floor of the other views, not 0.

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <functional>
 #include <future>
 #include <iomanip>
 #include <iterator>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -20,7 +22,7 @@
 namespace perclod {
 using namespace detail;
 
-JudgeSettings judge_settings_of(const LabelJob& job) { return {perception_for(job), job.overlap}; }
+JudgeSettings judge_settings_of(const LabelJob& job) { return {perception_for(job), job.overlap, building_lanes(job)}; }
 
 std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
                                      const Framing& framing, const std::string& set) {
@@ -173,63 +175,99 @@ struct ViewComparer {
   }
 };
 
+// Item k of `count` rendered on this thread (which owns the OpenGL
+// context) into one of workers + 1 buffers while `workers` threads work on
+// the items before it: item k on worker k % workers, so each worker's
+// scratch is its own. workers = 0: each rendered, then worked on, here.
+// work(worker, k, render) must leave only item k's results.
+template <class Render, class Work>
+void render_then_work(size_t count, size_t workers, Render render, Work work) {
+  std::vector<RenderOutput> img(workers + 1);
+  std::deque<std::future<void>> pending;  // items k - workers .. k - 1, whose buffers are not k's
+  // After the buffers: an exception ends the workers (finishing what they
+  // hold) before the buffers they work on are freed.
+  std::vector<std::unique_ptr<Worker>> pool;
+  for (size_t w = 0; w < workers; ++w) pool.push_back(std::make_unique<Worker>());
+  for (size_t k = 0; k < count; ++k) {
+    RenderOutput& out = img[k % (workers + 1)];
+    render(k, out);
+    if (!workers) {
+      work(size_t(0), k, out);
+      continue;
+    }
+    if (pending.size() == workers) {
+      pending.front().get();
+      pending.pop_front();
+    }
+    pending.push_back(pool[k % workers]->submit([&work, &out, k, w = k % workers] { work(w, k, out); }));
+  }
+  for (auto& p : pending) p.get();
+}
+
 }  // namespace
 
-// The LOD's render of view k+1 (on this thread, which owns the OpenGL
-// context) overlaps the comparison of view k on a worker; the figures are
-// those of one view after another.
+// The LOD's renders overlap the comparisons of the views before them, on
+// how.workers threads; the figures are those of one view after another.
 std::vector<ViewFigures> compare_lod_views(Renderer& renderer, const Scene& lod,
                                            const std::vector<ViewRecord>& original, const JudgeSettings& how,
                                            std::vector<Rgb8Image>* pictures) {
   renderer.set_scene(lod);
-  std::vector<ViewFigures> views;
+  const size_t workers = how.overlap ? std::max<size_t>(1, how.workers) : 0;
+  std::vector<ViewFigures> views(original.size());
   std::vector<Rgb8Image> shots(pictures ? original.size() : 0);
-  ViewComparer compare{how.perception, {}, {}, {}, {}, {}, {}, {}};
-  RenderOutput img[2];
-  // Declared after the buffers it works on: an exception ends the worker
-  // (finishing the comparison in flight) before they are freed.
-  std::optional<Worker> worker;
-  if (how.overlap) worker.emplace();
-  std::future<ViewFigures> pending;
-  for (size_t k = 0; k < original.size(); ++k) {
-    renderer.render(original[k].camera, img[k % 2]);  // reuses the buffers of view k-2, compared by now
-    if (pending.valid()) views.push_back(pending.get());
-    auto work = [&, k] { return compare(original[k], img[k % 2], pictures ? &shots[k] : nullptr); };
-    if (worker) pending = worker->submit(work);
-    else views.push_back(work());
-  }
-  if (pending.valid()) views.push_back(pending.get());
+  const ViewComparer fresh{how.perception, {}, {}, {}, {}, {}, {}, {}};
+  std::vector<ViewComparer> compare(std::max<size_t>(1, workers), fresh);
+  render_then_work(
+      original.size(), workers, [&](size_t k, RenderOutput& img) { renderer.render(original[k].camera, img); },
+      [&](size_t w, size_t k, RenderOutput& img) {
+        views[k] = compare[w](original[k], img, pictures ? &shots[k] : nullptr);
+      });
   if (pictures)
     for (auto& p : shots) pictures->push_back(std::move(p));
   return views;
 }
 
+namespace {
+
+// What measuring one view's floor needs besides the shifted render.
+struct FloorScratch {
+  std::vector<uint8_t> rgb, background, region;
+  PerceptionResult shifted, unshifted;
+};
+
+// View v's floors from its original render moved by kFloorShiftPx (img).
+void measure_floor(ViewRecord& v, const RenderOutput& img, const PerceptionSettings& ps, FloorScratch& s) {
+  background_of(img, s.background);
+  perceive_into(img.rgb.data(), img.width, img.height, ps, nullptr, s.shifted);
+  v.render_into(s.rgb);
+  perceive_into(s.rgb.data(), img.width, img.height, ps, nullptr, s.unshifted);
+  s.region.assign(s.background.size(), 0);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const size_t i = size_t(y) * size_t(img.width) + size_t(x);
+      s.region[i] = !s.background[i] || !v.background_at(x, y);
+    }
+  v.visible_floor_local = visible_difference_local(s.shifted.simulated.data(), s.unshifted.simulated.data(), img.width,
+                                                   img.height, s.region.data(), ps.threshold, kLocalBlockPx);
+  v.visible_floor = visible_difference(s.shifted.simulated.data(), s.unshifted.simulated.data(), s.region.size(),
+                                       s.region.data(), ps.threshold);
+}
+
+}  // namespace
+
 void measure_floors(Renderer& renderer, const Scene& original, std::vector<ViewRecord>& records,
                     const JudgeSettings& how) {
   renderer.set_scene(original);
-  RenderOutput img;
-  std::vector<uint8_t> rgb, background, region;
-  PerceptionResult shifted, unshifted;
-  for (ViewRecord& v : records) {
-    Camera c = v.camera;
-    c.shift_x += kFloorShiftPx / std::sqrt(2.0), c.shift_y += kFloorShiftPx / std::sqrt(2.0);
-    renderer.render(c, img);
-    background_of(img, background);
-    perceive_into(img.rgb.data(), img.width, img.height, how.perception, nullptr, shifted);
-    v.render_into(rgb);
-    perceive_into(rgb.data(), img.width, img.height, how.perception, nullptr, unshifted);
-    region.assign(background.size(), 0);
-    for (int y = 0; y < img.height; ++y)
-      for (int x = 0; x < img.width; ++x) {
-        const size_t i = size_t(y) * size_t(img.width) + size_t(x);
-        region[i] = !background[i] || !v.background_at(x, y);
-      }
-    v.visible_floor_local = visible_difference_local(shifted.simulated.data(), unshifted.simulated.data(), img.width,
-                                                     img.height, region.data(), how.perception.threshold,
-                                                     kLocalBlockPx);
-    v.visible_floor = visible_difference(shifted.simulated.data(), unshifted.simulated.data(), region.size(),
-                                         region.data(), how.perception.threshold);
-  }
+  const size_t workers = how.overlap ? std::max<size_t>(1, how.workers) : 0;
+  std::vector<FloorScratch> scratch(std::max<size_t>(1, workers));
+  render_then_work(
+      records.size(), workers,
+      [&](size_t k, RenderOutput& img) {
+        Camera c = records[k].camera;
+        c.shift_x += kFloorShiftPx / std::sqrt(2.0), c.shift_y += kFloorShiftPx / std::sqrt(2.0);
+        renderer.render(c, img);
+      },
+      [&](size_t w, size_t k, RenderOutput& img) { measure_floor(records[k], img, how.perception, scratch[w]); });
   // A view where the shift moves no edge across a pixel centre (one flat
   // wall: every pixel of an edge's column flips together, or none does) has
   // a floor near 0, and any LOD moving one edge there would look thousands

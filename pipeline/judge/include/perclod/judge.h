@@ -27,7 +27,8 @@ constexpr const char* kDefaultJudgeViews = "held_out";
 // LOD's render of view k+1 overlaps the comparison of view k (same figures).
 struct JudgeSettings {
   PerceptionSettings perception;
-  bool overlap = true;
+  bool overlap = true;   // renders overlap the work on the views before them
+  size_t workers = 1;    // with overlap: threads working on views at once (results do not depend on it)
 };
 JudgeSettings judge_settings_of(const LabelJob& job);
 
