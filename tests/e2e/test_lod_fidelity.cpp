@@ -170,7 +170,7 @@ TEST(LodFidelity, JudgingOnSeveralThreadsGivesTheFiguresOfOne) {
   std::vector<ViewRecord> records = l.result.views;
   measure_floors(renderer, l.scene, records, one);
   const std::vector<ViewFigures> expected = compare_lod_views(renderer, cut, records, one);
-  for (size_t workers : {1u, 2u, 3u}) {
+  for (size_t workers : {1u, 3u}) {  // (every other judging test runs one per CPU)
     SCOPED_TRACE(std::to_string(workers) + " workers");
     JudgeSettings how = one;
     how.overlap = true;
