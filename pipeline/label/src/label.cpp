@@ -494,7 +494,17 @@ void SceneLabeller::label_buildings_in_lanes(const LabelUnits& units, const Buil
   };
   std::vector<AloneLane> more(lanes - 1);
   std::vector<std::thread> threads;
-  for (AloneLane& lane : more) threads.emplace_back(run_lane, std::ref(lane));
+  try {
+    for (AloneLane& lane : more)
+      threads.emplace_back([&run_lane, &lane] {
+        run_lane(lane);
+        lane.renderer.reset();  // its OpenGL context ends on the thread that made it
+      });
+  } catch (...) {  // a thread could not start: the started ones stop after their building
+    next = n;
+    for (std::thread& t : threads) t.join();
+    throw;
+  }
   run_lane(lane_);
   for (std::thread& t : threads) t.join();
   if (error) std::rethrow_exception(error);
