@@ -176,12 +176,15 @@ struct ViewComparer {
 };
 
 // Item k of `count` rendered on this thread (which owns the OpenGL
-// context) into one of workers + 1 buffers while `workers` threads work on
-// the items before it: item k on worker k % workers, so each worker's
-// scratch is its own. workers = 0: each rendered, then worked on, here.
-// work(worker, k, render) must leave only item k's results.
-template <class Render, class Work>
-void render_then_work(size_t count, size_t workers, Render render, Work work) {
+// context) into one of n + 1 buffers while n workers (how.workers with
+// how.overlap, else none) work on the items before it: item k on worker
+// k % n with that worker's copy of `scratch`. Without workers each item is
+// rendered, then worked on, here. work(scratch, k, render) must leave only
+// item k's results.
+template <class Scratch, class Render, class Work>
+void render_then_work(size_t count, const JudgeSettings& how, const Scratch& scratch, Render render, Work work) {
+  const size_t workers = how.overlap ? std::max<size_t>(1, how.workers) : 0;
+  std::vector<Scratch> own(std::max<size_t>(1, workers), scratch);
   std::vector<RenderOutput> img(workers + 1);
   std::deque<std::future<void>> pending;  // items k - workers .. k - 1, whose buffers are not k's
   // After the buffers: an exception ends the workers (finishing what they
@@ -192,14 +195,15 @@ void render_then_work(size_t count, size_t workers, Render render, Work work) {
     RenderOutput& out = img[k % (workers + 1)];
     render(k, out);
     if (!workers) {
-      work(size_t(0), k, out);
+      work(own[0], k, out);
       continue;
     }
     if (pending.size() == workers) {
       pending.front().get();
       pending.pop_front();
     }
-    pending.push_back(pool[k % workers]->submit([&work, &out, k, w = k % workers] { work(w, k, out); }));
+    Scratch& s = own[k % workers];
+    pending.push_back(pool[k % workers]->submit([&work, &s, &out, k] { work(s, k, out); }));
   }
   for (auto& p : pending) p.get();
 }
@@ -212,15 +216,13 @@ std::vector<ViewFigures> compare_lod_views(Renderer& renderer, const Scene& lod,
                                            const std::vector<ViewRecord>& original, const JudgeSettings& how,
                                            std::vector<Rgb8Image>* pictures) {
   renderer.set_scene(lod);
-  const size_t workers = how.overlap ? std::max<size_t>(1, how.workers) : 0;
   std::vector<ViewFigures> views(original.size());
   std::vector<Rgb8Image> shots(pictures ? original.size() : 0);
-  const ViewComparer fresh{how.perception, {}, {}, {}, {}, {}, {}, {}};
-  std::vector<ViewComparer> compare(std::max<size_t>(1, workers), fresh);
   render_then_work(
-      original.size(), workers, [&](size_t k, RenderOutput& img) { renderer.render(original[k].camera, img); },
-      [&](size_t w, size_t k, RenderOutput& img) {
-        views[k] = compare[w](original[k], img, pictures ? &shots[k] : nullptr);
+      original.size(), how, ViewComparer{how.perception, {}, {}, {}, {}, {}, {}, {}},
+      [&](size_t k, RenderOutput& img) { renderer.render(original[k].camera, img); },
+      [&](ViewComparer& compare, size_t k, RenderOutput& img) {
+        views[k] = compare(original[k], img, pictures ? &shots[k] : nullptr);
       });
   if (pictures)
     for (auto& p : shots) pictures->push_back(std::move(p));
@@ -258,16 +260,16 @@ void measure_floor(ViewRecord& v, const RenderOutput& img, const PerceptionSetti
 void measure_floors(Renderer& renderer, const Scene& original, std::vector<ViewRecord>& records,
                     const JudgeSettings& how) {
   renderer.set_scene(original);
-  const size_t workers = how.overlap ? std::max<size_t>(1, how.workers) : 0;
-  std::vector<FloorScratch> scratch(std::max<size_t>(1, workers));
   render_then_work(
-      records.size(), workers,
+      records.size(), how, FloorScratch{},
       [&](size_t k, RenderOutput& img) {
         Camera c = records[k].camera;
         c.shift_x += kFloorShiftPx / std::sqrt(2.0), c.shift_y += kFloorShiftPx / std::sqrt(2.0);
         renderer.render(c, img);
       },
-      [&](size_t w, size_t k, RenderOutput& img) { measure_floor(records[k], img, how.perception, scratch[w]); });
+      [&](FloorScratch& scratch, size_t k, RenderOutput& img) {
+        measure_floor(records[k], img, how.perception, scratch);
+      });
   // A view where the shift moves no edge across a pixel centre (one flat
   // wall: every pixel of an edge's column flips together, or none does) has
   // a floor near 0, and any LOD moving one edge there would look thousands

@@ -424,36 +424,19 @@ void SceneLabeller::label_buildings() {
   res_.report.per_building = true;
   // Buildings alone share nothing: each counts only its own triangles, from
   // renders of itself, so several threads can label them at once and the
-  // labels are the ones one thread gives.
+  // labels are the ones one thread gives. Groups and own views in place
+  // draw on the district's renderer: one after another.
   const bool all_alone = job_.own_views_alone && std::all_of(units.members.begin(), units.members.end(),
                                                              [](const auto& m) { return m.size() == 1; });
-  const size_t lanes = std::min<size_t>(building_lanes(job_), units.members.size());
-  if (all_alone && lanes > 1) return label_buildings_in_lanes(units, bt, lanes);
-  size_t views = 0;  // of the building being labelled
-  double seconds = 0;
-  size_t first = 0;  // the pipeline's item number of the building's first pass
-  OwnViews own;      // of the building being labelled
-  ViewPipeline pipeline(job_.overlap, [](size_t, ViewOutcome&) {}, [&](size_t k, ViewOutcome& o) {
-    views += own.passes[k - first].pass == 0;
-    for (const auto& [key, v] : o.report.seconds) seconds += v, res_.report.step_seconds[key] += v;
-  });
-  for (uint32_t u = 0; u < units.members.size(); ++u) {  // buildings without triangles are in no unit
-    views = 0;
-    seconds = 0;
-    own = OwnViews{};
-    BuildingLabelling entry = label_unit(u, units, bt, pipeline, own, lane_);
-    first += own.passes.size();
-    entry.views = views;
-    entry.seconds = seconds;
-    if (progress_) progress_->building_labelled(u, units.members.size(), entry);
-    res_.report.buildings.push_back(std::move(entry));
-  }
+  const size_t lanes = all_alone ? std::min<size_t>(building_lanes(job_), units.members.size()) : 1;
+  label_buildings_in_lanes(units, bt, std::max<size_t>(lanes, 1));
 }
 
-// label_buildings with every building alone, on `lanes` threads (this one
-// and lanes - 1 more), each taking the next building when it is done with
-// one: each its own OpenGL context, tracer and pipeline. Their counts go to
-// disjoint triangles; the report lists the buildings in model order.
+// The units' own views on `lanes` threads (this one and lanes - 1 more),
+// each taking the next unit when it is done with one: each its own OpenGL
+// context for buildings alone, tracer and pipeline. With more than one lane
+// every unit is a building alone, so their counts go to disjoint triangles;
+// the report lists the units in model order.
 void SceneLabeller::label_buildings_in_lanes(const LabelUnits& units, const BuildingTriangles& bt, size_t lanes) {
   const size_t n = units.members.size();
   std::vector<BuildingLabelling> entries(n);
