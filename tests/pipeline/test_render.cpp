@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -229,6 +230,46 @@ TEST(Render, CullingChangesNoPixel) {
     EXPECT_EQ(a.ids, b.ids) << "near " << znear;
     EXPECT_EQ(a.depth, b.depth) << "near " << znear;
     EXPECT_GT(std::count_if(b.ids.begin(), b.ids.end(), [](uint32_t id) { return id != 0; }), 1000);
+  }
+}
+
+// A part of the frame holds exactly the whole frame's pixels there (same
+// projection, the draw scissored), rows top first; a part that is not in
+// the frame is refused.
+TEST(Render, APartOfTheFrameIsTheWholeFramesPixels) {
+  Scene s;
+  for (int j = 0; j < 12; ++j)
+    for (int i = 0; i < 20; ++i) add_quad(s, 0.5f * i, 0.5f * j, 0.5f * i + 0.43f, 0.5f * j + 0.41f, 0.05f * (i % 3));
+  Renderer& r = shared_renderer();
+  r.set_scene(s);
+  const Camera cam = look_at({4.0, 1.0, 9.0}, {5.0, 3.0, 0.0}, {0, 1, 0}, 0.7, 211, 163, 0.5, 50);
+  RenderOptions whole;
+  whole.want_depth = true;
+  whole.color_by = ColorBy::Component;
+  const RenderOutput a = r.render(cam, whole);
+  for (auto [x, y, w, h] : {std::array{37, 21, 101, 77}, {0, 0, 211, 1}, {210, 100, 1, 63}, {64, 32, 147, 131}}) {
+    RenderOptions part = whole;
+    part.part_x = x, part.part_y = y, part.part_w = w, part.part_h = h;
+    const RenderOutput b = r.render(cam, part);
+    ASSERT_EQ(b.width, w);
+    ASSERT_EQ(b.height, h);
+    size_t differ = 0, covered = 0;
+    for (int yy = 0; yy < h; ++yy)
+      for (int xx = 0; xx < w; ++xx) {
+        const size_t i = size_t(yy) * w + xx, j = size_t(y + yy) * cam.width + (x + xx);
+        covered += b.ids[i] != 0;
+        differ += b.ids[i] != a.ids[j] || b.depth[i] != a.depth[j] || b.rgb[3 * i] != a.rgb[3 * j] ||
+                  b.rgb[3 * i + 1] != a.rgb[3 * j + 1] || b.rgb[3 * i + 2] != a.rgb[3 * j + 2];
+      }
+    EXPECT_EQ(differ, 0u) << w << "x" << h << " at (" << x << ", " << y << ")";
+    if (w > 100 && h > 50) EXPECT_GT(covered, size_t(w * h / 4));
+  }
+  // A whole render after a part draws the whole frame again.
+  EXPECT_EQ(r.render(cam, whole).ids, a.ids);
+  for (auto [x, y, w, h] : {std::array{-1, 0, 10, 10}, {200, 0, 12, 10}, {0, 160, 10, 4}, {5, 5, 4, 0}, {5, 5, -3, 2}}) {
+    RenderOptions part;
+    part.part_x = x, part.part_y = y, part.part_w = w, part.part_h = h;
+    EXPECT_THROW(r.render(cam, part), RenderError) << w << "x" << h << " at (" << x << ", " << y << ")";
   }
 }
 

@@ -637,6 +637,49 @@ TEST(ViewSets, BuildingsAloneOnSeveralThreadsLabelAsOnOne) {
   EXPECT_GE(building_lanes(job), 1u);
 }
 
+// A building's own views draw and read only their window on it: the labels
+// and counts are those of drawing the whole frame, alone and in place, with
+// one render or a mask per sample, and with the unsampled-surface rule
+// (which reads the render's depth at projected pixels).
+TEST(ViewSets, OwnViewsDrawnInTheirWindowLabelAsTheWholeFrame) {
+  Scene s = two_buildings(16, 14);
+  add_box(s, {-14, 2, 0}, {-4, 8, 6}, 2);
+  s.component_names = {"a/Building/1", "b/Building/1", "c/Building/1"};
+  struct Case {
+    bool alone, mask_per_sample, unsampled;
+  };
+  for (const Case c : {Case{true, false, false}, Case{true, true, false}, Case{false, false, true}}) {
+    SCOPED_TRACE(std::string(c.alone ? "alone" : "in place") + (c.mask_per_sample ? ", mask per sample" : "") +
+                 (c.unsampled ? ", unsampled surface" : ""));
+    LabelJob job = per_building_job("facades,az30el30", 150);
+    job.display.width = 768;  // a frame the windows (the DWT's reach around a building) leave part of
+    job.display.height = 640;
+    job.perception = perception_settings_for(job.display);
+    job.samples = 4;
+    job.own_views_alone = c.alone;
+    job.mask_per_sample = c.mask_per_sample;
+    job.keep_unsampled_surface = c.unsampled;
+    job.own_views_window_only = false;
+    const LabelResult whole = label(s, job);
+    job.own_views_window_only = true;
+    const LabelResult window = label(s, job);
+    EXPECT_EQ(window.labels, whole.labels);
+    EXPECT_EQ(window.totals.traced, whole.totals.traced);
+    EXPECT_EQ(window.totals.imperceptible, whole.totals.imperceptible);
+    // Each building's views drew a part of their frames (a mask-per-sample
+    // pass draws its window either way).
+    ASSERT_EQ(window.report.buildings.size(), 3u);
+    for (size_t b = 0; b < 3; ++b) {
+      const size_t frames = whole.report.buildings[b].rendered_pixels, parts = window.report.buildings[b].rendered_pixels;
+      EXPECT_GT(parts, 0u);
+      if (c.mask_per_sample)
+        EXPECT_EQ(parts, frames);
+      else
+        EXPECT_LT(parts, frames) << whole.report.buildings[b].building;
+    }
+  }
+}
+
 // A surface of triangles a fifth of a pixel across: the four samples and the
 // centre of a pixel hit at most five of its 50 triangles, so the paper's rule
 // calls nine in ten undisplayable, and a LOD without them is perforated.

@@ -232,6 +232,10 @@ struct OwnViews {
   std::map<std::string, size_t> chosen;
   size_t eyes_inside = 0;
   bool alone = false;  // the views being added show their building alone
+  // The views being added draw and read only their window on the unit
+  // (window_rect), where no sample can hit it outside; a group's read
+  // their whole frame (member_sight looks there).
+  bool window = false;
 };
 // What a group's views leave for settle_group: per tile its direction (an
 // index into job.views) and how well it saw each member; per pass its
@@ -446,21 +450,24 @@ void SceneLabeller::label_buildings_in_lanes(const LabelUnits& units, const Buil
   std::exception_ptr error;
   auto run_lane = [&](AloneLane& lane) {
     try {
-      size_t views = 0, first = 0;
+      size_t views = 0, first = 0, pixels = 0;
       double seconds = 0;
       OwnViews own;
       std::map<std::string, double> steps;
       ViewPipeline pipeline(job_.overlap, [](size_t, ViewOutcome&) {}, [&](size_t k, ViewOutcome& o) {
         views += own.passes[k - first].pass == 0;
+        pixels += o.report.rendered_pixels;
         for (const auto& [key, v] : o.report.seconds) seconds += v, steps[key] += v;
       });
       for (size_t u; (u = next++) < n;) {
         views = 0;
+        pixels = 0;
         seconds = 0;
         own = OwnViews{};
         BuildingLabelling entry = label_unit(uint32_t(u), units, bt, pipeline, own, lane);
         first += own.passes.size();
         entry.views = views;
+        entry.rendered_pixels = pixels;
         entry.seconds = seconds;
         std::lock_guard<std::mutex> g(lock);
         if (progress_) progress_->building_labelled(done, n, entry);
@@ -507,10 +514,18 @@ size_t SceneLabeller::add_framed_view(const Bounds& box, const std::vector<uint3
     const Camera window = perception_window(tile.camera, box, ps_);
     const ViewSampling vs = sampling_of(job_, tile.camera, window, triangles);
     if (automatic_) ++out.chosen[sampling_name(vs)];
-    // The whole frame is rendered, as for a whole-model view: rendering
-    // only the window moves the rasteriser's rounding (the Delft tile's
-    // labels at 56 m: 14,695 triangles' counts and 66 labels changed).
-    add_view_passes(out.names.size(), tile.camera, window, vs, out.passes);
+    // Only the window is drawn and read, with the whole frame's projection:
+    // a camera cropped to it moves the rasteriser's rounding (the Delft
+    // tile's labels at 56 m: 14,695 triangles' counts and 66 labels
+    // changed). Its perception equals the whole frame's over the box, so
+    // the labels are the whole frame's, as long as every pixel whose
+    // samples can hit the box (box_rect) lies in it.
+    PixelRect part;
+    if (out.window) {
+      const PixelRect w = window_rect(tile.camera, box, ps_), r = box_rect(tile.camera, box);
+      if (r.x >= w.x && r.y >= w.y && r.x + r.w <= w.x + w.w && r.y + r.h <= w.y + w.h) part = w;
+    }
+    add_view_passes(out.names.size(), tile.camera, window, vs, out.passes, part);
     out.names.push_back(tile.name);
   }
   return tiles.size();
@@ -527,6 +542,7 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
   // they ask (choose_sampling), not as the district's would.
   const size_t triangles = alone ? bt.triangles[members.front()].size() : nt_;
   own.alone = alone;
+  own.window = !group && job_.own_views_window_only;
   GroupViews gv;
   for (size_t v = 0; v < job_.views.size(); ++v) {
     const size_t tiles = add_framed_view(units.box[u], members, bt.box, v, units.distance[u], triangles, own);
@@ -584,7 +600,7 @@ void SceneLabeller::count_in_place(const std::vector<uint32_t>& owner, uint32_t 
                                    const OwnViews& own, size_t from, ViewPipeline& pipeline) {
   for (size_t k = from; k < own.passes.size(); ++k) {
     const ViewPass& vp = own.passes[k];
-    pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
+    pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid(), vp.part); },
                  [&](ViewOutcome& o) {
                    count_view(scene_, tracer_, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera, &owner,
                               unit, &box, res_, acc_, o);
@@ -608,7 +624,7 @@ void SceneLabeller::count_alone(uint32_t building, const BuildingTriangles& bt, 
   Accumulator unused_acc(0);
   for (size_t k = from; k < own.passes.size(); ++k) {
     const ViewPass& vp = own.passes[k];
-    pipeline.add([&](ViewOutcome& o) { see_view(*lane.renderer, ps_, vp.camera, depth_, o, vp.grid()); },
+    pipeline.add([&](ViewOutcome& o) { see_view(*lane.renderer, ps_, vp.camera, depth_, o, vp.grid(), vp.part); },
                  [&](ViewOutcome& o) {
                    count_view(alone.scene, tracer, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera,
                               &all_one, 0, &bt.box[building], unused, unused_acc, o, false);
@@ -656,6 +672,7 @@ void SceneLabeller::settle_group(uint32_t u, const LabelUnits& units, const Buil
   // The others: each member framed on its own in the directions the group's
   // views saw it poorly.
   own.alone = job_.own_views_alone;
+  own.window = job_.own_views_window_only;
   for (size_t j = 0; j < nm; ++j) {
     const uint32_t b = members[j];
     const size_t from = own.passes.size();

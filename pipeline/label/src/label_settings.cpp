@@ -3,6 +3,7 @@
 // buildings of a scene.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -164,19 +165,34 @@ PerceptionSettings perception_for(const LabelJob& job) {
   return ps;
 }
 
-Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps) {
+using detail::PixelRect;
+
+namespace {
+// perception_window's part of the frame; none when a box corner is behind
+// the eye (or the box is outside the frame).
+std::optional<PixelRect> window_part(const Camera& cam, const Bounds& box, const PerceptionSettings& ps) {
   const int levels = ps.levels > 0 ? ps.levels : default_levels(0.5 * ps.ppd, ps.k);
   const int align = 1 << std::min(levels, 10), margin = 12 * align;
   double lo[2], hi[2];
-  if (!detail::projected_extent(cam, box, false, lo, hi)) return cam;  // a corner behind the eye: the whole frame
+  if (!detail::projected_extent(cam, box, false, lo, hi)) return std::nullopt;
   const int size[2] = {cam.width, cam.height};
   int a[2], b[2];
   for (int k = 0; k < 2; ++k) {
     a[k] = int(std::clamp(std::floor((lo[k] - margin) / align) * align, 0.0, double(size[k])));
     b[k] = int(std::clamp(std::ceil(hi[k] + margin), 0.0, double(size[k])));
   }
-  if (b[0] <= a[0] || b[1] <= a[1]) return cam;
-  return cropped(cam, a[0], a[1], b[0] - a[0], b[1] - a[1]);
+  if (b[0] <= a[0] || b[1] <= a[1]) return std::nullopt;
+  return PixelRect{a[0], a[1], b[0] - a[0], b[1] - a[1]};
+}
+}  // namespace
+
+PixelRect detail::window_rect(const Camera& cam, const Bounds& box, const PerceptionSettings& ps) {
+  return window_part(cam, box, ps).value_or(PixelRect{0, 0, cam.width, cam.height});
+}
+
+Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps) {
+  const std::optional<PixelRect> r = window_part(cam, box, ps);
+  return r ? cropped(cam, r->x, r->y, r->w, r->h) : cam;
 }
 
 }  // namespace perclod

@@ -49,15 +49,16 @@ void add_drawn_but_missed(const uint32_t* ids, const uint8_t* mask, size_t pixel
 //    it (deleting them would open that much of the pixel).
 // Each takes its pixel's decision with one sample's weight, as
 // add_drawn_but_missed does. Returns how many it counted. depth: the
-// render's eye depth (0 = background); ids: its ID buffer (triangle + 1).
+// render's eye depth (0 = background); ids: its ID buffer (triangle + 1);
+// both hold `part` of cam's frame.
 constexpr double kSurfaceDepthPx = 0.5;
 constexpr double kOpenPixelArea = 0.5;
 
 
 
-size_t add_unsampled_surface(const Scene& scene, const Camera& cam, const float* depth, const uint32_t* ids,
-                             const uint8_t* mask, const std::vector<uint32_t>* owner, uint32_t building,
-                             TriangleCounts& counts) {
+size_t add_unsampled_surface(const Scene& scene, const Camera& cam, const PixelRect& part, const float* depth,
+                             const uint32_t* ids, const uint8_t* mask, const std::vector<uint32_t>* owner,
+                             uint32_t building, TriangleCounts& counts) {
   const size_t nt = scene.triangle_count();
   const float* P = scene.positions.data();
   // Triangle t's corners in image coordinates and eye depth; false when a
@@ -70,7 +71,7 @@ size_t add_unsampled_surface(const Scene& scene, const Camera& cam, const float*
     return true;
   };
   std::vector<std::pair<uint32_t, uint32_t>> found;  // triangle, pixel
-  std::vector<float> open(size_t(cam.width) * cam.height, 0.f);  // their area per pixel, pixels^2
+  std::vector<float> open(size_t(part.w) * part.h, 0.f);  // their area per pixel, pixels^2
   for (size_t t = 0; t < nt; ++t) {
     if (counts.traced[t] || (owner && (*owner)[t] != building)) continue;
     double px[3], py[3], z[3];
@@ -79,8 +80,8 @@ size_t add_unsampled_surface(const Scene& scene, const Camera& cam, const float*
     if (!(area < 1.0)) continue;
     const double cx = (px[0] + px[1] + px[2]) / 3, cy = (py[0] + py[1] + py[2]) / 3;
     const double cz = (z[0] + z[1] + z[2]) / 3;
-    if (!(cx >= 0 && cy >= 0 && cx < cam.width && cy < cam.height)) continue;
-    const size_t i = size_t(cy) * cam.width + size_t(cx);
+    if (!(cx >= part.x && cy >= part.y && cx < part.x + part.w && cy < part.y + part.h)) continue;
+    const size_t i = (size_t(cy) - part.y) * part.w + (size_t(cx) - part.x);
     if (depth[i] <= 0 || !ids[i] || std::fabs(double(depth[i]) - cz) > kSurfaceDepthPx * cam.pixel_footprint(cz))
       continue;
     double qx[3], qy[3], qz[3];
@@ -155,10 +156,11 @@ Camera kept_picture_camera(Camera cam, int grid) {
 // context: render and perceive one camera. grid >= 2: render it at grid
 // times the resolution and perceive each of the grid x grid sample pictures.
 void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& cam, bool want_depth, ViewOutcome& out,
-              int grid) {
+              int grid, const PixelRect& part) {
   auto t0 = Clock::now();
   RenderOptions ro;
   ro.want_depth = want_depth;  // add_unsampled_surface reads it
+  out.part = {};
   if (grid >= 2) {
     renderer.render(refined(cam, grid), out.fine, ro);
     out.t_render = since(t0);
@@ -180,6 +182,10 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
     }
     out.t_perceive = since(t0);  // splitting included
     return;
+  }
+  if (part.w) {
+    ro.part_x = part.x, ro.part_y = part.y, ro.part_w = part.w, ro.part_h = part.h;
+    out.part = part;
   }
   renderer.render(cam, out.image, ro);
   out.t_render = since(t0);
@@ -203,12 +209,14 @@ PixelRect box_rect(const Camera& cam, const Bounds& box) {
 
 namespace {
 
-// A rectangle's samples placed in a width x height image of misses.
-std::vector<uint32_t> spread_rect(const std::vector<uint32_t>& part, const PixelRect& r, int width, int height) {
-  std::vector<uint32_t> full(size_t(width) * height, 0);
+// A rectangle's samples placed in `part` (an image of misses): `r` and
+// `part` are parts of the same frame, r inside part.
+std::vector<uint32_t> spread_rect(const std::vector<uint32_t>& samples, const PixelRect& r, const PixelRect& part) {
+  std::vector<uint32_t> out(size_t(part.w) * part.h, 0);
   for (int y = 0; y < r.h; ++y)
-    std::copy_n(part.data() + size_t(y) * r.w, r.w, full.data() + size_t(r.y + y) * width + r.x);
-  return full;
+    std::copy_n(samples.data() + size_t(y) * r.w, r.w,
+                out.data() + size_t(r.y - part.y + y) * part.w + (r.x - part.x));
+  return out;
 }
 
 // How a view's samples are traced: an ordered grid (its sample pictures each
@@ -242,9 +250,15 @@ TracePlan trace_view(const Tracer& tracer, bool verify, bool whole_model, const 
   traced.resize(offsets.size());
   // The offsets are added to the camera's shift: a whole frame's is 0, a
   // window's is its crop, a mask-per-sample pass's its own offset too (its
-  // one offset is zero).
-  const PixelRect rect = only ? box_rect(cam, *only) : PixelRect{0, 0, cam.width, cam.height};
-  const bool whole = rect.w == cam.width && rect.h == cam.height;
+  // one offset is zero). The image holds out.part of the frame (all of it
+  // when unset), and the samples are placed where it holds them.
+  const PixelRect frame{0, 0, cam.width, cam.height};
+  const PixelRect part = out.part.w ? out.part : frame;
+  const PixelRect rect = only ? box_rect(cam, *only) : part;
+  if (rect.x < part.x || rect.y < part.y || rect.x + rect.w > part.x + part.w || rect.y + rect.h > part.y + part.h)
+    throw std::logic_error("trace_view: the pixels to trace are not all in the part of the frame rendered");
+  const bool whole = rect.w == part.w && rect.h == part.h;
+  const bool whole_frame = rect.w == cam.width && rect.h == cam.height;
   std::vector<uint32_t*> buffers;
   for (auto& t : traced) {
     if (whole) {
@@ -255,9 +269,9 @@ TracePlan trace_view(const Tracer& tracer, bool verify, bool whole_model, const 
     buffers.push_back(t.data());
   }
   if (rect.w > 0 && rect.h > 0)
-    tracer.trace_samples(whole ? cam : cropped(cam, rect.x, rect.y, rect.w, rect.h), offsets, buffers.data());
+    tracer.trace_samples(whole_frame ? cam : cropped(cam, rect.x, rect.y, rect.w, rect.h), offsets, buffers.data());
   if (!whole)
-    for (auto& t : traced) t = spread_rect(t, rect, cam.width, cam.height);
+    for (auto& t : traced) t = spread_rect(t, rect, part);
   return plan;
 }
 
@@ -285,7 +299,8 @@ size_t count_samples(const Scene& scene, const LabelJob& job, const TracePlan& p
     add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
   }
   if (!finds_unsampled_surface(job)) return 0;
-  return add_unsampled_surface(scene, cam, out.image.depth.data(), out.image.ids.data(), out.perception.mask.data(),
+  const PixelRect part = out.part.w ? out.part : PixelRect{0, 0, cam.width, cam.height};
+  return add_unsampled_surface(scene, cam, part, out.image.depth.data(), out.image.ids.data(), out.perception.mask.data(),
                                owner, building, counts);
 }
 
@@ -412,10 +427,14 @@ ViewSampling sampling_of(const LabelJob& job, const Camera& cam, const Camera& w
 // render of the window per sample offset, its camera shifted by it.
 // Appended to `out`.
 void add_view_passes(size_t tile, const Camera& cam, const Camera& window, const ViewSampling& vs,
-                     std::vector<ViewPass>& out) {
+                     std::vector<ViewPass>& out, const PixelRect& part) {
   const int grid = sample_grid(vs.samples);
-  if (grid || !vs.mask_per_sample || vs.samples == 1) {
-    out.push_back({tile, 0, 1, grid ? window : cam, vs});
+  if (grid) {
+    out.push_back({tile, 0, 1, window, vs, {}});
+    return;
+  }
+  if (!vs.mask_per_sample || vs.samples == 1) {
+    out.push_back({tile, 0, 1, cam, vs, part});
     return;
   }
   const auto offsets = sample_offsets(vs.samples);
@@ -423,7 +442,7 @@ void add_view_passes(size_t tile, const Camera& cam, const Camera& window, const
     Camera c = window;
     c.shift_x += offsets[p][0];
     c.shift_y += offsets[p][1];
-    out.push_back({tile, p, offsets.size(), c, vs});
+    out.push_back({tile, p, offsets.size(), c, vs, {}});
   }
 }
 

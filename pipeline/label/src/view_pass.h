@@ -25,7 +25,15 @@ struct Accumulator {
   explicit Accumulator(size_t nt) : combined(nt, Label::Undisplayable), in_frustum(nt) {}
 };
 
+// Pixels [x, x + w) x [y, y + h) of a camera's image.
+struct PixelRect {
+  int x = 0, y = 0, w = 0, h = 0;
+};
+
 struct ViewOutcome {
+  // The part of the camera's frame that image (and so perception, the
+  // traced samples and background) holds; w = 0: the whole frame.
+  PixelRect part;
   PerceptionResult perception;
   std::vector<uint8_t> background;
   RenderOutput image;
@@ -93,16 +101,15 @@ class ViewPipeline {
 // the eye (not beyond znear when `past_near`).
 bool projected_extent(const Camera& cam, const Bounds& box, bool past_near, double lo[2], double hi[2]);
 
-// Pixels [x, x + w) x [y, y + h) of a camera's image.
-struct PixelRect {
-  int x = 0, y = 0, w = 0, h = 0;
-};
-
 // The pixels of `cam` whose samples can hit something inside `box`: the
 // rectangle around its corners' projections, widened by two pixels for the
 // sample offsets and rounding; the whole image when a corner is behind the
 // eye (an empty rectangle when the box projects outside the image).
 PixelRect box_rect(const Camera& cam, const Bounds& box);
+
+// The part of `cam`'s frame perception_window keeps around `box` (the
+// whole frame when a box corner is behind the eye).
+PixelRect window_rect(const Camera& cam, const Bounds& box, const PerceptionSettings& ps);
 
 // One render of a view to label: pass `pass` of the view's `passes`
 // (its first stands for the view in the records, images and report).
@@ -111,6 +118,7 @@ struct ViewPass {
   size_t pass = 0, passes = 1;
   Camera camera;     // what see_view renders (a grid's: before refining)
   ViewSampling sampling;
+  PixelRect part;    // of camera's frame, the part see_view draws and reads (w = 0: all)
   int grid() const { return sample_grid(sampling.samples); }
 };
 
@@ -126,10 +134,11 @@ inline bool finds_unsampled_surface(const LabelJob& job) { return job.samples > 
 Camera kept_picture_camera(Camera cam, int grid);
 
 // The first half of labelling a view, on the thread that owns the OpenGL
-// context: render and perceive one camera. grid >= 2: render it at grid
-// times the resolution and perceive each of the grid x grid sample pictures.
+// context: render and perceive one camera (only `part` of its frame, when
+// given: out.part). grid >= 2: render it at grid times the resolution and
+// perceive each of the grid x grid sample pictures.
 void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& cam, bool want_depth, ViewOutcome& out,
-              int grid = 0);
+              int grid = 0, const PixelRect& part = {});
 
 // The second half, on any thread: trace the view seen by see_view at
 // vs.samples samples per pixel (with vs.mask_per_sample, `cam` is one
@@ -163,12 +172,12 @@ void add_part_counts(const Scene& part, const std::vector<uint32_t>& triangle, c
 ViewSampling sampling_of(const LabelJob& job, const Camera& cam, const Camera& window, size_t triangles);
 
 // The renders of one view of camera `cam`, whose window on the model is
-// `window`: one that every sample reads (the whole frame; a grid's is the
-// window at grid times the resolution), or with a mask per sample one
-// render of the window per sample offset, its camera shifted by it.
-// Appended to `out`.
+// `window`: one that every sample reads (the whole frame, or with `part` only
+// that part of it; a grid's is the window at grid times the resolution), or
+// with a mask per sample one render of the window per sample offset, its
+// camera shifted by it. Appended to `out`.
 void add_view_passes(size_t tile, const Camera& cam, const Camera& window, const ViewSampling& vs,
-                     std::vector<ViewPass>& out);
+                     std::vector<ViewPass>& out, const PixelRect& part = {});
 
 std::string sampling_name(const ViewSampling& vs);
 // Adds a later pass's timings to the report of the view's first pass.

@@ -364,37 +364,56 @@ void flip_rows(V& v, int w, int h) {
     std::swap_ranges(v.begin() + long(y) * w, v.begin() + long(y + 1) * w, v.begin() + long(h - 1 - y) * w);
 }
 
-// Reads the colour attachment into rgb (row 0 top), through the RGBA scratch.
-void read_colors(int w, int h, std::vector<uint8_t>& rgba, std::vector<uint8_t>& rgb) {
-  rgba.resize(size_t(w) * h * 4);
+// The part of the framebuffer a render reads: x, y from its bottom-left
+// corner (GL's), w x h pixels.
+struct GlRect {
+  int x = 0, y = 0, w = 0, h = 0;
+};
+
+// Reads the colour attachment's `r` into rgb (row 0 top), through the RGBA scratch.
+void read_colors(const GlRect& r, std::vector<uint8_t>& rgba, std::vector<uint8_t>& rgb) {
+  const size_t w = size_t(r.w), h = size_t(r.h);
+  rgba.resize(w * h * 4);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  rgb.resize(size_t(w) * h * 3);
-  for (int y = 0; y < h; ++y)  // GL rows are bottom-up
-    for (int x = 0; x < w; ++x)
-      for (int k = 0; k < 3; ++k)
-        rgb[(size_t(y) * w + x) * 3 + k] = rgba[(size_t(h - 1 - y) * w + x) * 4 + k];
+  glReadPixels(r.x, r.y, r.w, r.h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  rgb.resize(w * h * 3);
+  for (size_t y = 0; y < h; ++y) {  // GL rows are bottom-up
+    const uint8_t* src = rgba.data() + (h - 1 - y) * w * 4;
+    uint8_t* dst = rgb.data() + y * w * 3;
+    for (size_t x = 0; x < w; ++x, src += 4, dst += 3) dst[0] = src[0], dst[1] = src[1], dst[2] = src[2];
+  }
 }
 
-// Reads the ID attachment into ids (row 0 top).
-void read_ids(int w, int h, std::vector<uint32_t>& ids) {
-  ids.resize(size_t(w) * h);
+// Reads the ID attachment's `r` into ids (row 0 top).
+void read_ids(const GlRect& r, std::vector<uint32_t>& ids) {
+  ids.resize(size_t(r.w) * r.h);
   glReadBuffer(GL_COLOR_ATTACHMENT1);
-  glReadPixels(0, 0, w, h, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
-  flip_rows(ids, w, h);
+  glReadPixels(r.x, r.y, r.w, r.h, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
+  flip_rows(ids, r.w, r.h);
 }
 
-// Reads the depth buffer (through the scratch z) into eye depth in metres,
-// row 0 top, 0 for the background.
-void read_depth(const Camera& cam, int w, int h, std::vector<float>& z, std::vector<float>& depth) {
-  z.resize(size_t(w) * h);
-  glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
-  flip_rows(z, w, h);
+// Reads the depth buffer's `r` (through the scratch z) into eye depth in
+// metres, row 0 top, 0 for the background.
+void read_depth(const Camera& cam, const GlRect& r, std::vector<float>& z, std::vector<float>& depth) {
+  z.resize(size_t(r.w) * r.h);
+  glReadPixels(r.x, r.y, r.w, r.h, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
+  flip_rows(z, r.w, r.h);
   // Reversed-Z window depth -> eye depth: z_w = n (f - d) / (d (f - n))  =>  d = n f / (z_w (f - n) + n).
   double n = cam.znear, f = cam.zfar;
   depth.resize(z.size());
   for (size_t i = 0; i < z.size(); ++i) depth[i] = z[i] > 0 ? float(n * f / (z[i] * (f - n) + n)) : 0.f;
+}
+
+// The part of the frame RenderOptions asks for, in GL's coordinates.
+GlRect part_of(const Camera& cam, const RenderOptions& opt) {
+  if (opt.part_w == 0) return {0, 0, cam.width, cam.height};
+  if (opt.part_x < 0 || opt.part_y < 0 || opt.part_w < 1 || opt.part_h < 1 || opt.part_x + opt.part_w > cam.width ||
+      opt.part_y + opt.part_h > cam.height)
+    throw RenderError("part " + std::to_string(opt.part_w) + "x" + std::to_string(opt.part_h) + " at (" +
+                      std::to_string(opt.part_x) + ", " + std::to_string(opt.part_y) + ") is not inside the " +
+                      std::to_string(cam.width) + "x" + std::to_string(cam.height) + " frame");
+  return {opt.part_x, cam.height - opt.part_y - opt.part_h, opt.part_w, opt.part_h};
 }
 
 }  // namespace
@@ -409,7 +428,15 @@ void Renderer::render(const Camera& cam, RenderOutput& out, const RenderOptions&
   I.resize(cam.width, cam.height);
   I.select_colors(opt);
 
+  const GlRect part = part_of(cam, opt);
+  // The whole framebuffer is cleared (llvmpipe clears whole tiles at once; a
+  // scissored clear draws a quad), the draw scissored to the part.
   clear_framebuffer(I.fbo, cam, opt.background);
+  const bool scissor = part.w != cam.width || part.h != cam.height;
+  if (scissor) {
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(part.x, part.y, part.w, part.h);
+  }
   bind_draw_state(I.program, I.color_tex, I.vao, cam, opt.ambient);
   const GLint base = glGetUniformLocation(I.program, "base");
   out.drawn_triangles = 0;
@@ -417,15 +444,15 @@ void Renderer::render(const Camera& cam, RenderOutput& out, const RenderOptions&
     draw_range(base, 0, I.triangle_count, out.drawn_triangles);
   else
     draw_visible_chunks(cam, I.chunk_box, Impl::kChunkTriangles, I.triangle_count, base, out.drawn_triangles);
+  if (scissor) glDisable(GL_SCISSOR_TEST);
 
-  int w = cam.width, h = cam.height;
-  out.width = w;
-  out.height = h;
-  read_colors(w, h, I.rgba, out.rgb);
+  out.width = part.w;
+  out.height = part.h;
+  read_colors(part, I.rgba, out.rgb);
   out.ids.clear();
   out.depth.clear();
-  if (opt.want_ids) read_ids(w, h, out.ids);
-  if (opt.want_depth) read_depth(cam, w, h, I.z, out.depth);
+  if (opt.want_ids) read_ids(part, out.ids);
+  if (opt.want_depth) read_depth(cam, part, I.z, out.depth);
   if (GLenum err = glGetError(); err != GL_NO_ERROR)
     throw RenderError("OpenGL error " + std::to_string(err) + " while rendering");
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -39,6 +39,7 @@ nlohmann::json view_labelling_json(const ViewLabelling& v) {
 nlohmann::json building_labelling_json(const BuildingLabelling& b, bool automatic) {
   nlohmann::json j = {{"building", b.building},
                       {"views", b.views},
+                      {"rendered_pixels", b.rendered_pixels},
                       {"eyes_inside_other_buildings", b.eyes_inside_other_buildings},
                       {"seconds", b.seconds}};
   if (b.buildings > 1) {  // a group, named by its first building

@@ -171,6 +171,11 @@ struct LabelJob {
   // Render view k+1 while view k is traced (labelling) or compared (judging),
   // on a second thread; false runs them one after another (same results).
   bool overlap = true;
+  // A building's own views (and a group's members' own views) draw and
+  // read only their window on the building (perception_window), with the
+  // whole frame's projection: the same labels as drawing the whole frame,
+  // for the pixels that matter. false draws the whole frame (tests compare).
+  bool own_views_window_only = true;
   // Threads that label buildings alone at once (own_views_alone without
   // groups): each its own OpenGL context and pipeline; the labels do not
   // depend on it. 0: one per CPU this process may run on.
@@ -213,6 +218,7 @@ struct BuildingLabelling {
   // A group's: views framed on one member (in a direction where the
   // group's views saw it poorly), and members with such views.
   size_t own_views = 0, members_alone = 0;
+  size_t rendered_pixels = 0;  // drawn and read back, every pass (ViewLabelling::rendered_pixels)
 };
 
 // What labelling at one distance did, as the reports give it.

@@ -37,6 +37,14 @@ struct RenderOptions {
   // Skip chunks of triangles outside the view (render.cpp); the output is the
   // same either way. false draws everything in one call (tests compare).
   bool cull = true;
+  // Only part of the frame: pixels [part_x, part_x + part_w) x [part_y,
+  // part_y + part_h) of the camera's image (row 0 top) are drawn (the draw
+  // is scissored to them) and read back; the output is that part, part_w x
+  // part_h. Each of its pixels is the one a render of the whole frame
+  // draws there: the projection is the whole frame's, where a camera
+  // cropped to the part (perclod::cropped) rounds differently at edges.
+  // part_w = 0: the whole frame.
+  int part_x = 0, part_y = 0, part_w = 0, part_h = 0;
 };
 
 struct RenderOutput {
