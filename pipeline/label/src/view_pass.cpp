@@ -255,7 +255,8 @@ TracePlan trace_view(const Tracer& tracer, bool verify, bool whole_model, const 
   const PixelRect frame{0, 0, cam.width, cam.height};
   const PixelRect part = out.part.w ? out.part : frame;
   const PixelRect rect = only ? box_rect(cam, *only) : part;
-  if (rect.x < part.x || rect.y < part.y || rect.x + rect.w > part.x + part.w || rect.y + rect.h > part.y + part.h)
+  if (rect.w > 0 && rect.h > 0 &&
+      (rect.x < part.x || rect.y < part.y || rect.x + rect.w > part.x + part.w || rect.y + rect.h > part.y + part.h))
     throw std::logic_error("trace_view: the pixels to trace are not all in the part of the frame rendered");
   const bool whole = rect.w == part.w && rect.h == part.h;
   const bool whole_frame = rect.w == cam.width && rect.h == cam.height;
