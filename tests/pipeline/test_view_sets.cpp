@@ -59,6 +59,13 @@ LabelJob job_for(const std::string& views, double d, int samples = 1) {
   return job;
 }
 
+// Two labellings that must agree: the labels and every triangle's counts.
+void expect_same_labelling(const LabelResult& a, const LabelResult& b) {
+  EXPECT_EQ(a.labels, b.labels);
+  EXPECT_EQ(a.totals.traced, b.totals.traced);
+  EXPECT_EQ(a.totals.imperceptible, b.totals.imperceptible);
+}
+
 LabelResult label(const Scene& s, const LabelJob& job) {
   Renderer r;
   OctreeTracer t(s);
@@ -416,9 +423,7 @@ TEST(ViewSets, MaskPerSampleTracesTheSameSamplesFromARenderEach) {
   const LabelResult one_plain = label(s, one);
   one.mask_per_sample = true;
   const LabelResult one_mps = label(s, one);
-  EXPECT_EQ(one_mps.labels, one_plain.labels);
-  EXPECT_EQ(one_mps.totals.traced, one_plain.totals.traced);
-  EXPECT_EQ(one_mps.totals.imperceptible, one_plain.totals.imperceptible);
+  expect_same_labelling(one_mps, one_plain);
 
   job.keep_unsampled_surface = true;
   EXPECT_THROW(label(s, job), std::invalid_argument);
@@ -621,9 +626,7 @@ TEST(ViewSets, BuildingsAloneOnSeveralThreadsLabelAsOnOne) {
     job.building_threads = threads;
     job.overlap = overlap;
     const LabelResult many = label(s, job);
-    EXPECT_EQ(many.labels, one.labels);
-    EXPECT_EQ(many.totals.traced, one.totals.traced);
-    EXPECT_EQ(many.totals.imperceptible, one.totals.imperceptible);
+    expect_same_labelling(many, one);
     ASSERT_EQ(many.report.buildings.size(), 4u);
     for (size_t b = 0; b < 4; ++b) {
       EXPECT_EQ(many.report.buildings[b].building, one.report.buildings[b].building);
@@ -661,9 +664,7 @@ TEST(ViewSets, OwnViewsDrawnInTheirWindowLabelAsTheWholeFrame) {
     const LabelResult whole = label(s, job);
     job.own_views_window_only = true;
     const LabelResult window = label(s, job);
-    EXPECT_EQ(window.labels, whole.labels);
-    EXPECT_EQ(window.totals.traced, whole.totals.traced);
-    EXPECT_EQ(window.totals.imperceptible, whole.totals.imperceptible);
+    expect_same_labelling(window, whole);
     if (!alone) {  // the rule found the grid's unsampled triangles in the parts drawn
       size_t kept = 0;
       for (size_t t = grid; t < s.triangle_count(); ++t) kept += window.labels[t] != Label::Undisplayable;
