@@ -213,6 +213,7 @@ namespace {
 // `part` are parts of the same frame, r inside part.
 std::vector<uint32_t> spread_rect(const std::vector<uint32_t>& samples, const PixelRect& r, const PixelRect& part) {
   std::vector<uint32_t> out(size_t(part.w) * part.h, 0);
+  if (r.w <= 0 || r.h <= 0) return out;  // nothing traced (it may lie outside the part)
   for (int y = 0; y < r.h; ++y)
     std::copy_n(samples.data() + size_t(y) * r.w, r.w,
                 out.data() + size_t(r.y - part.y + y) * part.w + (r.x - part.x));

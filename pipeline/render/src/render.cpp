@@ -408,8 +408,8 @@ void read_depth(const Camera& cam, const GlRect& r, std::vector<float>& z, std::
 // The part of the frame RenderOptions asks for, in GL's coordinates.
 GlRect part_of(const Camera& cam, const RenderOptions& opt) {
   if (opt.part_w == 0) return {0, 0, cam.width, cam.height};
-  if (opt.part_x < 0 || opt.part_y < 0 || opt.part_w < 1 || opt.part_h < 1 || opt.part_x + opt.part_w > cam.width ||
-      opt.part_y + opt.part_h > cam.height)
+  if (opt.part_x < 0 || opt.part_y < 0 || opt.part_w < 1 || opt.part_h < 1 ||
+      int64_t(opt.part_x) + opt.part_w > cam.width || int64_t(opt.part_y) + opt.part_h > cam.height)
     throw RenderError("part " + std::to_string(opt.part_w) + "x" + std::to_string(opt.part_h) + " at (" +
                       std::to_string(opt.part_x) + ", " + std::to_string(opt.part_y) + ") is not inside the " +
                       std::to_string(cam.width) + "x" + std::to_string(cam.height) + " frame");
