@@ -304,7 +304,7 @@ class SceneLabeller {
   void count_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt, ViewPipeline& pipeline,
                    const OwnViews& own, GroupViews& gv);
   void settle_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt, const GroupViews& gv,
-                    ViewPipeline& pipeline, OwnViews& own, BuildingLabelling& entry);
+                    ViewPipeline& pipeline, OwnViews& own, BuildingLabelling& entry, AloneLane& lane);
   LabelResult finish();
 
   Renderer& renderer_;
@@ -523,7 +523,7 @@ size_t SceneLabeller::add_framed_view(const Bounds& box, const std::vector<uint3
     PixelRect part;
     if (out.window) {
       const PixelRect w = window_rect(tile.camera, box, ps_), r = box_rect(tile.camera, box);
-      if (r.x >= w.x && r.y >= w.y && r.x + r.w <= w.x + w.w && r.y + r.h <= w.y + w.h) part = w;
+      if (inside(r, w)) part = w;
     }
     add_view_passes(out.names.size(), tile.camera, window, vs, out.passes, part);
     out.names.push_back(tile.name);
@@ -555,7 +555,7 @@ BuildingLabelling SceneLabeller::label_unit(uint32_t u, const LabelUnits& units,
   if (!alone && !group) count_in_place(units.owner, u, units.box[u], own, 0, pipeline);
   if (group) {
     count_group(u, units, bt, pipeline, own, gv);
-    settle_group(u, units, bt, gv, pipeline, own, entry);
+    settle_group(u, units, bt, gv, pipeline, own, entry, lane);
   }
   entry.eyes_inside_other_buildings = own.eyes_inside;
   entry.sampling_chosen = own.chosen;
@@ -640,7 +640,7 @@ void SceneLabeller::count_alone(uint32_t building, const BuildingTriangles& bt, 
 // groups; alone with job.own_views_alone) in the others, appended to `own`.
 void SceneLabeller::settle_group(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
                                  const GroupViews& gv, ViewPipeline& pipeline, OwnViews& own,
-                                 BuildingLabelling& entry) {
+                                 BuildingLabelling& entry, AloneLane& lane) {
   const std::vector<uint32_t>& members = units.members[u];
   const size_t nv = job_.views.size(), nm = members.size();
   std::vector<MemberSight> seen(nm * nv);  // member j in direction v: [j * nv + v]
@@ -682,7 +682,7 @@ void SceneLabeller::settle_group(uint32_t u, const LabelUnits& units, const Buil
     if (from == own.passes.size()) continue;
     ++entry.members_alone;
     if (job_.own_views_alone)
-      count_alone(b, bt, own, from, pipeline, lane_);
+      count_alone(b, bt, own, from, pipeline, lane);
     else
       count_in_place(bt.owner, b, bt.box[b], own, from, pipeline);
   }

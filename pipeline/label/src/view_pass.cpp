@@ -253,11 +253,9 @@ TracePlan trace_view(const Tracer& tracer, bool verify, bool whole_model, const 
   // window's is its crop, a mask-per-sample pass's its own offset too (its
   // one offset is zero). The image holds out.part of the frame (all of it
   // when unset), and the samples are placed where it holds them.
-  const PixelRect frame{0, 0, cam.width, cam.height};
-  const PixelRect part = out.part.w ? out.part : frame;
+  const PixelRect part = held_part(out, cam);
   const PixelRect rect = only ? box_rect(cam, *only) : part;
-  if (rect.w > 0 && rect.h > 0 &&
-      (rect.x < part.x || rect.y < part.y || rect.x + rect.w > part.x + part.w || rect.y + rect.h > part.y + part.h))
+  if (rect.w > 0 && rect.h > 0 && !inside(rect, part))
     throw std::logic_error("trace_view: the pixels to trace are not all in the part of the frame rendered");
   const bool whole = rect.w == part.w && rect.h == part.h;
   const bool whole_frame = rect.w == cam.width && rect.h == cam.height;
@@ -301,8 +299,7 @@ size_t count_samples(const Scene& scene, const LabelJob& job, const TracePlan& p
     add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
   }
   if (!finds_unsampled_surface(job)) return 0;
-  const PixelRect part = out.part.w ? out.part : PixelRect{0, 0, cam.width, cam.height};
-  return add_unsampled_surface(scene, cam, part, out.image.depth.data(), out.image.ids.data(), out.perception.mask.data(),
+  return add_unsampled_surface(scene, cam, held_part(out, cam), out.image.depth.data(), out.image.ids.data(), out.perception.mask.data(),
                                owner, building, counts);
 }
 

@@ -29,10 +29,15 @@ struct Accumulator {
 struct PixelRect {
   int x = 0, y = 0, w = 0, h = 0;
 };
+// Whether every pixel of `r` lies in `outer` (both of one frame).
+inline bool inside(const PixelRect& r, const PixelRect& outer) {
+  return r.x >= outer.x && r.y >= outer.y && r.x + r.w <= outer.x + outer.w && r.y + r.h <= outer.y + outer.h;
+}
 
 struct ViewOutcome {
   // The part of the camera's frame that image (and so perception, the
-  // traced samples and background) holds; w = 0: the whole frame.
+  // traced samples and background) holds; w = 0: the whole frame
+  // (held_part gives it either way).
   PixelRect part;
   PerceptionResult perception;
   std::vector<uint8_t> background;
@@ -95,6 +100,11 @@ class ViewPipeline {
   std::optional<Worker> worker_;
   std::future<void> pending_;
 };
+
+// The part of `cam`'s frame that `o`'s image holds.
+inline PixelRect held_part(const ViewOutcome& o, const Camera& cam) {
+  return o.part.w ? o.part : PixelRect{0, 0, cam.width, cam.height};
+}
 
 // The image rectangle [lo, hi] (pixel coordinates, unclipped) around the
 // projections of `box`'s corners; false when a corner is not in front of
