@@ -392,7 +392,8 @@ def run_case(a, work, name, stem, model, distances, views=DEFAULT_VIEWS, extra="
                          perceptible=lod["labels"]["perceptible"], imperceptible=lod["labels"]["imperceptible"],
                          undisplayable=lod["labels"]["undisplayable"], outside_views=lod["outside_views"],
                          labelling_views=len(lod["views"]),
-                         min_covered_px=min(v["covered_pixels"] for v in lod["views"]),
+                         # none when each building's own views alone made the labels
+                         min_covered_px=min((v["covered_pixels"] for v in lod["views"]), default=""),
                          lod_triangles=lod["simplify"]["triangles_after"]["total"],
                          worst_changed=round(max(j["changed_fraction"] for j in held), 5),
                          worst_ssim=round(min(j["ssim_covered"] for j in held), 5),

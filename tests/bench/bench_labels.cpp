@@ -37,6 +37,7 @@
 //                [--shift-scale 0] (relabel without moving: the noise floor, 0 when deterministic)
 //                [--per-building true|false|auto] (the block runs per building unless told otherwise)
 //                [--rule any|pooled] (LabelJob::combine: how views combine P and I; see rule_for)
+//                [--model-views-beside-alone] (LabelJob::model_views_beside_alone: 0.5.0's per-building labels)
 //   [--csv FILE]: the stability section's rows as CSV (flips in percent).
 //   [--perturb shift|noise|resolution]: see g_perturb.
 #include <algorithm>
@@ -77,6 +78,9 @@ std::string g_perturb = "shift";
 // P and I). Unless told: the paper's (any) for the paper's setting (facades,
 // one sample), the product's default otherwise.
 std::string g_rule;
+// --model-views-beside-alone: LabelJob::model_views_beside_alone (the whole-
+// model views count beside each building's own views alone: 0.5.0's labels).
+bool g_model_views_beside_alone = false;
 std::string rule_for(const std::string& views, int samples) {
   if (!g_rule.empty()) return g_rule;
   return views == "facades" && samples == 1 ? "any" : kDefaultCombineViews;
@@ -90,6 +94,7 @@ std::string perturb_name() {
   if (g_perturb != "resolution" && g_shift_scale != 1.0) ss << " x" << g_shift_scale;
   if (!g_rule.empty()) ss << " " << g_rule;
   if (g_mask_per_sample) ss << " mps";
+  if (g_model_views_beside_alone) ss << " +model views";
   return ss.str();
 }
 
@@ -114,6 +119,7 @@ LabelJob make_job(UpAxis up, const std::string& views, int samples, double d, Pe
   if (g_spins) job.perception.spins = g_spins;
   job.keep_unsampled_surface = g_keep_unsampled_surface;
   job.mask_per_sample = g_mask_per_sample;
+  job.model_views_beside_alone = g_model_views_beside_alone;
   job.combine = parse_combine_views(rule_for(views, samples));
   if (g_threshold >= 0) job.perception.threshold = g_threshold;
   return job;
@@ -336,6 +342,7 @@ int main(int argc, char** argv) {
     else if (a == "--spins") g_spins = std::stoi(next());
     else if (a == "--keep-unsampled-surface") g_keep_unsampled_surface = true;
     else if (a == "--mask-per-sample") g_mask_per_sample = true;
+    else if (a == "--model-views-beside-alone") g_model_views_beside_alone = true;
     else if (a == "--shift-scale") g_shift_scale = std::stod(next());
     else if (a == "--threshold") g_threshold = std::stod(next());
     else if (a == "--rule") {
@@ -374,7 +381,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]\n"
                            "  [--distances 56,132,427] [--samples 1,4] [--views \"facades;facades,ring8el30\"]\n"
                            "  [--runs R] [--facade-triangles N] [--spins S] [--threshold T] [--shift-scale F]\n"
-                           "  [--keep-unsampled-surface] [--mask-per-sample]\n"
+                           "  [--keep-unsampled-surface] [--mask-per-sample] [--model-views-beside-alone]\n"
                            "  [--per-building true|false|auto] [--rule any|pooled] [--csv FILE] (stability rows)\n"
                            "  [--perturb shift|noise|resolution] (what the stability section changes)\n");
       return 2;

@@ -17,10 +17,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A 12 x 8 x 10 m block with a slab and a chimney: three boxes, three groups.
-std::string building_obj(double dx) {
+// A 12 x 8 x 10 m block with a slab and a chimney: three boxes, three groups
+// named `<name>/...`; its vertices follow `first_vertex` others in the file.
+std::string building_obj(double dx, const std::string& name = "house", int first_vertex = 0) {
   std::string s;
-  int base = 0;
+  int base = first_vertex;
   auto box = [&](const char* name, double x0, double y0, double z0, double x1, double y1, double z1) {
     s += std::string("g ") + name + "\n";
     for (int k = 0; k < 8; ++k)
@@ -32,9 +33,9 @@ std::string building_obj(double dx) {
            std::to_string(base + f[2] + 1) + " " + std::to_string(base + f[3] + 1) + "\n";
     base += 8;
   };
-  box("house/body", 0, 0, 0, 12, 8, 10);
-  box("house/slab", -0.5, -0.5, 10, 12.5, 8.5, 10.3);
-  box("house/chimney", 2, 2, 10.3, 2.6, 2.6, 11.5);
+  box((name + "/body").c_str(), 0, 0, 0, 12, 8, 10);
+  box((name + "/slab").c_str(), -0.5, -0.5, 10, 12.5, 8.5, 10.3);
+  box((name + "/chimney").c_str(), 2, 2, 10.3, 2.6, 2.6, 11.5);
   return s;
 }
 
@@ -240,6 +241,45 @@ TEST(CliBatch, OneModelConfigsWriteTheManifestBesideTheLods) {
   EXPECT_TRUE(fs::exists(b.root / "one" / "alpha_lod_427m.glb"));
   EXPECT_TRUE(fs::exists(b.root / "one" / "alpha_lods.glb"));
   expect_checksums_match(m, b.root / "one");
+}
+
+// A file of two houses, each labelled from its own views of it alone (the
+// default): the whole-model views count nothing, are drawn only for the
+// pictures a run writes, and the LOD is judged from the held-out views, or
+// with judge_views: none from the labelling views framed on the whole file.
+TEST(CliBatch, TwoHousesAreLabelledFromTheirOwnViewsAndJudgedFromHeldOutViews) {
+  BatchDir b("two-houses");
+  std::ofstream(b.root / "models" / "two.obj") << building_obj(0, "a") + building_obj(30, "b", 24);
+  auto run = [&](const std::string& name, const std::string& settings) {
+    std::ofstream(b.root / (name + ".yaml")) << "model: models/two.obj\nout: " << (b.root / name).string()
+                                             << "\nup: z\ndistances: [56]\nviews: facades\nsamples: 1\n"
+                                             << "display: small-display.yaml\n" << settings;
+    auto r = run_cli("run " + (b.root / (name + ".yaml")).string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return read_json(b.root / name / "two_report.json")["lods"][0];
+  };
+  const auto none = run("none", "judge_views: none\ndebug_images: false\n");
+  const auto held = run("held", "");  // held-out views, debug images
+  for (const auto* lod : {&none, &held}) {
+    EXPECT_EQ((*lod)["model_views_counted"], false);
+    ASSERT_EQ((*lod)["per_building"].size(), 2u);
+    for (const auto& e : (*lod)["per_building"]) EXPECT_EQ(e["views"], 4);
+  }
+  EXPECT_TRUE(none["views"].empty());
+  ASSERT_GE(none["lod_vs_original"].size(), 4u);
+  for (const auto& v : none["lod_vs_original"]) EXPECT_EQ(v["set"], "labelling") << v["view"];
+  // Drawn for their pictures: their renders and markings are written, and
+  // the labels are the same bytes.
+  EXPECT_GE(held["views"].size(), 4u);
+  EXPECT_TRUE(fs::exists(b.root / "held" / "two_+x_56m_marking.png"));
+  EXPECT_TRUE(fs::exists(b.root / "held" / "two_+x_56m.png"));
+  ASSERT_GE(held["lod_vs_original"].size(), 9u);
+  for (const auto& v : held["lod_vs_original"]) EXPECT_EQ(v["set"], "held_out") << v["view"];
+  auto bytes = [](const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  EXPECT_EQ(bytes(b.root / "none" / "two_labels_56m.txt"), bytes(b.root / "held" / "two_labels_56m.txt"));
 }
 
 TEST(CliBatch, CityJsonModelsTakeTheirLodFromTheConfig) {

@@ -67,7 +67,35 @@ TEST(PerBuilding, BlockBuildingsAreLabelledFromTheirOwnViews) {
   job.per_building = PerBuilding::Off;
   LabelResult whole = label_scene(renderer, s, tracer, job);
   job.per_building = PerBuilding::Auto;
+  LabelResult own = label_scene(renderer, s, tracer, job);  // the default: each building's own views alone
+  job.model_views_beside_alone = true;
   LabelResult per = label_scene(renderer, s, tracer, job);
+  job.model_views_beside_alone = false;
+
+  // By default each building's own views of it alone make its labels: the
+  // whole-model views count nothing (nor are they drawn, with no files to
+  // write), so with them the totals are the two labellings' sums.
+  EXPECT_FALSE(own.report.model_views_counted);
+  EXPECT_TRUE(per.report.model_views_counted);
+  EXPECT_TRUE(own.report.views.empty());
+  EXPECT_TRUE(own.views.empty());
+  EXPECT_EQ(label_report_json(own.report)["model_views_counted"], false);
+  size_t seen_only_by_model_views = 0;
+  double samples_only = 0, samples_model = 0;
+  for (size_t t = 0; t < s.triangle_count(); ++t) {
+    ASSERT_EQ(per.totals.traced[t], own.totals.traced[t] + whole.totals.traced[t]) << t;
+    ASSERT_EQ(per.totals.imperceptible[t], own.totals.imperceptible[t] + whole.totals.imperceptible[t]) << t;
+    samples_model += double(whole.totals.traced[t]);
+    if (own.totals.traced[t] == 0 && whole.totals.traced[t] > 0) {
+      ++seen_only_by_model_views;
+      samples_only += double(whole.totals.traced[t]);
+    }
+  }
+  std::printf("seen only by the whole-model views: %zu triangles, %.0f of their %.0f samples\n",
+              seen_only_by_model_views, samples_only, samples_model);
+  // What only the whole-model views hit are chance hits on sub-pixel
+  // triangles (a few samples each): under 0.1% of their samples.
+  EXPECT_LT(samples_only, 1e-3 * samples_model);
 
   // Per building, every kept building had its own views.
   size_t with_triangles = 0;

@@ -262,7 +262,9 @@ TEST(Render, APartOfTheFrameIsTheWholeFramesPixels) {
                   b.rgb[3 * i + 1] != a.rgb[3 * j + 1] || b.rgb[3 * i + 2] != a.rgb[3 * j + 2];
       }
     EXPECT_EQ(differ, 0u) << w << "x" << h << " at (" << x << ", " << y << ")";
-    if (w > 100 && h > 50) EXPECT_GT(covered, size_t(w * h / 4));
+    if (w > 100 && h > 50) {
+      EXPECT_GT(covered, size_t(w * h / 4));
+    }
   }
   // A whole render after a part draws the whole frame again.
   EXPECT_EQ(r.render(cam, whole).ids, a.ids);

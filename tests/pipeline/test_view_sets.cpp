@@ -223,6 +223,7 @@ TEST(ViewSets, GroupsLabelNeighboursFromSharedViews) {
   };
   LabelJob job = job_for("az90el30", 20, 4);
   job.per_building = PerBuilding::On;
+  job.model_views_beside_alone = true;  // the whole-model views count, as they do with groups
   LabelResult alone = label(s, job);
   ASSERT_EQ(alone.report.buildings.size(), 3u);
   job.group_span = 1.5;  // 30 m at 20 m: a and b (26 m across), not c

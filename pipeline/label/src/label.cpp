@@ -274,8 +274,10 @@ class SceneLabeller {
     if (write_files_) ensure_directory(job_.out.dir);
     renderer_.set_scene(scene_);
     begin_report();
+    const bool per_building = labels_per_building();
+    res_.report.model_views_counted = !per_building || !each_building_alone() || job_.model_views_beside_alone;
     label_model_views();
-    if (labels_per_building()) {
+    if (per_building) {
       const auto t_b = Clock::now();
       label_buildings();
       res_.report.seconds_buildings = since(t_b);
@@ -291,6 +293,7 @@ class SceneLabeller {
   void on_model_view_counted(const ViewPass& vp, ViewOutcome& o);
   void label_model_views();
   bool labels_per_building();
+  bool each_building_alone() const { return job_.own_views_alone && job_.group_span == 0; }
   void label_buildings();
   void label_buildings_in_lanes(const LabelUnits& units, const BuildingTriangles& bt, size_t lanes);
   BuildingLabelling label_unit(uint32_t u, const LabelUnits& units, const BuildingTriangles& bt,
@@ -362,12 +365,14 @@ void SceneLabeller::plan_model_views() {
   if (automatic_) res_.report.sampling_chosen = chosen;
 }
 
-// A whole-model view rendered and perceived: record it, queue its images.
+// A whole-model view rendered and perceived: record it (for judging, when
+// it counts), queue its images.
 void SceneLabeller::on_model_view_seen(const ViewPass& vp, ViewOutcome& o) {
   if (vp.pass) return;
   const ViewTile& tile = tiles_[vp.tile];
-  res_.views.push_back(
-      view_record(tile.name, kept_picture_camera(vp.camera, vp.grid()), o.image.rgb, o.background, "labelling"));
+  if (res_.report.model_views_counted)
+    res_.views.push_back(
+        view_record(tile.name, kept_picture_camera(vp.camera, vp.grid()), o.image.rgb, o.background, "labelling"));
   if (!write_files_) return;
   auto file = [&](const char* suffix) { return job_.out.view(tile.name, job_.distance, suffix); };
   const int w = o.image.width, h = o.image.height;
@@ -395,7 +400,13 @@ void SceneLabeller::on_model_view_counted(const ViewPass& vp, ViewOutcome& o) {
 }
 
 // Every pass of every whole-model view, rendering overlapped with tracing.
+// When they do not count (each building labelled from its own views alone)
+// they are drawn only for what else they give: each view's render,
+// perception and marking images, with job.verify its octree-Embree
+// agreement, and its line in the report.
 void SceneLabeller::label_model_views() {
+  const bool counted = res_.report.model_views_counted;
+  if (!counted && !(write_files_ && job_.write_view_images) && !job_.verify) return;
   plan_model_views();
   ViewPipeline pipeline(
       job_.overlap, [&](size_t k, ViewOutcome& o) { on_model_view_seen(passes_[k], o); },
@@ -404,7 +415,8 @@ void SceneLabeller::label_model_views() {
     pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
                  [&](ViewOutcome& o) {
                    count_view(scene_, tracer_, reference_, job_, vp.sampling, tiles_[vp.tile].name, vp.camera,
-                              nullptr, 0, nullptr, res_, acc_, o);
+                              nullptr, 0, nullptr, res_, acc_, o, counted);
+                   o.counts = {};
                    if (vp.pass == 0 && write_files_ && job_.write_view_images)  // packed here, on the worker
                      o.packed_ids = pack_bytes(o.image.ids.data(), o.image.ids.size() * sizeof(uint32_t));
                  });

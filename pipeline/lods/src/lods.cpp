@@ -119,6 +119,14 @@ void DistanceRun::label() {
   judged_ = std::move(lr_.views);
   lr_.views.clear();
   r_.seconds_label = since(t0);
+  // Labels made by each building's own views alone leave no whole-model
+  // view to judge from: without held-out views, the labelling view set
+  // framed on the model judges (as it did when those views counted).
+  if (judged_.empty() && job_.judge_views.empty()) {
+    const auto t_record = Clock::now();
+    judged_ = record_views(tools_.renderer, scene_, lj_.views, framing_of(lj_), "labelling");
+    r_.seconds_compare += since(t_record);
+  }
 }
 
 // The asked bounds at this distance, with keep_undisplayable: auto decided.

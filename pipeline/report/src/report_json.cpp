@@ -151,6 +151,7 @@ nlohmann::json label_report_json(const LabelReport& r) {
   if (r.automatic) j["sampling_chosen"] = r.sampling_chosen;
   for (const ViewLabelling& v : r.views) j["views"].push_back(view_labelling_json(v));
   if (r.per_building) {
+    j["model_views_counted"] = r.model_views_counted;
     j["per_building"] = nlohmann::json::array();
     for (const BuildingLabelling& b : r.buildings) j["per_building"].push_back(building_labelling_json(b, r.automatic));
   }

@@ -156,6 +156,16 @@ struct LabelJob {
   // group_span, stay in the district; its hidden members' own views are
   // alone too. false: own views in place, neighbours drawn and occluding.
   bool own_views_alone = kDefaultOwnViewsAlone;
+  // When every building is labelled from its own views alone (per building,
+  // own_views_alone, group_span 0), whether the whole-model views count
+  // towards the labels too (0.5.0's labels; tests compare). false: they are
+  // drawn only for the pictures a job writes (and with `verify`, the
+  // octree-Embree agreement), and count nothing: every
+  // triangle is seen from `distance` in its building's own views, where the
+  // whole-model views see all but the front row from farther away, and
+  // they and their judging took two fifths of a district's run
+  // (docs/usage.md#own-views-of-the-building-alone).
+  bool model_views_beside_alone = false;
   double distance = 56;
   double ratio = 0.5;                 // imperceptible / traced >= ratio -> imperceptible
   CombineViews combine = CombineViews::AnyView;  // the paper's; run and label take kDefaultCombineViews
@@ -235,6 +245,9 @@ struct LabelReport {
   std::map<std::string, size_t> sampling_chosen;  // samples auto: views per setting
   std::vector<ViewLabelling> views;    // whole-model views and tiles, in order
   bool per_building = false;           // buildings below were labelled from their own views
+  // Whether `views` counted towards the labels (false: each building's own
+  // views alone made them, and `views` were drawn for their pictures only).
+  bool model_views_counted = true;
   std::vector<BuildingLabelling> buildings;
   LabelCounts labels;                  // the combined labels
   size_t outside_views = 0;
@@ -267,7 +280,7 @@ struct LabelResult {
   std::vector<Label> labels;               // combined over views
   std::vector<IdBuffer> id_buffers;        // per labelling view and tile, when view images are written
   TriangleCounts totals;                   // summed over views, in samples (samples auto: in 1/16 px)
-  std::vector<ViewRecord> views;           // whole-model views (and tiles), in job.views order
+  std::vector<ViewRecord> views;           // whole-model views (and tiles) that counted, in job.views order
   size_t outside_views = 0;                // triangles in no view's frustum (labelled imperceptible)
   LabelReport report;                      // per view: pixels, fractions, agreement, timings
 };
@@ -294,7 +307,10 @@ Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionS
 //  * a triangle no view's frustum contains is never undisplayable: it is
 //    labelled imperceptible and counted in outside_views;
 //  * per building (job.per_building): each building is also labelled from
-//    its own framed views, counting only its own triangles.
+//    its own framed views, counting only its own triangles; when each is
+//    labelled from views of it alone (own_views_alone, group_span 0), its
+//    own views alone make its labels, and the whole-model views are drawn
+//    only for the files they write (unless model_views_beside_alone).
 // Uploads `scene` to `renderer`, where it stays for write_label_outputs.
 // Writes the renders and perception images of each whole-model view when
 // job.out.dir is set.
