@@ -280,6 +280,13 @@ TEST(CliBatch, TwoHousesAreLabelledFromTheirOwnViewsAndJudgedFromHeldOutViews) {
     return std::string(std::istreambuf_iterator<char>(f), {});
   };
   EXPECT_EQ(bytes(b.root / "none" / "two_labels_56m.txt"), bytes(b.root / "held" / "two_labels_56m.txt"));
+  // The report page says where the labels came from, and lists no whole-
+  // model view as a labelling one when none was drawn.
+  const std::string page = bytes(b.root / "none" / "two_report.html");
+  EXPECT_NE(page.find("Each of the 2 buildings was labelled from its own views of it alone (8 views in all)"),
+            std::string::npos);
+  EXPECT_EQ(page.find("labelling view</th>"), std::string::npos);
+  EXPECT_NE(bytes(b.root / "held" / "two_report.html").find("listed for their pictures only"), std::string::npos);
 }
 
 TEST(CliBatch, CityJsonModelsTakeTheirLodFromTheConfig) {

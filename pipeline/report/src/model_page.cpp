@@ -414,7 +414,18 @@ void write_distance_section(std::ostringstream& s, const json& l, const OutputNa
   s << "<h3>Fidelity: the LOD against the original, per judged view</h3>\n" << fidelity_table(l);
   s << tries_table(l, "fidelity_search", "Fidelity target search");
   s << tries_table(l, "tighten_to_limits", "Tightened to the limits (the asked bounds first)");
-  s << "<h3>Labelling</h3>\n" << label_views_table(l);
+  s << "<h3>Labelling</h3>\n";
+  // Labels of buildings alone come from their own views: the whole-model
+  // views (if any are listed) were drawn for their pictures only.
+  if (const json* c = member(l, "model_views_counted"); c && c->is_boolean() && !c->get<bool>()) {
+    size_t views = 0;
+    for (const auto& b : list(l, "per_building")) views += size_t(num(b, "views"));
+    s << "<p class=\"muted\">Each of the " << list(l, "per_building").size()
+      << " buildings was labelled from its own views of it alone (" << views
+      << " views in all); the whole-model views count nothing"
+      << (list(l, "views").empty() ? "." : " and are listed for their pictures only.") << "</p>\n";
+  }
+  if (!list(l, "views").empty()) s << label_views_table(l);
   s << images_section(l, d, names);
   s << "</section>\n";
 }
