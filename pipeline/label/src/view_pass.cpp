@@ -299,8 +299,8 @@ size_t count_samples(const Scene& scene, const LabelJob& job, const TracePlan& p
     add_drawn_but_missed(out.image.ids.data(), out.perception.mask.data(), pixels, owner, building, counts);
   }
   if (!finds_unsampled_surface(job)) return 0;
-  return add_unsampled_surface(scene, cam, held_part(out, cam), out.image.depth.data(), out.image.ids.data(), out.perception.mask.data(),
-                               owner, building, counts);
+  return add_unsampled_surface(scene, cam, held_part(out, cam), out.image.depth.data(), out.image.ids.data(),
+                               out.perception.mask.data(), owner, building, counts);
 }
 
 // With samples auto the views' sample counts differ (4 or 16 a pixel): the
