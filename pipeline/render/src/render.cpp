@@ -118,8 +118,17 @@ struct Renderer::Impl {
       throw RenderError("OSMesaMakeCurrent failed");
   }
 
-  void resize(int w, int h) {
-    if (w == fb_w && h == fb_h) return;
+  // Makes the framebuffer hold a w x h frame in its bottom-left corner (the
+  // viewport). A new one has room to grow by an eighth, in llvmpipe's
+  // 64-pixel tiles; one that holds the frame and is at most twice the area
+  // a new one would have is kept. A building's views from 21 directions are
+  // of many sizes, and reallocating three attachments for each cost
+  // llvmpipe more than clearing the larger buffer does.
+  static int room(int n) { return std::min(16384, (n + n / 8 + 63) / 64 * 64); }
+  void fit(int w, int h) {
+    if (w <= fb_w && h <= fb_h && double(fb_w) * fb_h <= 2.0 * double(room(w)) * room(h)) return;
+    w = room(w);
+    h = room(h);
     if (fbo) {
       glDeleteFramebuffers(1, &fbo);
       GLuint rbs[3] = {rb_color, rb_id, rb_depth};
@@ -261,7 +270,7 @@ RenderOutput Renderer::render(const Camera& cam, const RenderOptions& opt) {
 namespace {
 
 // Clears the framebuffer's colour to the background, its IDs to 0 and its
-// depth to 0 (reversed-Z far), at the camera's size.
+// depth to 0 (reversed-Z far), and sets the viewport to the camera's frame.
 void clear_framebuffer(GLuint fbo, const Camera& cam, const std::array<uint8_t, 3>& background) {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glViewport(0, 0, cam.width, cam.height);
@@ -425,12 +434,13 @@ void Renderer::render(const Camera& cam, RenderOutput& out, const RenderOptions&
     throw RenderError("bad image size " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
   auto t0 = std::chrono::steady_clock::now();
   I.make_current();
-  I.resize(cam.width, cam.height);
+  I.fit(cam.width, cam.height);
   I.select_colors(opt);
 
   const GlRect part = part_of(cam, opt);
   // The whole framebuffer is cleared (llvmpipe clears whole tiles at once; a
-  // scissored clear draws a quad), the draw scissored to the part.
+  // scissored clear draws a quad, slower than clearing twice the area), the
+  // draw scissored to the part.
   clear_framebuffer(I.fbo, cam, opt.background);
   const bool scissor = part.w != cam.width || part.h != cam.height;
   if (scissor) {
