@@ -489,13 +489,22 @@ Scene studded_wall() {
 }
 
 // The window a mask-per-sample pass renders perceives as the whole frame
-// does over the model: the same mask on every pixel the model covers.
+// does over the model: the same mask on every pixel the model covers. So
+// does the narrower window of a model alone (nothing drawn beyond its box).
 TEST(ViewSets, PerceptionWindowPerceivesAsTheWholeFrameOverTheModel) {
+  for (bool alone : {false, true}) {
+  SCOPED_TRACE(alone ? "alone" : "in place");
   const Scene s = studded_wall();
   const LabelJob job = job_for("az30el30", 120, 1);
   const Camera whole = frame_view(scene_bounds(s), UpAxis::Z, "az30el30", job.distance, job.display)[0].camera;
-  const Camera win = perception_window(whole, scene_bounds(s), job.perception);
+  const Camera win = perception_window(whole, scene_bounds(s), job.perception, alone);
   ASSERT_LT(win.width * win.height, whole.width * whole.height);  // the model leaves part of the frame
+  if (alone) {  // half the margin on either side (the wall fills the frame's height)
+    const Camera wide = perception_window(whole, scene_bounds(s), job.perception);
+    const int align = 1 << default_levels(0.5 * job.display.pixels_per_degree(), job.perception.k);
+    EXPECT_NEAR(wide.width - win.width, 12 * align, align);
+    EXPECT_LE(win.height, wide.height);
+  }
   const int x0 = int(std::lround(win.shift_x - 0.5 * (win.width - whole.width)));
   const int y0 = int(std::lround(win.shift_y - 0.5 * (win.height - whole.height)));
   Renderer r;
@@ -517,6 +526,7 @@ TEST(ViewSets, PerceptionWindowPerceivesAsTheWholeFrameOverTheModel) {
   EXPECT_GT(covered, 1000u);
   EXPECT_EQ(ids_differ, 0u);
   EXPECT_EQ(differ, 0u) << "of " << covered;
+  }
 }
 
 // One render at s times the resolution holds the s x s renders at

@@ -523,6 +523,9 @@ size_t SceneLabeller::add_framed_view(const Bounds& box, const std::vector<uint3
   const std::vector<ViewTile> tiles = frame_view(box, job_.up, job_.views[v], distance, job_.display);
   for (const ViewTile& tile : tiles) {
     if (!out.alone) out.eyes_inside += eye_inside_other(tile.camera, boxes, own);
+    // The sampling is chosen on the window a view in place has, whose work
+    // it estimates; a view of the building alone draws the narrower window
+    // (perception_window's `alone`), and samples as the wider one would.
     const Camera window = perception_window(tile.camera, box, ps_);
     const ViewSampling vs = sampling_of(job_, tile.camera, window, triangles);
     if (automatic_) ++out.chosen[sampling_name(vs)];
@@ -534,10 +537,11 @@ size_t SceneLabeller::add_framed_view(const Bounds& box, const std::vector<uint3
     // samples can hit the box (box_rect) lies in it.
     PixelRect part;
     if (out.window) {
-      const PixelRect w = window_rect(tile.camera, box, ps_), r = box_rect(tile.camera, box);
+      const PixelRect w = window_rect(tile.camera, box, ps_, out.alone), r = box_rect(tile.camera, box);
       if (inside(r, w)) part = w;
     }
-    add_view_passes(out.names.size(), tile.camera, window, vs, out.passes, part);
+    add_view_passes(out.names.size(), tile.camera, out.alone ? perception_window(tile.camera, box, ps_, true) : window,
+                    vs, out.passes, part);
     out.names.push_back(tile.name);
   }
   return tiles.size();

@@ -169,10 +169,16 @@ using detail::PixelRect;
 
 namespace {
 // perception_window's part of the frame; none when a box corner is behind
-// the eye (or the box is outside the frame).
-std::optional<PixelRect> window_part(const Camera& cam, const Bounds& box, const PerceptionSettings& ps) {
+// the eye (or the box is outside the frame). The margin is 12 x 2^L pixels,
+// more than the reach R of the L-level DWT, its CSF filters and its
+// inverse. Around a box that holds everything drawn (`alone`) half of it
+// does: the frame is background beyond the box, and the whole-sample
+// symmetric extension at a window's edge reflects pixels from within the
+// margin, so a pixel of the box reads background up to twice the margin
+// out, as in the whole frame.
+std::optional<PixelRect> window_part(const Camera& cam, const Bounds& box, const PerceptionSettings& ps, bool alone) {
   const int levels = ps.levels > 0 ? ps.levels : default_levels(0.5 * ps.ppd, ps.k);
-  const int align = 1 << std::min(levels, 10), margin = 12 * align;
+  const int align = 1 << std::min(levels, 10), margin = (alone ? 6 : 12) * align;
   double lo[2], hi[2];
   if (!detail::projected_extent(cam, box, false, lo, hi)) return std::nullopt;
   const int size[2] = {cam.width, cam.height};
@@ -186,12 +192,12 @@ std::optional<PixelRect> window_part(const Camera& cam, const Bounds& box, const
 }
 }  // namespace
 
-PixelRect detail::window_rect(const Camera& cam, const Bounds& box, const PerceptionSettings& ps) {
-  return window_part(cam, box, ps).value_or(PixelRect{0, 0, cam.width, cam.height});
+PixelRect detail::window_rect(const Camera& cam, const Bounds& box, const PerceptionSettings& ps, bool alone) {
+  return window_part(cam, box, ps, alone).value_or(PixelRect{0, 0, cam.width, cam.height});
 }
 
-Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps) {
-  const std::optional<PixelRect> r = window_part(cam, box, ps);
+Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps, bool alone) {
+  const std::optional<PixelRect> r = window_part(cam, box, ps, alone);
   return r ? cropped(cam, r->x, r->y, r->w, r->h) : cam;
 }
 

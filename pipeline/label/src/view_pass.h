@@ -119,7 +119,7 @@ PixelRect box_rect(const Camera& cam, const Bounds& box);
 
 // The part of `cam`'s frame perception_window keeps around `box` (the
 // whole frame when a box corner is behind the eye).
-PixelRect window_rect(const Camera& cam, const Bounds& box, const PerceptionSettings& ps);
+PixelRect window_rect(const Camera& cam, const Bounds& box, const PerceptionSettings& ps, bool alone = false);
 
 // One render of a view to label: pass `pass` of the view's `passes`
 // (its first stands for the view in the records, images and report).

@@ -289,8 +289,10 @@ struct LabelResult {
 // projects, widened by 12 x 2^L pixels (more than the reach of the L-level
 // DWT of `ps`, its CSF filters and its inverse) and with its corner on the
 // DWT's 2^L grid, so its perception equals the whole frame's over the box.
-// The whole camera when a box corner is behind the eye.
-Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps);
+// With `alone` (nothing is drawn outside `box`: a building's own view of it
+// alone) by 6 x 2^L, which gives the same perception there. The whole
+// camera when a box corner is behind the eye.
+Camera perception_window(const Camera& cam, const Bounds& box, const PerceptionSettings& ps, bool alone = false);
 
 // Labels every triangle of `scene` from the job's views at one distance
 // (docs/method.md section 4):
