@@ -275,6 +275,33 @@ TEST(Render, APartOfTheFrameIsTheWholeFramesPixels) {
   }
 }
 
+// A renderer keeps its framebuffer while a frame fits in it and draws in its
+// corner: frames drawn after larger ones (and a larger one after them) are
+// those a new renderer draws, pixel for pixel.
+TEST(Render, FramesOfManySizesDrawAsOnAFreshRenderer) {
+  Scene s;
+  for (int j = 0; j < 12; ++j)
+    for (int i = 0; i < 20; ++i) add_quad(s, 0.5f * i, 0.5f * j, 0.5f * i + 0.43f, 0.5f * j + 0.41f, 0.05f * (i % 3));
+  RenderOptions opt;
+  opt.want_depth = true;
+  std::vector<Camera> cams;
+  for (auto [w, h] : {std::array{400, 300}, {211, 163}, {150, 290}, {97, 61}, {401, 299}, {64, 64}, {500, 40}})
+    cams.push_back(look_at({4.0, 1.0, 9.0}, {5.0, 3.0, 0.0}, {0, 1, 0}, 0.7, w, h, 0.5, 50));
+  Renderer kept;
+  kept.set_scene(s);
+  for (const Camera& cam : cams) {
+    Renderer fresh;
+    fresh.set_scene(s);
+    const RenderOutput a = kept.render(cam, opt), b = fresh.render(cam, opt);
+    size_t covered = 0;
+    for (uint32_t id : a.ids) covered += id != 0;
+    EXPECT_GT(covered, a.ids.size() / 20) << cam.width << "x" << cam.height;
+    EXPECT_EQ(a.ids, b.ids) << cam.width << "x" << cam.height;
+    EXPECT_EQ(a.rgb, b.rgb) << cam.width << "x" << cam.height;
+    EXPECT_EQ(a.depth, b.depth) << cam.width << "x" << cam.height;
+  }
+}
+
 // The renderer keeps its own copies: a scene without component or material
 // arrays (Scene's contract: one component, the default material) draws, and
 // the scene may be destroyed between set_scene and render.

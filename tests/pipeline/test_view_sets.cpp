@@ -493,39 +493,39 @@ Scene studded_wall() {
 // does the narrower window of a model alone (nothing drawn beyond its box).
 TEST(ViewSets, PerceptionWindowPerceivesAsTheWholeFrameOverTheModel) {
   for (bool alone : {false, true}) {
-  SCOPED_TRACE(alone ? "alone" : "in place");
-  const Scene s = studded_wall();
-  const LabelJob job = job_for("az30el30", 120, 1);
-  const Camera whole = frame_view(scene_bounds(s), UpAxis::Z, "az30el30", job.distance, job.display)[0].camera;
-  const Camera win = perception_window(whole, scene_bounds(s), job.perception, alone);
-  ASSERT_LT(win.width * win.height, whole.width * whole.height);  // the model leaves part of the frame
-  if (alone) {  // half the margin on either side (the wall fills the frame's height)
-    const Camera wide = perception_window(whole, scene_bounds(s), job.perception);
-    const int align = 1 << default_levels(0.5 * job.display.pixels_per_degree(), job.perception.k);
-    EXPECT_NEAR(wide.width - win.width, 12 * align, align);
-    EXPECT_LE(win.height, wide.height);
-  }
-  const int x0 = int(std::lround(win.shift_x - 0.5 * (win.width - whole.width)));
-  const int y0 = int(std::lround(win.shift_y - 0.5 * (win.height - whole.height)));
-  Renderer r;
-  r.set_scene(s);
-  RenderOutput a, b;
-  r.render(whole, a, {});
-  r.render(win, b, {});
-  const PerceptionResult pa = perceive(a.rgb.data(), a.width, a.height, job.perception);
-  const PerceptionResult pb = perceive(b.rgb.data(), b.width, b.height, job.perception);
-  size_t covered = 0, differ = 0, ids_differ = 0;
-  for (int y = 0; y < win.height; ++y)
-    for (int x = 0; x < win.width; ++x) {
-      const size_t i = size_t(y) * win.width + x, j = size_t(y + y0) * whole.width + x + x0;
-      ids_differ += a.ids[j] != b.ids[i];
-      if (!a.ids[j]) continue;
-      ++covered;
-      differ += pa.mask[j] != pb.mask[i];
+    SCOPED_TRACE(alone ? "alone" : "in place");
+    const Scene s = studded_wall();
+    const LabelJob job = job_for("az30el30", 120, 1);
+    const Camera whole = frame_view(scene_bounds(s), UpAxis::Z, "az30el30", job.distance, job.display)[0].camera;
+    const Camera win = perception_window(whole, scene_bounds(s), job.perception, alone);
+    ASSERT_LT(win.width * win.height, whole.width * whole.height);  // the model leaves part of the frame
+    if (alone) {  // half the margin on either side (the wall fills the frame's height)
+      const Camera wide = perception_window(whole, scene_bounds(s), job.perception);
+      const int align = 1 << default_levels(0.5 * job.display.pixels_per_degree(), job.perception.k);
+      EXPECT_NEAR(wide.width - win.width, 12 * align, align);
+      EXPECT_LE(win.height, wide.height);
     }
-  EXPECT_GT(covered, 1000u);
-  EXPECT_EQ(ids_differ, 0u);
-  EXPECT_EQ(differ, 0u) << "of " << covered;
+    const int x0 = int(std::lround(win.shift_x - 0.5 * (win.width - whole.width)));
+    const int y0 = int(std::lround(win.shift_y - 0.5 * (win.height - whole.height)));
+    Renderer r;
+    r.set_scene(s);
+    RenderOutput a, b;
+    r.render(whole, a, {});
+    r.render(win, b, {});
+    const PerceptionResult pa = perceive(a.rgb.data(), a.width, a.height, job.perception);
+    const PerceptionResult pb = perceive(b.rgb.data(), b.width, b.height, job.perception);
+    size_t covered = 0, differ = 0, ids_differ = 0;
+    for (int y = 0; y < win.height; ++y)
+      for (int x = 0; x < win.width; ++x) {
+        const size_t i = size_t(y) * win.width + x, j = size_t(y + y0) * whole.width + x + x0;
+        ids_differ += a.ids[j] != b.ids[i];
+        if (!a.ids[j]) continue;
+        ++covered;
+        differ += pa.mask[j] != pb.mask[i];
+      }
+    EXPECT_GT(covered, 1000u);
+    EXPECT_EQ(ids_differ, 0u);
+    EXPECT_EQ(differ, 0u) << "of " << covered;
   }
 }
 
