@@ -156,6 +156,9 @@ constexpr int kTile = 32;
 constexpr int kTilePixels = kTile * kTile;
 constexpr int kMaxSamples = OctreeTracer::kMaxSamples;  // sample_offsets' largest pattern
 constexpr int kTieKeep = 3;     // hits remembered besides the nearest, per sample
+// An octree walk's stack: 7 siblings waiting at each of max_depth <= 20
+// levels, and the 8 children of the deepest.
+constexpr int kOctreeStack = 7 * 20 + 8;
 constexpr uint8_t kTieOverflow = 255;  // Tile::tie: more than kTieKeep, walk again
 
 // Per sample s and pixel p of the tile, entry q = s * kTilePixels + p.
@@ -973,7 +976,7 @@ void walk_tile(const Structure& s, const Frame& f, Tile& tile, Scratch& scratch)
   update_tile_tmax(f, tile);
   double near;
   PixelRect rect;
-  uint32_t stack[128];
+  uint32_t stack[kOctreeStack];
   int top = 0;
   if (!s.octree.empty() && !s.tris.empty()) stack[top++] = 0;
   while (top > 0) {

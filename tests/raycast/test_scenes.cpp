@@ -520,6 +520,31 @@ TEST(RaycastScenes, OctreeSettingsDoNotChangeResults) {
   EXPECT_GT(OctreeTracer(s, tiny_leaves).stats().bvh_nodes, OctreeTracer(s).stats().bvh_nodes);
 }
 
+// At the deepest octree OctreeOptions allows (20 levels) a walk keeps 7
+// siblings waiting at every level: boxes along the diagonal at 2^-k (k = 0
+// .. 24), each split from the ones nearer the origin at level k, seen from
+// just beyond the origin, where every level's cell is wider than a pixel, so
+// the walk descends the whole chain first. It finds the oracle's hits and
+// its stack holds (128 entries overflowed here; the ASan stage checks the
+// bounds).
+TEST(RaycastScenes, TheDeepestOctreeIsWalkedWhole) {
+  Scene s;
+  add_box(s, V3(0, 0, 0), V3(1e-9, 1e-9, 1e-9), 0);
+  for (int k = 0; k <= 24; ++k) {
+    const double a = std::ldexp(1.0, -k);
+    add_box(s, V3(a, a, a), V3(1.5 * a, 1.5 * a, 1.5 * a), uint32_t(k + 1));
+  }
+  OctreeOptions deepest;
+  deepest.max_depth = 20;
+  deepest.max_components_per_leaf = 1;
+  const OctreeTracer oct(s, deepest);
+  ASSERT_EQ(oct.stats().depth_reached, 20);
+  const Camera cam = look_at(V3(-1e-7, -1e-7, -1e-7), V3(1, 1, 1), V3(0, 0, 1), 0.3, 32, 32, 1e-9, 10);
+  const auto expected = BruteForceTracer(s).trace(cam);
+  ASSERT_GT(count_nonzero(expected), 20u);
+  EXPECT_EQ(oct.trace(cam), expected);
+}
+
 }  // namespace
 }  // namespace perclod::test
 
