@@ -415,7 +415,7 @@ void SceneLabeller::label_model_views() {
     pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid()); },
                  [&](ViewOutcome& o) {
                    count_view(scene_, tracer_, reference_, job_, vp.sampling, tiles_[vp.tile].name, vp.camera,
-                              nullptr, 0, nullptr, res_, acc_, o, counted);
+                              nullptr, 0, nullptr, counted ? &res_ : nullptr, counted ? &acc_ : nullptr, o);
                    o.counts = {};
                    if (vp.pass == 0 && write_files_ && job_.write_view_images)  // packed here, on the worker
                      o.packed_ids = pack_bytes(o.image.ids.data(), o.image.ids.size() * sizeof(uint32_t));
@@ -593,7 +593,7 @@ void SceneLabeller::count_group(uint32_t u, const LabelUnits& units, const Build
     pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, true, o, vp.grid()); },
                  [&, k](ViewOutcome& o) {
                    count_view(scene_, tracer_, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera,
-                              &units.owner, u, &units.box[u], res_, acc_, o, false);
+                              &units.owner, u, &units.box[u], nullptr, nullptr, o);
                    TriangleCounts& kept = gv.kept[k];
                    kept.traced.resize(gv.tris.size());
                    kept.imperceptible.resize(gv.tris.size());
@@ -619,7 +619,7 @@ void SceneLabeller::count_in_place(const std::vector<uint32_t>& owner, uint32_t 
     pipeline.add([&](ViewOutcome& o) { see_view(renderer_, ps_, vp.camera, depth_, o, vp.grid(), vp.part); },
                  [&](ViewOutcome& o) {
                    count_view(scene_, tracer_, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera, &owner,
-                              unit, &box, res_, acc_, o);
+                              unit, &box, &res_, &acc_, o);
                  });
   }
   pipeline.drain();
@@ -636,14 +636,12 @@ void SceneLabeller::count_alone(uint32_t building, const BuildingTriangles& bt, 
   lane.renderer->set_scene(alone.scene);
   const OctreeTracer tracer(alone.scene);
   const std::vector<uint32_t> all_one(alone.triangle.size(), 0);  // every triangle of it is the building's
-  LabelResult unused;
-  Accumulator unused_acc(0);
   for (size_t k = from; k < own.passes.size(); ++k) {
     const ViewPass& vp = own.passes[k];
     pipeline.add([&](ViewOutcome& o) { see_view(*lane.renderer, ps_, vp.camera, depth_, o, vp.grid(), vp.part); },
                  [&](ViewOutcome& o) {
                    count_view(alone.scene, tracer, nullptr, job_, vp.sampling, own.names[vp.tile], vp.camera,
-                              &all_one, 0, &bt.box[building], unused, unused_acc, o, false);
+                              &all_one, 0, &bt.box[building], nullptr, nullptr, o);
                    add_part_counts(alone.scene, alone.triangle, job_, vp.sampling, vp.camera, o.counts, res_, acc_);
                  });
   }

@@ -383,8 +383,10 @@ void verify_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* r
 
 void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
                 const ViewSampling& vs, const std::string& name, const Camera& cam,
-                const std::vector<uint32_t>* owner, uint32_t building, const Bounds* own_box, LabelResult& res,
-                Accumulator& acc, ViewOutcome& out, bool add) {
+                const std::vector<uint32_t>* owner, uint32_t building, const Bounds* own_box, LabelResult* res,
+                Accumulator* acc, ViewOutcome& out) {
+  if ((res == nullptr) != (acc == nullptr)) throw std::logic_error("count_view: res and acc go together");
+  const bool add = res != nullptr;
   const size_t nt = scene.triangle_count();
   const double t_render = out.t_render, t_perceive = out.t_perceive;
   const size_t pixels = size_t(out.image.width) * out.image.height;
@@ -397,7 +399,7 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   const double t_trace = since(t0);
 
   const std::vector<Label> labels = label_triangles(counts, job.ratio);
-  if (add) add_view_counts(scene, job, vs, cam, owner, building, counts, labels, res, acc);
+  if (add) add_view_counts(scene, job, vs, cam, owner, building, counts, labels, *res, *acc);
   ViewLabelling& r = out.report;
   r = ViewLabelling{};
   r.view = name;

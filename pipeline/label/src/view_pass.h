@@ -55,7 +55,7 @@ struct ViewOutcome {
   std::vector<std::vector<uint8_t>> more_masks;
   double t_render = 0, t_perceive = 0;
   ViewLabelling report;
-  TriangleCounts counts;  // count_view's, when told not to add them (add = false)
+  TriangleCounts counts;  // count_view's, when given nowhere to add them
 };
 
 // Labels views one after another with the two halves overlapped: while a
@@ -153,14 +153,15 @@ void see_view(Renderer& renderer, const PerceptionSettings& ps, const Camera& ca
 // The second half, on any thread: trace the view seen by see_view at
 // vs.samples samples per pixel (with vs.mask_per_sample, `cam` is one
 // sample pass, traced at its pixel centres); adds its counts and labels for
-// the triangles of `owner[t] == building` (all when `owner` is null). With
-// `own_box` (the building's box) only the pixels where that box projects are
-// traced: no other sample can hit the building. add = false leaves the
-// counts in out.counts for the caller to add (add_view_counts) instead.
+// the triangles of `owner[t] == building` (all when `owner` is null) to
+// `res` and `acc`. With `own_box` (the building's box) only the pixels where
+// that box projects are traced: no other sample can hit the building. With
+// `res` and `acc` null the counts are left in out.counts for the caller to
+// add (add_view_counts) instead.
 void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* reference, const LabelJob& job,
                 const ViewSampling& vs, const std::string& name, const Camera& cam,
-                const std::vector<uint32_t>* owner, uint32_t building, const Bounds* own_box, LabelResult& res,
-                Accumulator& acc, ViewOutcome& out, bool add = true);
+                const std::vector<uint32_t>* owner, uint32_t building, const Bounds* own_box, LabelResult* res,
+                Accumulator* acc, ViewOutcome& out);
 
 // Adds one view's counts of the triangles of `owner[t] == building` (all
 // when `owner` is null) to the totals, their labels (from `labels`) to the
