@@ -156,9 +156,11 @@ constexpr int kTile = 32;
 constexpr int kTilePixels = kTile * kTile;
 constexpr int kMaxSamples = OctreeTracer::kMaxSamples;  // sample_offsets' largest pattern
 constexpr int kTieKeep = 3;     // hits remembered besides the nearest, per sample
-// An octree walk's stack: 7 siblings waiting at each of max_depth <= 20
-// levels, and the 8 children of the deepest.
-constexpr int kOctreeStack = 7 * 20 + 8;
+// The deepest octree OctreeOptions::max_depth may ask for, and so a walk's
+// stack: 7 siblings waiting at each of its levels, and the 8 children of
+// the deepest.
+constexpr int kMaxOctreeDepth = 20;
+constexpr int kOctreeStack = 7 * kMaxOctreeDepth + 8;
 constexpr uint8_t kTieOverflow = 255;  // Tile::tie: more than kTieKeep, walk again
 
 // Per sample s and pixel p of the tile, entry q = s * kTilePixels + p.
@@ -1061,9 +1063,9 @@ void OctreeTracer::Impl::trace(const Camera& cam, const std::array<double, 2>* o
 
 OctreeTracer::OctreeTracer(const Scene& scene, const OctreeOptions& options)
     : impl_(std::make_unique<Impl>()) {
-  if (options.max_depth < 0 || options.max_depth > 20)
+  if (options.max_depth < 0 || options.max_depth > kMaxOctreeDepth)
     throw std::invalid_argument("octree: max_depth " + std::to_string(options.max_depth) +
-                                " must lie in [0, 20]");
+                                " must lie in [0, " + std::to_string(kMaxOctreeDepth) + "]");
   if (options.max_components_per_leaf < 1)
     throw std::invalid_argument("octree: max_components_per_leaf must be at least 1");
   if (options.max_triangles_per_bvh_leaf < 1 || options.max_triangles_per_bvh_leaf > (1 << 20))
