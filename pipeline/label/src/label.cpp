@@ -149,39 +149,15 @@ bool eye_inside_other(const Camera& cam, const std::vector<Bounds>& box, const s
   return false;
 }
 
-// One building as a scene of its own: its triangles (`triangles` of the
-// model, which `triangle` keeps) on its own vertices, with their components
-// and materials. `vertex`: the model's vertex -> the building's, all
-// UINT32_MAX on entry and again on return (kept by the caller, so a
-// district's buildings do not each fill one the size of the district).
+// One building as a scene of its own (subset_scene): its triangles
+// (`triangles` of the model, which `triangle` keeps) on its own vertices.
 struct BuildingAlone {
   Scene scene;
   std::vector<uint32_t> triangle;
 };
 BuildingAlone building_alone(const Scene& scene, const std::vector<uint32_t>& triangles,
                              std::vector<uint32_t>& vertex) {
-  BuildingAlone a;
-  a.scene.component_names = scene.component_names;
-  a.scene.materials = scene.materials;
-  a.scene.offset = scene.offset;
-  a.triangle = triangles;
-  vertex.resize(scene.vertex_count(), UINT32_MAX);
-  for (const uint32_t t : triangles) {
-    for (int c = 0; c < 3; ++c) {
-      const uint32_t v = scene.indices[3 * size_t(t) + c];
-      if (vertex[v] == UINT32_MAX) {
-        vertex[v] = uint32_t(a.scene.positions.size() / 3);
-        a.scene.positions.insert(a.scene.positions.end(), &scene.positions[3 * size_t(v)],
-                                 &scene.positions[3 * size_t(v)] + 3);
-      }
-      a.scene.indices.push_back(vertex[v]);
-    }
-    if (!scene.component.empty()) a.scene.component.push_back(scene.component[t]);
-    if (!scene.material.empty()) a.scene.material.push_back(scene.material[t]);
-  }
-  for (const uint32_t t : triangles)
-    for (int c = 0; c < 3; ++c) vertex[scene.indices[3 * size_t(t) + c]] = UINT32_MAX;
-  return a;
+  return {subset_scene(scene, triangles, vertex), triangles};
 }
 
 // How well a group's view saw one of its buildings, over the pixels whose

@@ -116,6 +116,34 @@ struct Bounds {
   }
 };
 
+// Some triangles of `s` (`triangles`, indices into s) as a scene of their
+// own, on their own vertices, with their components and materials (the same
+// names and materials, so component ids keep their meaning). `vertex`: s's
+// vertex -> the subset's, all UINT32_MAX on entry and again on return (kept
+// by a caller taking many subsets, so each does not fill one the size of s).
+inline Scene subset_scene(const Scene& s, const std::vector<uint32_t>& triangles, std::vector<uint32_t>& vertex) {
+  Scene out;
+  out.component_names = s.component_names;
+  out.materials = s.materials;
+  out.offset = s.offset;
+  vertex.resize(s.vertex_count(), UINT32_MAX);
+  for (const uint32_t t : triangles) {
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t v = s.indices[3 * size_t(t) + c];
+      if (vertex[v] == UINT32_MAX) {
+        vertex[v] = uint32_t(out.positions.size() / 3);
+        out.positions.insert(out.positions.end(), &s.positions[3 * size_t(v)], &s.positions[3 * size_t(v)] + 3);
+      }
+      out.indices.push_back(vertex[v]);
+    }
+    if (!s.component.empty()) out.component.push_back(s.component[t]);
+    if (!s.material.empty()) out.material.push_back(s.material[t]);
+  }
+  for (const uint32_t t : triangles)
+    for (int c = 0; c < 3; ++c) vertex[s.indices[3 * size_t(t) + c]] = UINT32_MAX;
+  return out;
+}
+
 // Bounds of the vertices referenced by triangles (unreferenced ones ignored).
 inline Bounds scene_bounds(const Scene& s) {
   if (s.indices.empty()) return Bounds{};
