@@ -757,23 +757,28 @@ class Collapser {
 // A connected piece (faces sharing a vertex) as the removal rule sees it.
 struct Piece {
   bool perceptible = false, all_undisplayable = true, used = false;
+  float scale = INFINITY;  // the least bound_scale of its faces
   Bounds box = Bounds::empty();
 
-  void add(Label l, const float* p) {
+  void add(Label l, const float* p, float face_scale) {
     used = true;
     perceptible |= l == Label::Perceptible;
     all_undisplayable &= l == Label::Undisplayable;
+    scale = std::min(scale, face_scale);
     box.grow(p);
   }
   // No perceptible face, and: Paper mode, or all undisplayable, or (Bounded,
-  // Fidelity) a bounding-box diagonal within the tolerance.
+  // Fidelity) a bounding-box diagonal within the tolerance (times its scale).
   bool removable(SimplifyMode mode, double tolerance) const {
     if (!used || perceptible) return false;
     if (mode == SimplifyMode::Paper || all_undisplayable) return true;
     double dx = box.hi[0] - box.lo[0], dy = box.hi[1] - box.lo[1], dz = box.hi[2] - box.lo[2];
-    return std::sqrt(dx * dx + dy * dy + dz * dz) <= tolerance;
+    return std::sqrt(dx * dx + dy * dy + dz * dz) <= tolerance * double(scale);
   }
 };
+float scale_of(const SimplifyOptions& opt, uint32_t triangle) {
+  return opt.mode != SimplifyMode::Fidelity || opt.bound_scale.empty() ? 1.f : opt.bound_scale[triangle];
+}
 
 // The connected piece (faces sharing a welded vertex) of each of `faces`,
 // named by a welded vertex of it: piece[i] is faces[i]'s.
@@ -790,8 +795,9 @@ std::vector<uint32_t> pieces_of(const Work& w, const std::vector<uint32_t>& face
 // Before the mesh is built: drops the faces of removable pieces of the welded
 // triangle list (and their entries of `piece`, pieces_of's), so no time goes
 // into building and collapsing them.
-void drop_pieces_early(const Work& w, std::vector<uint32_t>& faces, std::vector<uint32_t>& piece, SimplifyMode mode,
-                       double tolerance, SimplifyStats& stats) {
+void drop_pieces_early(const Work& w, std::vector<uint32_t>& faces, std::vector<uint32_t>& piece,
+                       const SimplifyOptions& opt, double tolerance, SimplifyStats& stats) {
+  const SimplifyMode mode = opt.mode;
   // A Piece per piece, not per welded vertex: far fewer, and less memory
   // for a fresh process to touch.
   std::vector<uint32_t> dense(w.weld.positions.size() / 3, UINT32_MAX);
@@ -803,7 +809,8 @@ void drop_pieces_early(const Work& w, std::vector<uint32_t>& faces, std::vector<
       pieces.emplace_back();
     }
     for (int k = 0; k < 3; ++k)
-      pieces[d].add((*w.labels)[faces[i]], &w.weld.positions[3 * size_t(w.weld.corner[3 * size_t(faces[i]) + k])]);
+      pieces[d].add((*w.labels)[faces[i]], &w.weld.positions[3 * size_t(w.weld.corner[3 * size_t(faces[i]) + k])],
+                    scale_of(opt, faces[i]));
   }
   std::vector<uint8_t> drop(pieces.size(), 0);
   for (size_t d = 0; d < pieces.size(); ++d)
@@ -821,8 +828,8 @@ void drop_pieces_early(const Work& w, std::vector<uint32_t>& faces, std::vector<
 
 // After collapsing: deletes the removable pieces of the mesh (collapses can
 // split a piece; non-manifold faces are pieces of their own here).
-void remove_pieces(Model& m, const Work& w, SimplifyMode mode, double tolerance,
-                   SimplifyStats& stats) {
+void remove_pieces(Model& m, const Work& w, const SimplifyOptions& opt, double tolerance, SimplifyStats& stats) {
+  const SimplifyMode mode = opt.mode;
   Mesh& mesh = m.mesh;
   DisjointSets sets(mesh.n_vertices());
   for (FH f : mesh.faces()) {
@@ -832,9 +839,9 @@ void remove_pieces(Model& m, const Work& w, SimplifyMode mode, double tolerance,
   }
   std::vector<Piece> piece(mesh.n_vertices());
   for (FH f : mesh.faces()) {
-    Label l = (*w.labels)[m.face_source[f.idx()]];
+    const uint32_t src = m.face_source[f.idx()];
     Piece& p = piece[sets.find(uint32_t(mesh.cfv_iter(f)->idx()))];
-    for (VH v : mesh.fv_range(f)) p.add(l, mesh.point(v).data());
+    for (VH v : mesh.fv_range(f)) p.add((*w.labels)[src], mesh.point(v).data(), scale_of(opt, src));
   }
   std::vector<uint8_t> drop(mesh.n_vertices(), 0);
   for (size_t i = 0; i < piece.size(); ++i)
@@ -937,9 +944,7 @@ void init_tolerances(Model& m, const Work& w, const SimplifyOptions& opt) {
     m.tol.assign(m.mesh.n_vertices(), opt.k * opt.pixel_footprint);
     return;
   }
-  const double bound[3] = {opt.bound_perceptible_px * opt.pixel_footprint,
-                           opt.bound_imperceptible_px * opt.pixel_footprint,
-                           opt.bound_undisplayable_px * opt.pixel_footprint};
+  const double bound_px[3] = {opt.bound_perceptible_px, opt.bound_imperceptible_px, opt.bound_undisplayable_px};
   // The area budget grows with the square of the label's distance bound
   // (from 1 px up; the default half-pixel bounds keep bound_area_px2): a
   // vertex that may move the surface e px may sweep about e^2 px^2 of it.
@@ -949,15 +954,18 @@ void init_tolerances(Model& m, const Work& w, const SimplifyOptions& opt) {
     const double s = std::max(1.0, bound_px);
     return opt.bound_area_px2 * s * s * px2;
   };
-  const double area[3] = {area_for(opt.bound_perceptible_px), area_for(opt.bound_imperceptible_px), INFINITY};
   m.tol.assign(m.mesh.n_vertices(), INFINITY);
   m.area_budget.assign(m.mesh.n_vertices(), INFINITY);
   m.area_used.assign(m.mesh.n_vertices(), 0.0);
   for (FH f : m.mesh.faces()) {
-    const size_t l = size_t((*w.labels)[m.face_source[f.idx()]]);
+    const uint32_t src = m.face_source[f.idx()];
+    const size_t l = size_t((*w.labels)[src]);
+    // An unbounded label stays unbounded at any scale (no inf * 0).
+    const double px = std::isinf(bound_px[l]) ? bound_px[l] : bound_px[l] * double(scale_of(opt, src));
+    const double tol = px * opt.pixel_footprint, area = l == size_t(Label::Undisplayable) ? INFINITY : area_for(px);
     for (VH v : m.mesh.fv_range(f)) {
-      m.tol[v.idx()] = std::min(m.tol[v.idx()], bound[l]);
-      m.area_budget[v.idx()] = std::min(m.area_budget[v.idx()], area[l]);
+      m.tol[v.idx()] = std::min(m.tol[v.idx()], tol);
+      m.area_budget[v.idx()] = std::min(m.area_budget[v.idx()], area);
     }
   }
 }
@@ -1018,7 +1026,7 @@ void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance,
   // their own: drop those that are removable too. Otherwise the mesh's pieces
   // are the welded ones drop_pieces_early already judged.
   if (labelled && stats.nonmanifold_faces_duplicated + stats.degenerate_faces > 0)
-    remove_pieces(m, w, opt.mode, tolerance, stats);
+    remove_pieces(m, w, opt, tolerance, stats);
   Limits lim;
   lim.cos_normal = std::cos(opt.max_normal_change_deg * kPi / 180.0);
   lim.min_quality = opt.min_triangle_quality;
@@ -1027,7 +1035,7 @@ void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance,
   size_t target = opt.mode == SimplifyMode::Qem ? opt.target_triangles : 0;
   Collapser(m, lim, target).run(stats, opt.explain_stop);
 
-  if (labelled) remove_pieces(m, w, opt.mode, tolerance, stats);
+  if (labelled) remove_pieces(m, w, opt, tolerance, stats);
   c.moved = displacement(m);
   write_result(m, w, keep_perceptible, stats, c.result);
 }
@@ -1080,7 +1088,7 @@ void collapse_simplify(const Work& w, const SimplifyOptions& opt, SimplifyStats&
   std::vector<uint32_t> piece;
   if (labelled || chunk_faces > 0) piece = pieces_of(w, faces);
   // Pieces that will be removed anyway are neither built nor collapsed.
-  if (labelled) drop_pieces_early(w, faces, piece, opt.mode, tolerance, stats);
+  if (labelled) drop_pieces_early(w, faces, piece, opt, tolerance, stats);
   std::vector<std::vector<uint32_t>> parts = split_into_chunks(w, faces, piece, chunk_faces);
   std::vector<uint32_t>().swap(faces);
   std::vector<uint32_t>().swap(piece);

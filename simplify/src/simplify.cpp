@@ -90,6 +90,12 @@ void check_input(const Scene& s, const std::vector<Label>& labels, const Simplif
       fail("fidelity mode needs error bounds >= 0 pixels");
     if (!std::isfinite(opt.bound_perceptible_px) || !std::isfinite(opt.bound_imperceptible_px))
       fail("fidelity mode needs finite bounds for perceptible and imperceptible triangles");
+    if (!opt.bound_scale.empty() && opt.bound_scale.size() != nt)
+      fail("bound_scale holds " + std::to_string(opt.bound_scale.size()) + " factors for " + std::to_string(nt) +
+           " triangles");
+    for (size_t t = 0; t < opt.bound_scale.size(); ++t)
+      if (!(opt.bound_scale[t] >= 0 && std::isfinite(opt.bound_scale[t])))
+        fail("triangle " + std::to_string(t) + " has a bound scale that is not a finite number >= 0");
   }
   if (opt.mode == SimplifyMode::Qem && opt.target_triangles == 0)
     fail("qem mode needs a positive target triangle count");

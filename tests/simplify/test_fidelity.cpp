@@ -2,6 +2,7 @@
 // and qem's report of a target it cannot reach.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <utility>
@@ -239,6 +240,52 @@ TEST(SimplifyFidelity, AreaBudgetGrowsWithTheSquareOfTheBound) {
   EXPECT_NEAR(at8_fixed, before, 4 * px2);  // the fixed budget refused what 8 px allows
   EXPECT_LT(at8, before - 10 * px2);        // measured: 20 px^2 of the 300 go
   EXPECT_GE(at8, at8_free - 1e-9);          // never more than without the rule
+}
+
+// bound_scale tightens some triangles' bounds and leaves the others' as
+// asked: two bumpy grids (components apart, never welded together) at e_I 4
+// px, the second scaled by 1/8, simplify as each does alone at 4 and at 0.5
+// px; a small imperceptible box the first's bound removes stays at its
+// scale 0.1. All ones is no scale; a scale per triangle or none.
+TEST(SimplifyFidelity, BoundScaleTightensOnlyItsTriangles) {
+  auto bumps = [](double x, double y) { return 0.3 * std::sin(1.3 * x) * std::cos(0.9 * y); };
+  Scene in;
+  add_grid(in, 30, 6.0, 0, bumps);
+  const size_t first = in.triangle_count();
+  add_grid(in, 30, 6.0, 1, bumps, 10, 0);
+  const size_t grids = in.triangle_count();
+  add_box(in, {20, 0, 0}, {20.01, 0.01, 0.01}, 2);  // diagonal 0.017 < 0.04
+  std::vector<Label> labels(in.triangle_count(), Label::Imperceptible);
+  const SimplifyOptions loose = fidelity(0.01, 4.0, 4.0), tight = fidelity(0.01, 0.5, 0.5);
+  auto count_of = [](const Scene& out, const std::vector<uint32_t>& src, size_t lo, size_t hi) {
+    return size_t(std::count_if(src.begin(), src.end(), [&](uint32_t t) { return t >= lo && t < hi; }));
+  };
+  std::vector<uint32_t> src_loose, src_tight, src_scaled;
+  const Scene all_loose = simplify(in, labels, loose, nullptr, &src_loose);
+  const Scene all_tight = simplify(in, labels, tight, nullptr, &src_tight);
+  SimplifyOptions scaled = loose;
+  scaled.bound_scale.assign(in.triangle_count(), 1.f);
+  std::fill(scaled.bound_scale.begin() + long(first), scaled.bound_scale.begin() + long(grids), 0.125f);
+  std::fill(scaled.bound_scale.begin() + long(grids), scaled.bound_scale.end(), 0.1f);
+  SimplifyStats st;
+  const Scene out = simplify(in, labels, scaled, &st, &src_scaled);
+  EXPECT_EQ(count_of(out, src_scaled, 0, first), count_of(all_loose, src_loose, 0, first));
+  EXPECT_EQ(count_of(out, src_scaled, first, grids), count_of(all_tight, src_tight, first, grids));
+  EXPECT_LT(count_of(all_loose, src_loose, 0, first), count_of(all_tight, src_tight, first, grids));
+  EXPECT_EQ(count_of(all_loose, src_loose, grids, in.triangle_count()), 0u);  // the box goes at 4 px
+  EXPECT_EQ(count_of(out, src_scaled, grids, in.triangle_count()), 12u);      // and stays at 0.4
+  EXPECT_EQ(st.pieces_removed, 0u);
+
+  SimplifyOptions ones = loose;
+  ones.bound_scale.assign(in.triangle_count(), 1.f);
+  const Scene same = simplify(in, labels, ones);
+  EXPECT_EQ(same.indices, all_loose.indices);
+  EXPECT_EQ(same.positions, all_loose.positions);
+
+  ones.bound_scale.pop_back();
+  EXPECT_THROW(simplify(in, labels, ones), std::invalid_argument);
+  ones.bound_scale.push_back(-1.f);
+  EXPECT_THROW(simplify(in, labels, ones), std::invalid_argument);
 }
 
 TEST(SimplifyFidelity, RefusesBadBounds) {
