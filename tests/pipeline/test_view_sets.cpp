@@ -651,6 +651,69 @@ TEST(ViewSets, BuildingsAloneOnSeveralThreadsLabelAsOnOne) {
   EXPECT_GE(building_lanes(job), 1u);
 }
 
+// Each building's LOD judged alone (judge_buildings_alone): b (16-26 m)
+// loses a plaque on its -x face, which a (0-10 m, 10 m high) hides from a
+// view of the model from -x. Framed on b alone, the -x view sees the plaque
+// go; a's figures stay 0; the model's -x view sees nothing. Two lanes give
+// one lane's figures, in building order.
+TEST(ViewSets, EachBuildingIsJudgedAloneFromViewsFramedOnIt) {
+  Scene s = two_buildings(16, 14);
+  const size_t whole = s.triangle_count();
+  add_box(s, {15.5f, 3, 2}, {16, 7, 4}, 1);  // b's plaque, behind a from -x
+  // A dark plaque: a flat one the walls' colour would look the same head on.
+  s.materials = {Material{"wall", {0.8f, 0.8f, 0.8f}, true}, Material{"plaque", {0.1f, 0.1f, 0.1f}, true}};
+  s.material.assign(s.triangle_count(), 0);
+  std::fill(s.material.begin() + long(whole), s.material.end(), 1u);
+  Scene lod = s;
+  lod.indices.resize(3 * whole);
+  lod.component.resize(whole);
+  lod.material.resize(whole);
+  LabelJob job = job_for("-x,+y", 100);
+  const Framing framing = framing_of(job);
+  const JudgeSettings how{job.perception, true, 1};
+
+  // The window: each camera is cropped around its building, not the frame.
+  Bounds a = Bounds::empty();
+  for (const float p : {0.f, 10.f}) a.grow(std::array<float, 3>{p, p, p}.data());
+  const std::vector<ViewTile> tiles = framed_windows(a, job.views, framing, job.perception);
+  ASSERT_EQ(tiles.size(), 2u);
+  EXPECT_LT(tiles[0].camera.width, job.display.width);
+
+  const std::vector<BuildingJudged> one = judge_buildings_alone(s, lod, job.views, framing, how, 1);
+  ASSERT_EQ(one.size(), 2u);
+  EXPECT_EQ(one[0].building, "a");
+  EXPECT_EQ(one[1].building, "b");
+  EXPECT_EQ(one[1].triangles, 24u);
+  EXPECT_EQ(one[1].lod_triangles, 12u);
+  ASSERT_EQ(one[1].views.size(), 2u);
+  for (const ViewFigures& v : one[0].views) {
+    EXPECT_EQ(v.building, "a");
+    EXPECT_EQ(v.changed_pixels, 0u) << v.view;
+    EXPECT_EQ(v.visible_ratio, 0.0) << v.view;
+  }
+  const ViewFigures& minus_x = one[1].views[0];
+  EXPECT_EQ(minus_x.view, "b/-x");
+  EXPECT_GT(minus_x.changed_pixels, 0u);
+  EXPECT_GT(minus_x.visible_ratio, 1.0);
+  EXPECT_FALSE(judge_views(one[1].views, FidelityLimits{}).met());
+  EXPECT_TRUE(judge_views(one[0].views, FidelityLimits{}).met());
+
+  const std::vector<BuildingJudged> two = judge_buildings_alone(s, lod, job.views, framing, how, 2);
+  ASSERT_EQ(two.size(), 2u);
+  for (size_t b = 0; b < 2; ++b) EXPECT_EQ(two[b].views, one[b].views) << b;
+
+  // The model's -x view: a hides the plaque, nothing changes.
+  Renderer r;
+  const std::vector<ViewRecord> model = record_views(r, s, {"-x"}, framing);
+  const std::vector<ViewFigures> seen = compare_lod_views(r, lod, model, how);
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_EQ(seen[0].changed_pixels, 0u);
+
+  Scene renamed = lod;
+  renamed.component_names[1] = "c/Building/1";
+  EXPECT_THROW(judge_buildings_alone(s, renamed, job.views, framing, how, 1), std::invalid_argument);
+}
+
 // A building's own views draw and read only their window on it: the labels
 // and counts are those of drawing the whole frame, alone and in place (with
 // the unsampled-surface rule, which reads the render's depth at projected

@@ -2,6 +2,7 @@
 // of each view perceived beside the original's, and the worst figures
 // against the limits.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <deque>
@@ -9,10 +10,12 @@
 #include <future>
 #include <iomanip>
 #include <iterator>
+#include <mutex>
 #include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 
 #include "perclod/judge.h"
@@ -24,20 +27,39 @@ using namespace detail;
 
 JudgeSettings judge_settings_of(const LabelJob& job) { return {perception_for(job), job.overlap, building_lanes(job)}; }
 
-std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
-                                     const Framing& framing, const std::string& set) {
-  const Bounds bounds = scene_bounds(scene);
+std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<ViewTile>& tiles,
+                                     const std::string& set) {
   renderer.set_scene(scene);
   std::vector<ViewRecord> records;
   std::vector<uint8_t> background;
   RenderOutput img;  // one set of buffers for every view
-  for (const auto& view : views)
-    for (const ViewTile& tile : frame_view(bounds, framing.up, view, framing.distance, framing.display)) {
-      renderer.render(tile.camera, img);
-      background_of(img, background);
-      records.push_back(view_record(tile.name, tile.camera, img.rgb, background, set));
-    }
+  for (const ViewTile& tile : tiles) {
+    renderer.render(tile.camera, img);
+    background_of(img, background);
+    records.push_back(view_record(tile.name, tile.camera, img.rgb, background, set));
+  }
   return records;
+}
+
+std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
+                                     const Framing& framing, const std::string& set) {
+  const Bounds bounds = scene_bounds(scene);
+  std::vector<ViewTile> tiles;
+  for (const auto& view : views)
+    for (ViewTile& tile : frame_view(bounds, framing.up, view, framing.distance, framing.display))
+      tiles.push_back(std::move(tile));
+  return record_views(renderer, scene, tiles, set);
+}
+
+std::vector<ViewTile> framed_windows(const Bounds& box, const std::vector<std::string>& views, const Framing& framing,
+                                     const PerceptionSettings& ps) {
+  std::vector<ViewTile> tiles;
+  for (const auto& view : views)
+    for (ViewTile& tile : frame_view(box, framing.up, view, framing.distance, framing.display)) {
+      tile.camera = perception_window(tile.camera, box, ps, true);
+      tiles.push_back(std::move(tile));
+    }
+  return tiles;
 }
 
 
@@ -309,6 +331,78 @@ Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimit
          limits.max_visible_local > 0 && v.visible_local_ratio > limits.max_visible_local);
   }
   return j;
+}
+
+std::vector<BuildingJudged> judge_buildings_alone(
+    const Scene& original, const Scene& lod, const std::vector<std::string>& views, const Framing& framing,
+    const JudgeSettings& how, size_t lanes, const std::function<void(size_t, size_t, const BuildingJudged&)>& done,
+    const std::vector<uint8_t>* only) {
+  if (lod.component_names != original.component_names)
+    throw std::invalid_argument("judge_buildings_alone: the LOD's components are not the original's");
+  const Buildings buildings = find_buildings(original);
+  const size_t nb = buildings.names.size();
+  std::vector<std::vector<uint32_t>> tris(nb), lod_tris(nb);
+  for (size_t t = 0; t < original.triangle_count(); ++t)
+    tris[buildings.of_component[original.component_of(t)]].push_back(uint32_t(t));
+  for (size_t t = 0; t < lod.triangle_count(); ++t)
+    lod_tris[buildings.of_component[lod.component_of(t)]].push_back(uint32_t(t));
+  std::vector<size_t> todo;  // buildings with triangles, in building order
+  if (only && only->size() != nb) throw std::invalid_argument("judge_buildings_alone: a flag per building");
+  for (size_t b = 0; b < nb; ++b)
+    if (!tris[b].empty() && (!only || (*only)[b])) todo.push_back(b);
+
+  std::vector<BuildingJudged> out(todo.size());
+  lanes = std::clamp<size_t>(lanes, 1, std::max<size_t>(1, todo.size()));
+  // Several lanes are the parallelism; one lane overlaps as `how` asks.
+  JudgeSettings lane_how = how;
+  if (lanes > 1) lane_how.overlap = false;
+  std::atomic<size_t> next{0};
+  std::mutex lock;  // `done`, the count, the first error
+  size_t finished = 0;
+  std::exception_ptr error;
+  auto run_lane = [&] {
+    try {
+      Renderer renderer;  // this thread's OpenGL context
+      std::vector<uint32_t> vertex, lod_vertex;
+      for (size_t k; (k = next++) < todo.size();) {
+        const size_t b = todo[k];
+        const Scene alone = subset_scene(original, tris[b], vertex);
+        const Scene lod_alone = subset_scene(lod, lod_tris[b], lod_vertex);
+        std::vector<ViewRecord> records = record_views(
+            renderer, alone, framed_windows(scene_bounds(alone), views, framing, lane_how.perception), "held_out");
+        measure_floors(renderer, alone, records, lane_how);
+        BuildingJudged& r = out[k];
+        r.index = b;
+        r.building = buildings.names[b];
+        r.triangles = tris[b].size();
+        r.lod_triangles = lod_tris[b].size();
+        r.views = compare_lod_views(renderer, lod_alone, records, lane_how);
+        for (ViewFigures& f : r.views) {
+          f.building = r.building;
+          f.view = r.building + "/" + f.view;
+        }
+        std::lock_guard<std::mutex> g(lock);
+        if (done) done(finished, todo.size(), r);
+        ++finished;
+      }
+    } catch (...) {
+      next = todo.size();  // the other lanes stop after their building
+      std::lock_guard<std::mutex> g(lock);
+      if (!error) error = std::current_exception();
+    }
+  };
+  std::vector<std::thread> threads;
+  try {
+    for (size_t l = 1; l < lanes; ++l) threads.emplace_back(run_lane);
+  } catch (...) {  // a thread could not start: the started ones stop after their building
+    next = todo.size();
+    for (std::thread& t : threads) t.join();
+    throw;
+  }
+  run_lane();
+  for (std::thread& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+  return out;
 }
 
 }  // namespace perclod

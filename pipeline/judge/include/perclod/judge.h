@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,17 @@ JudgeSettings judge_settings_of(const LabelJob& job);
 std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<std::string>& views,
                                      const Framing& framing, const std::string& set = "held_out");
 
+// record_views for given cameras (tiles named as frame_view names them).
+std::vector<ViewRecord> record_views(Renderer& renderer, const Scene& scene, const std::vector<ViewTile>& tiles,
+                                     const std::string& set);
+
+// `views` framed on `box` (frame_view), each camera cropped to its window on
+// the box as a building's own view of it alone is (perception_window with
+// `alone`): what judging a building alone renders and perceives, not its
+// whole frame.
+std::vector<ViewTile> framed_windows(const Bounds& box, const std::vector<std::string>& views, const Framing& framing,
+                                     const PerceptionSettings& ps);
+
 // The perceptual floor a view's LOD is judged against: the visible
 // difference (perclod/perception.h) between the original's render and the
 // original's render with the camera moved by this many pixels (along the
@@ -64,6 +76,7 @@ constexpr int kLocalBlockPx = 16;
 struct ViewFigures {
   std::string view;                 // view name (with "_t<i>" for a tile)
   std::string set;                  // "labelling" or "held_out"
+  std::string building;             // judged alone (judge_buildings_alone): its building, else empty
   size_t drawn_pixels = 0;          // drawn in either render
   size_t changed_pixels = 0;        // of those, perceptibly changed
   double changed_fraction = 0;      // changed_pixels / drawn_pixels
@@ -138,5 +151,31 @@ struct Judgement {
 };
 
 Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimits& limits);
+
+// One building's LOD judged alone (judge_buildings_alone).
+struct BuildingJudged {
+  size_t index = 0;  // of the building in find_buildings' order
+  std::string building;
+  size_t triangles = 0, lod_triangles = 0;
+  std::vector<ViewFigures> views;  // named "<building>/<view>", building set
+};
+
+// Each building of `original` (find_buildings) judged alone, as `perclod
+// judge` judges a file holding only it: its triangles of `original` and of
+// `lod` (a simplification of it: the same component names, each triangle's
+// component in the same building) as scenes of their own, rendered from
+// `views` framed on the building at framing.distance, only the window
+// framed_windows keeps; floors and figures as measure_floors and
+// compare_lod_views give them. Buildings without triangles are skipped, and
+// with `only` (one flag per building of find_buildings) those not flagged.
+// `lanes` threads, each with its own OpenGL context, take the next building
+// when done with one; the result (in building order) does not depend on
+// them. done(k, n, b), when given, is called (one call at a time) as each
+// building is judged, in the order they finish.
+std::vector<BuildingJudged> judge_buildings_alone(
+    const Scene& original, const Scene& lod, const std::vector<std::string>& views, const Framing& framing,
+    const JudgeSettings& how, size_t lanes,
+    const std::function<void(size_t, size_t, const BuildingJudged&)>& done = nullptr,
+    const std::vector<uint8_t>* only = nullptr);
 
 }  // namespace perclod
