@@ -2,10 +2,12 @@
 // shards that partition the list, and the manifest, tileset and GLBs a viewer loads.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 
 #include "cli_util.h"
 #include "perclod/config.h"
@@ -243,10 +245,82 @@ TEST(CliBatch, OneModelConfigsWriteTheManifestBesideTheLods) {
   expect_checksums_match(m, b.root / "one");
 }
 
+// A dome of `rings` x `segments` quads (radius r, centre x, y, z) as an OBJ
+// group named `name` whose vertices follow `first_vertex` others.
+std::string dome_obj(const std::string& name, double x, double y, double z, double r, int rings, int segments,
+                     int first_vertex) {
+  std::string s = "g " + name + "\n";
+  for (int i = 0; i <= rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double t = 0.5 * M_PI * i / rings, p = 2 * M_PI * j / segments;
+      s += "v " + std::to_string(x + r * std::sin(t) * std::cos(p)) + " " + std::to_string(y + r * std::sin(t) * std::sin(p)) +
+           " " + std::to_string(z + r * std::cos(t)) + "\n";
+    }
+  auto at = [&](int i, int j) { return std::to_string(first_vertex + 1 + i * segments + (j % segments)); };
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j)
+      s += "f " + at(i, j) + " " + at(i + 1, j) + " " + at(i + 1, j + 1) + " " + at(i, j + 1) + "\n";
+  return s;
+}
+
+// Per-building tightening: house b carries a finely made dome whose LOD at
+// the asked bounds differs from it; with max_visible at half b's worst
+// visible ratio, only b is made again at tighter bounds, until within, and
+// a keeps its LOD (a plain house, unchanged either way).
+TEST(CliBatch, OnlyTheBuildingsOverTheLimitsAreTightened) {
+  BatchDir b("tighten-buildings");
+  std::ofstream(b.root / "models" / "two.obj")
+      << building_obj(0, "a") + building_obj(30, "b", 24) + dome_obj("b/dome", 36, 4, 10.3, 3.5, 12, 32, 48);
+  auto run = [&](const std::string& name, const std::string& settings) {
+    std::ofstream(b.root / (name + ".yaml")) << "model: models/two.obj\nout: " << (b.root / name).string()
+                                             << "\nup: z\ndistances: [56]\nsamples: 1\n"
+                                             << "display: small-display.yaml\ndebug_images: false\n" << settings;
+    auto r = run_cli("run " + (b.root / (name + ".yaml")).string());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return read_json(b.root / name / "two_report.json")["lods"][0];
+  };
+  const auto asked = run("asked", "");
+  double worst_b = 0;
+  for (const auto& v : asked["lod_vs_original"])
+    if (v["building"] == "b") worst_b = std::max(worst_b, v["visible_ratio"].get<double>());
+  ASSERT_GT(worst_b, 0.0);
+  std::ostringstream limit;
+  limit << "max_visible: " << worst_b / 2 << "\n";
+  const auto tight = run("tight", limit.str());
+  EXPECT_EQ(tight["judged_alone"]["tightened"], 1);
+  EXPECT_EQ(tight["judged_alone"]["within_limits"], 2);
+  ASSERT_GE(tight["tighten_to_limits"].size(), 2u);
+  EXPECT_FALSE(tight["tighten_to_limits"][0]["met"].get<bool>());
+  EXPECT_TRUE(tight["tighten_to_limits"].back()["met"].get<bool>());
+  EXPECT_GT(tight["simplify"]["triangles_after"]["total"].get<int>(), asked["simplify"]["triangles_after"]["total"].get<int>());
+  // House a's faces in both LODs: the same lines.
+  auto faces_of = [](const fs::path& obj, const std::string& building) {
+    std::ifstream f(obj);
+    std::string line, group, faces;
+    std::vector<std::string> v;
+    while (std::getline(f, line)) {
+      if (line.rfind("v ", 0) == 0) v.push_back(line);
+      else if (line.rfind("g ", 0) == 0) group = line.substr(2, line.find('/') - 2);
+      else if (line.rfind("f ", 0) == 0 && group == building) {
+        std::istringstream in(line.substr(2));
+        for (std::string c; in >> c;) faces += v[std::stoul(c) - 1] + ";";
+        faces += "\n";
+      }
+    }
+    return faces;
+  };
+  const std::string a_asked = faces_of(b.root / "asked" / "two_lod_56m.obj", "a");
+  EXPECT_FALSE(a_asked.empty());
+  EXPECT_TRUE(faces_of(b.root / "tight" / "two_lod_56m.obj", "a") == a_asked);
+  EXPECT_TRUE(faces_of(b.root / "tight" / "two_lod_56m.obj", "b") != faces_of(b.root / "asked" / "two_lod_56m.obj", "b"));
+}
+
 // A file of two houses, each labelled from its own views of it alone (the
 // default): the whole-model views count nothing, are drawn only for the
-// pictures a run writes, and the LOD is judged from the held-out views, or
-// with judge_views: none from the labelling views framed on the whole file.
+// pictures a run writes, and each house's LOD is judged alone from the
+// held-out views framed on it (with judge_buildings_alone: false from the
+// held-out views framed on the file), or with judge_views: none from the
+// labelling views framed on the whole file.
 TEST(CliBatch, TwoHousesAreLabelledFromTheirOwnViewsAndJudgedFromHeldOutViews) {
   BatchDir b("two-houses");
   std::ofstream(b.root / "models" / "two.obj") << building_obj(0, "a") + building_obj(30, "b", 24);
@@ -273,8 +347,25 @@ TEST(CliBatch, TwoHousesAreLabelledFromTheirOwnViewsAndJudgedFromHeldOutViews) {
   EXPECT_GE(held["views"].size(), 4u);
   EXPECT_TRUE(fs::exists(b.root / "held" / "two_+x_56m_marking.png"));
   EXPECT_TRUE(fs::exists(b.root / "held" / "two_+x_56m.png"));
-  ASSERT_GE(held["lod_vs_original"].size(), 9u);
-  for (const auto& v : held["lod_vs_original"]) EXPECT_EQ(v["set"], "held_out") << v["view"];
+  // Judged house by house: 9 held-out views each; the report keeps each
+  // house's worst view (and any over a limit).
+  EXPECT_EQ(held["judged_alone"]["buildings"], 2);
+  EXPECT_EQ(held["judged_alone"]["views"], 18);
+  EXPECT_EQ(held["judged_alone"]["within_limits"], 2);
+  ASSERT_EQ(held["lod_vs_original"].size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    const auto& v = held["lod_vs_original"][k];
+    EXPECT_EQ(v["set"], "held_out") << v["view"];
+    EXPECT_EQ(v["building"], k ? "b" : "a");
+    EXPECT_EQ(v["view"].get<std::string>().rfind(k ? "b/az" : "a/az", 0), 0u) << v["view"];
+  }
+  const auto model = run("model", "judge_buildings_alone: false\ndebug_images: false\n");
+  EXPECT_FALSE(model.contains("judged_alone"));
+  ASSERT_GE(model["lod_vs_original"].size(), 9u);
+  for (const auto& v : model["lod_vs_original"]) {
+    EXPECT_EQ(v["set"], "held_out") << v["view"];
+    EXPECT_FALSE(v.contains("building")) << v["view"];
+  }
   auto bytes = [](const fs::path& p) {
     std::ifstream f(p, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(f), {});

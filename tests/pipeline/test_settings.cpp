@@ -67,6 +67,7 @@ const std::map<std::string, Sample>& samples() {
       {"target", {"simplify: qem\ntarget: 500", "simplify: qem\ntarget: 600"}},
       {"format", {"format: glb", ""}},
       {"judge_views", {"judge_views: none", ""}},
+      {"judge_buildings_alone", {"judge_buildings_alone: false", ""}},
       {"max_changed", {"max_changed: 0.05", ""}},
       {"max_silhouette", {"max_silhouette: 0.02", ""}},
       {"min_ssim", {"min_ssim: 0.9", ""}},

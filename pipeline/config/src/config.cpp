@@ -325,6 +325,7 @@ void read_limits(const YAML::Node& n, const std::string& path, BatchConfig& c) {
                        "'max_visible_local' must be a finite number >= 0 (times the local perceptual floor; 0: no limit)");
   c.strict = get<bool>(n, path, "strict", c.strict);
   c.tighten_to_limits = get<bool>(n, path, "tighten_to_limits", c.tighten_to_limits);
+  c.judge_buildings_alone = get<bool>(n, path, "judge_buildings_alone", c.judge_buildings_alone);
   if (n["tighten_to_limits"] && c.simplify != "fidelity")
     throw config_error(path, "'tighten_to_limits' applies only to 'simplify: fidelity'");
   c.explain = get<bool>(n, path, "explain", c.explain);
@@ -580,6 +581,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.limits.max_visible_local = c.max_visible_local;
   job.fidelity_target = c.fidelity_target;
   job.tighten_to_limits = c.tighten_to_limits;
+  job.judge_buildings_alone = c.judge_buildings_alone;
   job.target.max_changed = c.target_max_changed;
   job.target.max_silhouette = c.target_max_silhouette;
   job.target.min_ssim = c.target_min_ssim;

@@ -113,6 +113,10 @@ const std::vector<SettingSpec> kConfigSettings = {
     {"judge_views", "view set, or none", "held_out", "view names and presets, or none",
      "Views besides the labelling ones that judge each LOD (docs/usage.md#judging-a-lod)", kHashed, kAnyLevel,
      nullptr},
+    {"judge_buildings_alone", "boolean", "true", "",
+     "When each building is labelled from its own views alone: judge each building's LOD alone from judge_views "
+     "framed on it; false: from judge_views framed on the whole model (docs/usage.md#judging-buildings-alone)",
+     kHashed, kAnyLevel, nullptr},
     {"max_changed", "fraction", "1 (no limit)", "0..1", "Limit on a judged view's fraction of changed pixels", kHashed,
      kAnyLevel, nullptr},
     {"max_silhouette", "fraction", "1 (no limit)", "0..1", "Limit on a judged view's silhouette mismatch", kHashed,

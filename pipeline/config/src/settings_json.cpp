@@ -79,6 +79,8 @@ const std::map<std::string, HashWriter>& hash_writers() {
       {"target", [](const BatchConfig& c, json& s) { s["target"] = c.target; }},
       {"format", [](const BatchConfig& c, json& s) { s["format"] = c.format; }},
       {"judge_views", [](const BatchConfig& c, json& s) { s["judge_views"] = c.judge_views; }},
+      {"judge_buildings_alone",
+       [](const BatchConfig& c, json& s) { s["judge_buildings_alone"] = c.judge_buildings_alone; }},
       {"max_changed", [](const BatchConfig& c, json& s) { s["max_changed"] = c.max_changed; }},
       {"max_silhouette", [](const BatchConfig& c, json& s) { s["max_silhouette"] = c.max_silhouette; }},
       // Joins only when set, so the hashes of configs without it (and the

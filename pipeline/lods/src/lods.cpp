@@ -7,7 +7,9 @@
 #include <cmath>
 #include <iomanip>
 #include <iterator>
+#include <map>
 #include <memory>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -72,6 +74,10 @@ class DistanceRun {
   void tighten();
   void write_lod(LodSet& set);
   void judge_written(LodSet& set);
+  void keep_telling_views();
+  void judge_buildings(const std::vector<uint8_t>* only);
+  void append_building_views();
+  void tighten_buildings();
   void warn(LodSet& set, const std::string& what) const { set.warnings.push_back(what); }
 
   const Scene& scene_;
@@ -81,6 +87,8 @@ class DistanceRun {
   const double d_;
   LabelJob lj_;
   LabelResult lr_;
+  bool buildings_alone_ = false;  // judge each building alone (LodJob::judge_buildings_alone)
+  std::vector<BuildingJudged> buildings_;  // their figures for the LOD in lod_
   std::vector<ViewRecord> judged_;  // the labelling views, then the held-out ones
   bool held_out_recorded_ = false;
   SimplifyOptions asked_, so_;
@@ -91,6 +99,7 @@ class DistanceRun {
   std::vector<Rgb8Image> pictures_;  // per judged view: original | LOD | changes
   LodResult r_;
   size_t kept_try_ = 0;     // the try whose LOD is written
+  bool try_kept_ = true;    // false: the LOD written is none of the tries (tighten_buildings)
   bool searching_ = false;  // fidelity_target in the fidelity mode
   bool target_met_ = false;
   Clock::time_point started_;
@@ -119,6 +128,12 @@ void DistanceRun::label() {
   judged_ = std::move(lr_.views);
   lr_.views.clear();
   r_.seconds_label = since(t0);
+  // Buildings labelled from their own views alone are judged so too: the
+  // held-out views framed on the model would see all but its front row
+  // from further than the distance.
+  buildings_alone_ = job_.judge_buildings_alone && !job_.judge_views.empty() && lr_.report.per_building &&
+                     !lr_.report.model_views_counted;
+  held_out_recorded_ = held_out_recorded_ || buildings_alone_;
   // Labels made by each building's own views alone leave no whole-model
   // view to judge from: without held-out views, the labelling view set
   // framed on the model judges (as it did when those views counted).
@@ -170,6 +185,10 @@ Judgement DistanceRun::attempt(const SimplifyOptions& o) {
   pictures_.clear();
   const bool pictures = !job_.label.out.dir.empty() && lj_.write_view_images;
   views_ = compare_lod_views(tools_.renderer, lod_, judged_, judge_settings_of(lj_), pictures ? &pictures_ : nullptr);
+  if (buildings_alone_) {
+    judge_buildings(nullptr);
+    append_building_views();
+  }
   r_.seconds_compare += since(t_cmp);
   return judge_views(views_, searching_ ? job_.target : job_.limits);
 }
@@ -211,6 +230,10 @@ void DistanceRun::search_target() {
 // over the job's limits but within reach of them.
 void DistanceRun::tighten() {
   const Judgement f = attempt(asked_);
+  if (buildings_alone_) {
+    if (job_.tighten_to_limits && !f.met()) tighten_buildings();
+    return;
+  }
   Tightening t = Tightening::NotTried;
   if (job_.tighten_to_limits)
     t = tighten_to_limits(asked_, f, job_.limits, [&](const SimplifyOptions& o) {
@@ -242,7 +265,7 @@ void DistanceRun::write_lod(LodSet& set) {
   r_.bound_perceptible_px = so_.bound_perceptible_px;
   r_.bound_imperceptible_px = so_.bound_imperceptible_px;
   r_.undisplayable = undisplayable_rule_of(so_, exposure_);
-  if (!r_.tries.empty()) r_.tries[kept_try_].kept = true;
+  if (!r_.tries.empty() && try_kept_) r_.tries[kept_try_].kept = true;
   if (searching_ && !target_met_) {
     std::ostringstream ss;
     ss << r_.lod_file << ": no bound meets the fidelity target at " << d_ << " m; kept the tightest (e_imperceptible "
@@ -268,6 +291,7 @@ void DistanceRun::judge_written(LodSet& set) {
   }
   r_.views = std::move(views_);
   r_.fidelity = judge_views(r_.views, job_.limits);
+  if (buildings_alone_) keep_telling_views();
   for (const OverLimit& o : r_.fidelity.over_limits) {
     std::ostringstream ss;
     ss.precision(3);
@@ -287,6 +311,158 @@ void DistanceRun::judge_written(LodSet& set) {
   }
   r_.seconds = since(started_);
   if (progress_) progress_->lod_made(r_);
+}
+
+// `w` made the worse of itself and `x`, figure by figure.
+void worsen(WorstFigures& w, const WorstFigures& x) {
+  w.changed_fraction = std::max(w.changed_fraction, x.changed_fraction);
+  w.silhouette_mismatch = std::max(w.silhouette_mismatch, x.silhouette_mismatch);
+  w.ssim_covered = std::min(w.ssim_covered, x.ssim_covered);
+  w.visible_ratio = std::max(w.visible_ratio, x.visible_ratio);
+  w.visible_local_ratio = std::max(w.visible_local_ratio, x.visible_local_ratio);
+}
+
+// Each building of the LOD in lod_ judged alone (all, or those `only`
+// flags) into buildings_.
+void DistanceRun::judge_buildings(const std::vector<uint8_t>* only) {
+  const double max_visible = (searching_ ? job_.target : job_.limits).max_visible;
+  buildings_ = judge_buildings_alone(
+      scene_, lod_, job_.judge_views, framing_of(lj_), judge_settings_of(lj_), building_lanes(lj_),
+      [&](size_t k, size_t n, const BuildingJudged& b) {
+        if (progress_) progress_->building_judged(k, n, b, max_visible);
+      },
+      only);
+}
+
+// buildings_' views after the model's in views_, and their counts.
+void DistanceRun::append_building_views() {
+  r_.buildings_judged = buildings_.size();
+  r_.buildings_within = 0;
+  r_.building_views = 0;
+  for (const BuildingJudged& b : buildings_) {
+    r_.buildings_within += judge_views(b.views, job_.limits).met();
+    r_.building_views += b.views.size();
+    views_.insert(views_.end(), b.views.begin(), b.views.end());
+  }
+}
+
+// tighten_to_limits for buildings judged alone: the buildings over the
+// limits (within reach of them, worth_tightening) are made again at each
+// tighter e of tighten_steps in turn (their triangles' bounds scaled by e
+// over the asked e_I: SimplifyOptions::bound_scale), and judged again; each
+// keeps the first that brings it within the limits in every view, or the
+// asked bounds when none does. The other buildings' bounds, and so their
+// LODs, stay as asked: components are simplified apart. r_.tries lists the
+// asked LOD and each step's, their figures over the buildings tried.
+void DistanceRun::tighten_buildings() {
+  const std::vector<FidelitySearchStep> steps = tighten_steps(asked_);
+  const double asked_e = asked_.bound_imperceptible_px;
+  if (steps.empty() || !(asked_e > 0)) return;
+  const Buildings bs = find_buildings(scene_);
+  std::vector<uint8_t> trying(bs.names.size(), 0);
+  std::vector<size_t> at(bs.names.size(), 0);  // building -> its entry of buildings_
+  WorstFigures worst;
+  size_t over = 0;
+  for (size_t k = 0; k < buildings_.size(); ++k) {
+    const Judgement j = judge_views(buildings_[k].views, job_.limits);
+    at[buildings_[k].index] = k;
+    if (j.met() || !worth_tightening(j, job_.limits)) continue;
+    trying[buildings_[k].index] = 1;
+    ++over;
+    worsen(worst, j.worst);
+  }
+  if (!over) return;
+  auto log = [&](double e, const WorstFigures& w, bool met) {
+    LodTry t;
+    t.e_imperceptible = e;
+    t.e_perceptible = asked_.bound_perceptible_px * e / asked_e;
+    t.undisplayable = undisplayable_rule_of(asked_);
+    t.triangles = st_.total_after();
+    t.seconds_simplify = st_.seconds;
+    t.worst = w;
+    t.met = met;
+    r_.tries.push_back(t);
+    if (progress_) progress_->lod_tried("tighten the buildings over the limits", d_, t);
+  };
+  r_.tries_kind = LodTries::TightenToLimits;
+  log(asked_e, worst, false);
+  std::vector<BuildingJudged> best = buildings_;
+  std::vector<float> scale(scene_.triangle_count(), 1.f);
+  auto owner = [&](size_t t) { return bs.of_component[scene_.component_of(t)]; };
+  auto make = [&](const SimplifyOptions& o) {
+    so_ = o;
+    const auto t0 = Clock::now();
+    lod_ = simplify(scene_, lr_.labels, so_, &st_);
+    r_.seconds_simplify += since(t0);
+  };
+  double last_e = asked_e;
+  size_t fixed = 0;
+  for (const FidelitySearchStep& step : steps) {
+    if (!(step.e < last_e)) continue;  // a step that only keeps undisplayable triangles: not per building
+    last_e = step.e;
+    for (size_t t = 0; t < scale.size(); ++t)
+      if (trying[owner(t)]) scale[t] = float(step.e / asked_e);
+    SimplifyOptions o = asked_;
+    o.bound_scale = scale;
+    make(o);
+    judge_buildings(&trying);
+    WorstFigures w;
+    bool all = true;
+    for (const BuildingJudged& b : buildings_) {
+      const Judgement j = judge_views(b.views, job_.limits);
+      worsen(w, j.worst);
+      all = all && j.met();
+      if (!j.met()) continue;
+      best[at[b.index]] = b;
+      trying[b.index] = 0;
+      ++fixed;
+    }
+    log(step.e, w, all);
+    if (all) break;
+  }
+  // When every building tried met the limits at the last step, the LOD
+  // written is that try's; otherwise it is none of them (the others keep
+  // the asked bounds).
+  kept_try_ = r_.tries.size() - 1;
+  try_kept_ = r_.tries.back().met;
+  // The buildings no tighter step brought within the limits keep the asked
+  // bounds; the LOD is made once more with every building's own.
+  for (size_t t = 0; t < scale.size(); ++t)
+    if (trying[owner(t)]) scale[t] = 1.f;
+  SimplifyOptions final_bounds = asked_;
+  if (fixed) final_bounds.bound_scale = std::move(scale);
+  make(final_bounds);
+  buildings_ = std::move(best);
+  r_.buildings_tightened = fixed;
+  if (progress_ && !fixed) progress_->tightening_failed();
+  pictures_.clear();
+  const bool pictures = !job_.label.out.dir.empty() && lj_.write_view_images;
+  const auto t_cmp = Clock::now();
+  views_ = compare_lod_views(tools_.renderer, lod_, judged_, judge_settings_of(lj_), pictures ? &pictures_ : nullptr);
+  r_.seconds_compare += since(t_cmp);
+  append_building_views();
+}
+
+// Of the views of buildings judged alone (after the model's), r_.views
+// keeps each building's with the highest visible_ratio and every one over a
+// limit: a district's report lists its buildings, not nine views of each.
+void DistanceRun::keep_telling_views() {
+  std::set<std::string> over;
+  for (const OverLimit& o : r_.fidelity.over_limits) over.insert(o.view);
+  std::map<std::string, size_t> worst;  // building -> index of its worst view
+  for (size_t k = 0; k < r_.views.size(); ++k) {
+    const ViewFigures& v = r_.views[k];
+    if (v.building.empty()) continue;
+    auto [it, added] = worst.emplace(v.building, k);
+    if (!added && v.visible_ratio > r_.views[it->second].visible_ratio) it->second = k;
+  }
+  std::vector<uint8_t> keep(r_.views.size(), 0);
+  for (const auto& [building, k] : worst) keep[k] = 1;
+  std::vector<ViewFigures> kept;
+  for (size_t k = 0; k < r_.views.size(); ++k)
+    if (r_.views[k].building.empty() || keep[k] || over.count(r_.views[k].view))
+      kept.push_back(std::move(r_.views[k]));
+  r_.views = std::move(kept);
 }
 
 }  // namespace

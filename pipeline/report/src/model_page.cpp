@@ -381,6 +381,12 @@ std::vector<std::pair<std::string, std::string>> lod_facts(const json& l, const 
                                         fixed(num(bounds, "imperceptible"), 2) + "; undisplayable " +
                                         undisplayable_rule(bounds)});
   facts.push_back({"outside every view", count(num(l, "outside_views")) + " triangles"});
+  if (const json* j = member(l, "judged_alone")) {
+    std::string text = count(num(*j, "buildings")) + " buildings from " + count(num(*j, "views")) + " views, " +
+                       count(num(*j, "within_limits")) + " within the limits";
+    if (num(*j, "tightened") > 0) text += ", " + count(num(*j, "tightened")) + " of them made at tighter bounds";
+    facts.push_back({"judged alone", text + " (the table lists each building's worst view)"});
+  }
   facts.push_back({"time: total", seconds(num(l, "seconds"))});
   if (const json* stages = member(l, "stage_seconds")) {
     const json& st = *stages;

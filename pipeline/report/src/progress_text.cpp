@@ -58,6 +58,23 @@ void TextProgress::building_labelled(size_t index, size_t count, const BuildingL
   say(ss.str());
 }
 
+void TextProgress::building_judged(size_t k, size_t n, const BuildingJudged& b, double max_visible) {
+  std::ostringstream ss;
+  ss.precision(2);
+  const auto now = std::chrono::steady_clock::now();
+  if (k == 0) judging_started_ = now;
+  double worst = 0;
+  for (const ViewFigures& v : b.views) worst = std::max(worst, v.visible_ratio);
+  ss << "  judged " << k + 1 << "/" << n << " " << b.building << " alone: " << b.lod_triangles << " of "
+     << b.triangles << " triangles, " << b.views.size() << " views, worst visible " << worst << "x the floor";
+  if (max_visible > 0 && worst > max_visible) ss << " (over " << max_visible << ")";
+  if (k > 0 && k + 1 < n) {
+    const double spent = std::chrono::duration<double>(now - judging_started_).count();
+    ss << " (about " << format_seconds(spent / double(k) * double(n - k - 1)) << " left)";
+  }
+  say(ss.str());
+}
+
 void TextProgress::distance_started(double distance) {
   std::ostringstream ss;
   ss << "distance " << distance << " m";
@@ -90,8 +107,13 @@ void TextProgress::lod_made(const LodResult& r) {
   const WorstFigures& w = r.fidelity.worst;
   std::ostringstream ss;
   ss << "  LOD " << r.distance << " m: " << st.total_before() << " -> " << st.total_after() << " triangles ("
-     << (st.total_before() ? 100.0 * double(st.total_after()) / double(st.total_before()) : 0.0)
-     << "%); worst of " << r.views.size() << " views: " << 100 * w.changed_fraction << "% changed, SSIM "
+     << (st.total_before() ? 100.0 * double(st.total_after()) / double(st.total_before()) : 0.0) << "%); worst of ";
+  if (r.buildings_judged)
+    ss << r.building_views << " views of " << r.buildings_judged << " buildings judged alone (" << r.buildings_within
+       << " within the limits)";
+  else
+    ss << r.views.size() << " views";
+  ss << ": " << 100 * w.changed_fraction << "% changed, SSIM "
      << w.ssim_covered << ", silhouette " << 100 * w.silhouette_mismatch << "%, visible " << w.visible_ratio
      << "x the floor; " << r.lod_file;
   say(ss.str());

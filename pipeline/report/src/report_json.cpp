@@ -82,6 +82,11 @@ nlohmann::json lod_json(const LodResult& r) {
   for (const ViewFigures& v : r.views) views.push_back(view_figures_json(v));
   entry["lod_vs_original"] = std::move(views);
   entry["fidelity"] = judgement_json(r.fidelity);
+  if (r.buildings_judged)
+    entry["judged_alone"] = {{"buildings", r.buildings_judged},
+                             {"within_limits", r.buildings_within},
+                             {"tightened", r.buildings_tightened},
+                             {"views", r.building_views}};
   entry["seconds_compare"] = r.seconds_compare;
   entry["seconds"] = r.seconds;
   // Wall time per stage; render, perceive and trace are thread time summed
@@ -183,6 +188,7 @@ nlohmann::json view_figures_json(const ViewFigures& v) {
                       {"visible_local", v.visible_local},
                       {"visible_floor_local", v.visible_floor_local},
                       {"visible_local_ratio", v.visible_local_ratio}};
+  if (!v.building.empty()) j["building"] = v.building;
   if (!v.comparison_image.empty()) j["comparison_image"] = v.comparison_image;
   return j;
 }

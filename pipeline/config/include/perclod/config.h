@@ -53,6 +53,7 @@ struct BatchConfig {
   std::string keep_undisplayable = "auto";
   std::string format = "obj";        // LOD file format: obj | glb
   std::vector<std::string> judge_views = {kDefaultJudgeViews};  // held-out views; empty = none ('none' in the file)
+  bool judge_buildings_alone = true;  // buildings labelled alone are judged alone (LodJob)
   // Limits every judged view is held to: by default the perceptual one
   // alone (the visible difference within its quarter-pixel floor); changed
   // pixels, silhouette and SSIM are reported, and limited only when set.

@@ -23,6 +23,10 @@ struct LodJob {
   std::string lod_format = "obj";      // "obj" or "glb"
   // Held-out views every LOD is also judged from (empty: labelling views only).
   std::vector<std::string> judge_views;
+  // When each building was labelled from its own views alone: each
+  // building's LOD is judged alone from judge_views framed on it
+  // (judge_buildings_alone), not from judge_views framed on the model.
+  bool judge_buildings_alone = true;
   FidelityLimits limits;
   // Fidelity mode: try the steps of kFidelitySearch (loosest first) and keep
   // the first LOD that meets these limits in every judged view (when that is
@@ -69,6 +73,12 @@ struct LodResult {
   bool empty = false;               // no triangle of the model displayable here
   std::vector<ViewFigures> views;   // labelling views, then held-out ones
   Judgement fidelity;               // views against the job's limits
+  // Judged building by building (LodJob::judge_buildings_alone): how many
+  // buildings, how many of them within the limits in every view, and the
+  // views judged. `views` then keeps each building's view with the highest
+  // visible_ratio and every view over a limit; `fidelity` is over them all.
+  size_t buildings_judged = 0, buildings_within = 0, building_views = 0;
+  size_t buildings_tightened = 0;  // of them, made at tighter bounds (tighten_to_limits)
   // Wall time of the distance, and of its stages: labelling (its steps in
   // labelling.step_seconds), every try's simplification, judging (the
   // held-out views' records, the floors and every try's comparison) and
@@ -106,6 +116,8 @@ class LodProgress : public LabelProgress {
   virtual void looser_remade() = 0;
   // No tighter bounds were within the limits: the asked ones are made again.
   virtual void tightening_failed() = 0;
+  // A building's LOD is judged alone (the k-th of n to finish).
+  virtual void building_judged(size_t k, size_t n, const BuildingJudged& b, double max_visible) = 0;
   // A LOD is written and judged.
   virtual void lod_made(const LodResult& r) = 0;
 };

@@ -31,6 +31,7 @@ class TextProgress final : public ModelProgress {
   void lod_tried(const char* what, double distance, const LodTry& t) override;
   void looser_remade() override;
   void tightening_failed() override;
+  void building_judged(size_t k, size_t n, const BuildingJudged& b, double max_visible) override;
   void lod_made(const LodResult& r) override;
   void model_loaded(const std::string& model, const Scene& scene) override;
 
@@ -40,6 +41,7 @@ class TextProgress final : public ModelProgress {
   }
   Progress sink_;
   std::chrono::steady_clock::time_point buildings_started_;  // when the distance's first building was labelled
+  std::chrono::steady_clock::time_point judging_started_;    // or judged alone
 };
 
 // "octree built in 120 ms, 4096 KiB": the line after a tracer build.
