@@ -960,8 +960,8 @@ void init_tolerances(Model& m, const Work& w, const SimplifyOptions& opt) {
   for (FH f : m.mesh.faces()) {
     const uint32_t src = m.face_source[f.idx()];
     const size_t l = size_t((*w.labels)[src]);
-    // An unbounded label stays unbounded at any scale (no inf * 0).
-    const double px = std::isinf(bound_px[l]) ? bound_px[l] : bound_px[l] * double(scale_of(opt, src));
+    // bound_scale scales the perceptible and imperceptible bounds.
+    const double px = l == size_t(Label::Undisplayable) ? bound_px[l] : bound_px[l] * double(scale_of(opt, src));
     const double tol = px * opt.pixel_footprint, area = l == size_t(Label::Undisplayable) ? INFINITY : area_for(px);
     for (VH v : m.mesh.fv_range(f)) {
       m.tol[v.idx()] = std::min(m.tol[v.idx()], tol);

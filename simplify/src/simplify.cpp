@@ -93,6 +93,9 @@ void check_input(const Scene& s, const std::vector<Label>& labels, const Simplif
     if (!opt.bound_scale.empty() && opt.bound_scale.size() != nt)
       fail("bound_scale holds " + std::to_string(opt.bound_scale.size()) + " factors for " + std::to_string(nt) +
            " triangles");
+    if (!opt.keep_undisplayable_of.empty() && opt.keep_undisplayable_of.size() != nt)
+      fail("keep_undisplayable_of holds " + std::to_string(opt.keep_undisplayable_of.size()) + " flags for " +
+           std::to_string(nt) + " triangles");
     for (size_t t = 0; t < opt.bound_scale.size(); ++t)
       if (!(opt.bound_scale[t] >= 0 && std::isfinite(opt.bound_scale[t])))
         fail("triangle " + std::to_string(t) + " has a bound scale that is not a finite number >= 0");
@@ -133,7 +136,9 @@ std::vector<uint32_t> faces_in_play(const Scene& s, const std::vector<Label>& la
       (opt.mode == SimplifyMode::Paper || opt.mode == SimplifyMode::Fidelity) && opt.delete_undisplayable;
   for (size_t t = 0; t < nt; ++t) {
     if (!displayable[s.component_of(t)]) continue;
-    if (drop_undisplayable && labels[t] == Label::Undisplayable)
+    const bool kept = opt.mode == SimplifyMode::Fidelity && !opt.keep_undisplayable_of.empty() &&
+                      opt.keep_undisplayable_of[t];
+    if (drop_undisplayable && labels[t] == Label::Undisplayable && !kept)
       stats.undisplayable_faces_deleted++;
     else
       faces.push_back(uint32_t(t));

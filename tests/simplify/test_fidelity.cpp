@@ -288,6 +288,35 @@ TEST(SimplifyFidelity, BoundScaleTightensOnlyItsTriangles) {
   EXPECT_THROW(simplify(in, labels, ones), std::invalid_argument);
 }
 
+// keep_undisplayable_of keeps the undisplayable triangles it flags while
+// the others are deleted: two boxes seen from +z only, the second's flagged;
+// its sides stay, within their bound (0: none moves), the first's go.
+TEST(SimplifyFidelity, FlaggedUndisplayableTrianglesAreKeptTheOthersDeleted) {
+  Scene in;
+  add_box(in, {0, 0, 0}, {1, 1, 1}, 0, 2);
+  const size_t first = in.triangle_count();
+  add_box(in, {3, 0, 0}, {4, 1, 1}, 1, 2);
+  std::vector<Label> labels(in.triangle_count(), Label::Undisplayable);
+  for (size_t t = 0; t < in.triangle_count(); ++t)
+    if (normal_of(in, t)[2] > 0.5) labels[t] = Label::Perceptible;
+  SimplifyOptions o = fidelity(0.01, 0.5, 0.5);
+  o.bound_undisplayable_px = 0;
+  o.keep_undisplayable_of.assign(in.triangle_count(), 0);
+  std::fill(o.keep_undisplayable_of.begin() + long(first), o.keep_undisplayable_of.end(), 1);
+  SimplifyStats st;
+  std::vector<uint32_t> src;
+  const Scene out = simplify(in, labels, o, &st, &src);
+  size_t first_u = 0, second_u = 0;
+  for (uint32_t t : src)
+    if (labels[t] == Label::Undisplayable) (t < first ? first_u : second_u)++;
+  EXPECT_EQ(first_u, 0u);
+  EXPECT_EQ(st.undisplayable_faces_deleted, first - 8);  // the first box's all but its top
+  EXPECT_GT(second_u, 0u);
+  EXPECT_EQ(st.triangles_after[2], second_u);
+  o.keep_undisplayable_of.pop_back();
+  EXPECT_THROW(simplify(in, labels, o), std::invalid_argument);
+}
+
 TEST(SimplifyFidelity, RefusesBadBounds) {
   Scene in;
   add_grid(in, 2, 1.0, 0);

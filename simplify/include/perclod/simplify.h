@@ -109,11 +109,16 @@ struct SimplifyOptions {
   // remove in all, at bounds up to 1 px; times the bound squared above that
   // (infinity = no area rule).
   double bound_area_px2 = kDefaultBoundAreaPx2;
-  // Fidelity: per input triangle, a factor on the three bounds above (and
-  // on the area budget's bound and the small-piece rule) for its vertices
-  // and its piece; empty = 1 for all. `run` tightens the buildings a judge
-  // finds over its limits this way, leaving the others' bounds as asked.
+  // Fidelity: per input triangle, a factor on the perceptible and
+  // imperceptible bounds above (and on the area budget's bound and the
+  // small-piece rule) for its vertices and its piece; empty = 1 for all.
+  // `run` tightens the buildings a judge finds over its limits this way,
+  // leaving the others' bounds as asked.
   std::vector<float> bound_scale;
+  // Fidelity: per input triangle, nonzero keeps it if undisplayable even
+  // with delete_undisplayable (collapsed within bound_undisplayable_px);
+  // empty = none.
+  std::vector<uint8_t> keep_undisplayable_of;
 
   // Constraint lines (Shi, Yang, Li): edges whose dihedral angle exceeds
   // feature_angle_deg never collapse, nor move (their vertices are kept).
