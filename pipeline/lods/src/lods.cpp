@@ -372,11 +372,12 @@ void DistanceRun::tighten_buildings() {
     worsen(worst, j.worst);
   }
   if (!over) return;
-  auto log = [&](double e, const WorstFigures& w, bool met) {
+  // A try as the tried buildings were made: e, and their undisplayable rule.
+  auto log = [&](double e, const UndisplayableRule& rule, const WorstFigures& w, bool met) {
     LodTry t;
     t.e_imperceptible = e;
     t.e_perceptible = asked_.bound_perceptible_px * e / asked_e;
-    t.undisplayable = undisplayable_rule_of(asked_);
+    t.undisplayable = rule;
     t.triangles = st_.total_after();
     t.seconds_simplify = st_.seconds;
     t.worst = w;
@@ -385,7 +386,7 @@ void DistanceRun::tighten_buildings() {
     if (progress_) progress_->lod_tried("tighten the buildings over the limits", d_, t);
   };
   r_.tries_kind = LodTries::TightenToLimits;
-  log(asked_e, worst, false);
+  log(asked_e, undisplayable_rule_of(asked_), worst, false);
   std::vector<BuildingJudged> best = buildings_;
   std::vector<float> scale(scene_.triangle_count(), 1.f);
   auto owner = [&](size_t t) { return bs.of_component[scene_.component_of(t)]; };
@@ -395,15 +396,26 @@ void DistanceRun::tighten_buildings() {
     lod_ = simplify(scene_, lr_.labels, so_, &st_);
     r_.seconds_simplify += since(t0);
   };
-  double last_e = asked_e;
+  // Where the asked bounds delete undisplayable triangles, a step that keeps
+  // them keeps the tried buildings' (keep_undisplayable_of), within the
+  // first such step's bound: a later step's other bound would move those of
+  // the buildings that met the limits before it.
+  std::vector<uint8_t> keep(scale.size(), 0);
+  double kept_within = -1;
   size_t fixed = 0;
   for (const FidelitySearchStep& step : steps) {
-    if (!(step.e < last_e)) continue;  // a step that only keeps undisplayable triangles: not per building
-    last_e = step.e;
+    const SimplifyOptions at_step = fidelity_bounds(asked_, step);
+    const bool keeps = asked_.delete_undisplayable && !at_step.delete_undisplayable;
+    if (keeps && kept_within >= 0 && at_step.bound_undisplayable_px != kept_within) continue;
+    if (keeps) kept_within = at_step.bound_undisplayable_px;
     for (size_t t = 0; t < scale.size(); ++t)
-      if (trying[owner(t)]) scale[t] = float(step.e / asked_e);
+      if (trying[owner(t)]) scale[t] = float(step.e / asked_e), keep[t] = keeps;
     SimplifyOptions o = asked_;
     o.bound_scale = scale;
+    if (kept_within >= 0) {
+      o.keep_undisplayable_of = keep;
+      o.bound_undisplayable_px = kept_within;
+    }
     make(o);
     judge_buildings(&trying);
     WorstFigures w;
@@ -417,7 +429,7 @@ void DistanceRun::tighten_buildings() {
       trying[b.index] = 0;
       ++fixed;
     }
-    log(step.e, w, all);
+    log(step.e, keeps ? UndisplayableRule{false, kept_within, -1} : undisplayable_rule_of(asked_), w, all);
     if (all) break;
   }
   // When every building tried met the limits at the last step, the LOD
@@ -428,9 +440,15 @@ void DistanceRun::tighten_buildings() {
   // The buildings no tighter step brought within the limits keep the asked
   // bounds; the LOD is made once more with every building's own.
   for (size_t t = 0; t < scale.size(); ++t)
-    if (trying[owner(t)]) scale[t] = 1.f;
+    if (trying[owner(t)]) scale[t] = 1.f, keep[t] = 0;
   SimplifyOptions final_bounds = asked_;
-  if (fixed) final_bounds.bound_scale = std::move(scale);
+  if (fixed) {
+    final_bounds.bound_scale = std::move(scale);
+    if (kept_within >= 0 && std::count(keep.begin(), keep.end(), 1)) {
+      final_bounds.keep_undisplayable_of = std::move(keep);
+      final_bounds.bound_undisplayable_px = kept_within;
+    }
+  }
   make(final_bounds);
   buildings_ = std::move(best);
   r_.buildings_tightened = fixed;
