@@ -128,13 +128,6 @@ Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& original_l
   return img;
 }
 
-// What the judge reads of the original's perception of a view: kept
-// between its floor and its comparison when they follow each other
-// (judge_buildings_alone), so it is perceived once, not twice.
-struct OriginalSeen {
-  std::vector<float> simulated, luminance;
-};
-
 // One judged view's figures from the LOD's render of it (and its picture).
 struct ViewComparer {
   PerceptionSettings ps;
@@ -142,10 +135,7 @@ struct ViewComparer {
   std::vector<uint8_t> background, drawn_mask, changed_mask, original_rgb;
   SsimScratch ssim_scratch;
 
-  // `seen`: the original's perception of the view, kept by measure_floor;
-  // null: perceived here from the record.
-  ViewFigures operator()(const ViewRecord& v, RenderOutput& img, Rgb8Image* picture,
-                         const OriginalSeen* seen = nullptr) {
+  ViewFigures operator()(const ViewRecord& v, RenderOutput& img, Rgb8Image* picture) {
     const size_t kept = size_t(v.w) * size_t(v.h);
     if (img.width != v.camera.width || img.height != v.camera.height || v.background.size() != kept)
       throw std::logic_error("compare_lod_views: view size changed between recording and comparison");
@@ -153,13 +143,8 @@ struct ViewComparer {
     perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
     // The original's render rebuilt from its record and perceived as it was
     // when recorded (same pixels, same settings: the same floats).
-    if (seen) {
-      original.simulated = seen->simulated;
-      original.luminance = seen->luminance;
-    } else {
-      v.render_into(original_rgb);
-      perceive_into(original_rgb.data(), img.width, img.height, ps, nullptr, original);
-    }
+    v.render_into(original_rgb);
+    perceive_into(original_rgb.data(), img.width, img.height, ps, nullptr, original);
     const size_t n = background.size();
     size_t drawn = 0, changed = 0, coverage_changed = 0, covered_original = 0;
     drawn_mask.assign(n, 0);
@@ -249,13 +234,9 @@ void render_then_work(size_t count, const JudgeSettings& how, const Scratch& scr
 
 // The LOD's renders overlap the comparisons of the views before them, on
 // how.workers threads; the figures are those of one view after another.
-namespace {
-
-// compare_lod_views, with the original's perception of each view from
-// `seen` when given.
-std::vector<ViewFigures> compare_with(Renderer& renderer, const Scene& lod, const std::vector<ViewRecord>& original,
-                                      const JudgeSettings& how, std::vector<Rgb8Image>* pictures,
-                                      const std::vector<OriginalSeen>* seen) {
+std::vector<ViewFigures> compare_lod_views(Renderer& renderer, const Scene& lod,
+                                           const std::vector<ViewRecord>& original, const JudgeSettings& how,
+                                           std::vector<Rgb8Image>* pictures) {
   renderer.set_scene(lod);
   std::vector<ViewFigures> views(original.size());
   std::vector<Rgb8Image> shots(pictures ? original.size() : 0);
@@ -263,19 +244,11 @@ std::vector<ViewFigures> compare_with(Renderer& renderer, const Scene& lod, cons
       original.size(), how, ViewComparer{how.perception, {}, {}, {}, {}, {}, {}, {}},
       [&](size_t k, RenderOutput& img) { renderer.render(original[k].camera, img); },
       [&](ViewComparer& compare, size_t k, RenderOutput& img) {
-        views[k] = compare(original[k], img, pictures ? &shots[k] : nullptr, seen ? &(*seen)[k] : nullptr);
+        views[k] = compare(original[k], img, pictures ? &shots[k] : nullptr);
       });
   if (pictures)
     for (auto& p : shots) pictures->push_back(std::move(p));
   return views;
-}
-
-}  // namespace
-
-std::vector<ViewFigures> compare_lod_views(Renderer& renderer, const Scene& lod,
-                                           const std::vector<ViewRecord>& original, const JudgeSettings& how,
-                                           std::vector<Rgb8Image>* pictures) {
-  return compare_with(renderer, lod, original, how, pictures, nullptr);
 }
 
 namespace {
@@ -287,17 +260,11 @@ struct FloorScratch {
 };
 
 // View v's floors from its original render moved by kFloorShiftPx (img).
-// `keep`, when given, receives the original's perception.
-void measure_floor(ViewRecord& v, const RenderOutput& img, const PerceptionSettings& ps, FloorScratch& s,
-                   OriginalSeen* keep) {
+void measure_floor(ViewRecord& v, const RenderOutput& img, const PerceptionSettings& ps, FloorScratch& s) {
   background_of(img, s.background);
   perceive_into(img.rgb.data(), img.width, img.height, ps, nullptr, s.shifted);
   v.render_into(s.rgb);
   perceive_into(s.rgb.data(), img.width, img.height, ps, nullptr, s.unshifted);
-  if (keep) {
-    keep->simulated = s.unshifted.simulated;
-    keep->luminance = s.unshifted.luminance;
-  }
   s.region.assign(s.background.size(), 0);
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
@@ -310,22 +277,10 @@ void measure_floor(ViewRecord& v, const RenderOutput& img, const PerceptionSetti
                                        s.region.data(), ps.threshold);
 }
 
-// measure_floors, each view's original perception kept in `keep` when given.
-void measure_floors_keeping(Renderer& renderer, const Scene& original, std::vector<ViewRecord>& records,
-                            const JudgeSettings& how, std::vector<OriginalSeen>* keep);
-
 }  // namespace
 
 void measure_floors(Renderer& renderer, const Scene& original, std::vector<ViewRecord>& records,
                     const JudgeSettings& how) {
-  measure_floors_keeping(renderer, original, records, how, nullptr);
-}
-
-namespace {
-
-void measure_floors_keeping(Renderer& renderer, const Scene& original, std::vector<ViewRecord>& records,
-                            const JudgeSettings& how, std::vector<OriginalSeen>* keep) {
-  if (keep) keep->assign(records.size(), {});
   renderer.set_scene(original);
   render_then_work(
       records.size(), how, FloorScratch{},
@@ -335,7 +290,7 @@ void measure_floors_keeping(Renderer& renderer, const Scene& original, std::vect
         renderer.render(c, img);
       },
       [&](FloorScratch& scratch, size_t k, RenderOutput& img) {
-        measure_floor(records[k], img, how.perception, scratch, keep ? &(*keep)[k] : nullptr);
+        measure_floor(records[k], img, how.perception, scratch);
       });
   // A view where the shift moves no edge across a pixel centre (one flat
   // wall: every pixel of an edge's column flips together, or none does) has
@@ -353,8 +308,6 @@ void measure_floors_keeping(Renderer& renderer, const Scene& original, std::vect
   clamp_to_median(&ViewRecord::visible_floor);
   clamp_to_median(&ViewRecord::visible_floor_local);
 }
-
-}  // namespace
 
 Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimits& limits) {
   Judgement j;
@@ -411,20 +364,19 @@ std::vector<BuildingJudged> judge_buildings_alone(
     try {
       Renderer renderer;  // this thread's OpenGL context
       std::vector<uint32_t> vertex, lod_vertex;
-      std::vector<OriginalSeen> seen;  // each view's original, perceived once for its floor and its figures
       for (size_t k; (k = next++) < todo.size();) {
         const size_t b = todo[k];
         const Scene alone = subset_scene(original, tris[b], vertex);
         const Scene lod_alone = subset_scene(lod, lod_tris[b], lod_vertex);
         std::vector<ViewRecord> records = record_views(
             renderer, alone, framed_windows(scene_bounds(alone), views, framing, lane_how.perception), "held_out");
-        measure_floors_keeping(renderer, alone, records, lane_how, &seen);
+        measure_floors(renderer, alone, records, lane_how);
         BuildingJudged& r = out[k];
         r.index = b;
         r.building = buildings.names[b];
         r.triangles = tris[b].size();
         r.lod_triangles = lod_tris[b].size();
-        r.views = compare_with(renderer, lod_alone, records, lane_how, nullptr, &seen);
+        r.views = compare_lod_views(renderer, lod_alone, records, lane_how);
         for (ViewFigures& f : r.views) {
           f.building = r.building;
           f.view = r.building + "/" + f.view;
