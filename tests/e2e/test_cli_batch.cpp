@@ -245,6 +245,17 @@ TEST(CliBatch, OneModelConfigsWriteTheManifestBesideTheLods) {
   expect_checksums_match(m, b.root / "one");
 }
 
+// `perclod run` of b's models/two.obj at 56 m, Z up, one sample, the small
+// display and `settings`, into b.root / name: the LOD's report entry.
+nlohmann::json run_two(const BatchDir& b, const std::string& name, const std::string& settings) {
+  std::ofstream(b.root / (name + ".yaml")) << "model: models/two.obj\nout: " << (b.root / name).string()
+                                           << "\nup: z\ndistances: [56]\nsamples: 1\ndisplay: small-display.yaml\n"
+                                           << settings;
+  auto r = run_cli("run " + (b.root / (name + ".yaml")).string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return read_json(b.root / name / "two_report.json")["lods"][0];
+}
+
 // A dome of `rings` x `segments` quads (radius r, centre x, y, z) as an OBJ
 // group named `name` whose vertices follow `first_vertex` others.
 std::string dome_obj(const std::string& name, double x, double y, double z, double r, int rings, int segments,
@@ -272,12 +283,7 @@ TEST(CliBatch, OnlyTheBuildingsOverTheLimitsAreTightened) {
   std::ofstream(b.root / "models" / "two.obj")
       << building_obj(0, "a") + building_obj(30, "b", 24) + dome_obj("b/dome", 36, 4, 10.3, 3.5, 12, 32, 48);
   auto run = [&](const std::string& name, const std::string& settings) {
-    std::ofstream(b.root / (name + ".yaml")) << "model: models/two.obj\nout: " << (b.root / name).string()
-                                             << "\nup: z\ndistances: [56]\nsamples: 1\n"
-                                             << "display: small-display.yaml\ndebug_images: false\n" << settings;
-    auto r = run_cli("run " + (b.root / (name + ".yaml")).string());
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    return read_json(b.root / name / "two_report.json")["lods"][0];
+    return run_two(b, name, "debug_images: false\n" + settings);
   };
   const auto asked = run("asked", "");
   double worst_b = 0;
@@ -325,12 +331,7 @@ TEST(CliBatch, TwoHousesAreLabelledFromTheirOwnViewsAndJudgedFromHeldOutViews) {
   BatchDir b("two-houses");
   std::ofstream(b.root / "models" / "two.obj") << building_obj(0, "a") + building_obj(30, "b", 24);
   auto run = [&](const std::string& name, const std::string& settings) {
-    std::ofstream(b.root / (name + ".yaml")) << "model: models/two.obj\nout: " << (b.root / name).string()
-                                             << "\nup: z\ndistances: [56]\nviews: facades\nsamples: 1\n"
-                                             << "display: small-display.yaml\n" << settings;
-    auto r = run_cli("run " + (b.root / (name + ".yaml")).string());
-    EXPECT_EQ(r.exit_code, 0) << r.err;
-    return read_json(b.root / name / "two_report.json")["lods"][0];
+    return run_two(b, name, "views: facades\n" + settings);
   };
   const auto none = run("none", "judge_views: none\ndebug_images: false\n");
   const auto held = run("held", "");  // held-out views, debug images
