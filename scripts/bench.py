@@ -264,7 +264,16 @@ def timed_run(a, work, model, views, distances, name):
         lods = json.load(f)["lods"]
     shutil.rmtree(os.path.join(work, "out-" + name), ignore_errors=True)
     return (float(wall), float(cpu.rstrip("%")), int(peak) / 1024, sum(len(x["views"]) for x in lods),
-            sum(len(x["lod_vs_original"]) for x in lods))
+            sum(judged_views(x) for x in lods))
+
+
+def judged_views(lod):
+    """How many views judged a LOD: its listed ones, but of buildings judged
+    alone every view (the report lists each building's worst)."""
+    alone = lod.get("judged_alone")
+    if not alone:
+        return len(lod["lod_vs_original"])
+    return sum(1 for v in lod["lod_vs_original"] if "building" not in v) + alone["views"]
 
 
 def timed_workdir(out, name):
@@ -363,6 +372,20 @@ def facade_parts(width=20.0, height=10.0, depth=12.0, cols=10, rows=4, ornament=
     return parts
 
 
+
+def worst_held(lod, held):
+    """The worst changed fraction, SSIM and silhouette of the held-out views;
+    of buildings judged alone, the report's worst over all of them (it lists
+    each building's worst visible view only)."""
+    if lod.get("judged_alone"):
+        w = lod["fidelity"]["worst"]
+        return dict(worst_changed=round(w["changed_fraction"], 5), worst_ssim=round(w["ssim_covered"], 5),
+                    worst_silhouette=round(w["silhouette_mismatch"], 5))
+    return dict(worst_changed=round(max(j["changed_fraction"] for j in held), 5),
+                worst_ssim=round(min(j["ssim_covered"] for j in held), 5),
+                worst_silhouette=round(max(j["silhouette_mismatch"] for j in held), 5))
+
+
 def run_case(a, work, name, stem, model, distances, views=DEFAULT_VIEWS, extra=""):
     """perclod run on `model` (files named after `stem`): one row per distance
     of what the report says, or one row with the error."""
@@ -395,9 +418,7 @@ def run_case(a, work, name, stem, model, distances, views=DEFAULT_VIEWS, extra="
                          # none when each building's own views alone made the labels
                          min_covered_px=min((v["covered_pixels"] for v in lod["views"]), default=""),
                          lod_triangles=lod["simplify"]["triangles_after"]["total"],
-                         worst_changed=round(max(j["changed_fraction"] for j in held), 5),
-                         worst_ssim=round(min(j["ssim_covered"] for j in held), 5),
-                         worst_silhouette=round(max(j["silhouette_mismatch"] for j in held), 5),
+                         **worst_held(lod, held),
                          real_disagreements=sum(agree) if agree else "",
                          eyes_inside_others=sum(b.get("eyes_inside_other_buildings", 0)
                                                 for b in lod.get("per_building", [])),
