@@ -729,6 +729,16 @@ TEST(ViewSets, EachBuildingIsJudgedAloneFromViewsFramedOnIt) {
   ASSERT_EQ(seen.size(), 1u);
   EXPECT_EQ(seen[0].changed_pixels, 0u);
 
+  // A LOD without any of b's triangles: b judged against nothing.
+  Scene without_b = lod;
+  without_b.indices.resize(3 * 12);
+  without_b.component.resize(12);
+  without_b.material.resize(12);
+  const std::vector<BuildingJudged> gone = judge_buildings_alone(s, without_b, job.views, framing, how, 1);
+  ASSERT_EQ(gone.size(), 2u);
+  EXPECT_EQ(gone[1].lod_triangles, 0u);
+  for (const ViewFigures& v : gone[1].views) EXPECT_EQ(v.silhouette_mismatch, 1.0) << v.view;
+
   Scene renamed = lod;
   renamed.component_names[1] = "c/Building/1";
   EXPECT_THROW(judge_buildings_alone(s, renamed, job.views, framing, how, 1), std::invalid_argument);
