@@ -417,7 +417,9 @@ void DistanceRun::tighten_buildings() {
       o.bound_undisplayable_px = kept_within;
     }
     make(o);
+    const auto t_judge = Clock::now();
     judge_buildings(&trying);
+    r_.seconds_compare += since(t_judge);
     WorstFigures w;
     bool all = true;
     for (const BuildingJudged& b : buildings_) {
