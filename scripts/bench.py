@@ -372,7 +372,6 @@ def facade_parts(width=20.0, height=10.0, depth=12.0, cols=10, rows=4, ornament=
     return parts
 
 
-
 def worst_held(lod, held):
     """The worst changed fraction, SSIM and silhouette of the held-out views;
     of buildings judged alone, the report's worst over all of them (it lists

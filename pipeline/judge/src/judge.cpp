@@ -346,13 +346,13 @@ std::vector<BuildingJudged> judge_buildings_alone(
     tris[buildings.of_component[original.component_of(t)]].push_back(uint32_t(t));
   for (size_t t = 0; t < lod.triangle_count(); ++t)
     lod_tris[buildings.of_component[lod.component_of(t)]].push_back(uint32_t(t));
-  std::vector<size_t> todo;  // buildings with triangles, in building order
+  std::vector<size_t> to_judge;  // buildings with triangles, in building order
   if (only && only->size() != nb) throw std::invalid_argument("judge_buildings_alone: a flag per building");
   for (size_t b = 0; b < nb; ++b)
-    if (!tris[b].empty() && (!only || (*only)[b])) todo.push_back(b);
+    if (!tris[b].empty() && (!only || (*only)[b])) to_judge.push_back(b);
 
-  std::vector<BuildingJudged> out(todo.size());
-  lanes = std::clamp<size_t>(lanes, 1, std::max<size_t>(1, todo.size()));
+  std::vector<BuildingJudged> out(to_judge.size());
+  lanes = std::clamp<size_t>(lanes, 1, std::max<size_t>(1, to_judge.size()));
   // Several lanes are the parallelism; one lane overlaps as `how` asks.
   JudgeSettings lane_how = how;
   if (lanes > 1) lane_how.overlap = false;
@@ -364,8 +364,8 @@ std::vector<BuildingJudged> judge_buildings_alone(
     try {
       Renderer renderer;  // this thread's OpenGL context
       std::vector<uint32_t> vertex, lod_vertex;
-      for (size_t k; (k = next++) < todo.size();) {
-        const size_t b = todo[k];
+      for (size_t k; (k = next++) < to_judge.size();) {
+        const size_t b = to_judge[k];
         const Scene alone = subset_scene(original, tris[b], vertex);
         const Scene lod_alone = subset_scene(lod, lod_tris[b], lod_vertex);
         std::vector<ViewRecord> records = record_views(
@@ -382,11 +382,11 @@ std::vector<BuildingJudged> judge_buildings_alone(
           f.view = r.building + "/" + f.view;
         }
         std::lock_guard<std::mutex> g(lock);
-        if (done) done(finished, todo.size(), r);
+        if (done) done(finished, to_judge.size(), r);
         ++finished;
       }
     } catch (...) {
-      next = todo.size();  // the other lanes stop after their building
+      next = to_judge.size();  // the other lanes stop after their building
       std::lock_guard<std::mutex> g(lock);
       if (!error) error = std::current_exception();
     }
@@ -395,7 +395,7 @@ std::vector<BuildingJudged> judge_buildings_alone(
   try {
     for (size_t l = 1; l < lanes; ++l) threads.emplace_back(run_lane);
   } catch (...) {  // a thread could not start: the started ones stop after their building
-    next = todo.size();
+    next = to_judge.size();
     for (std::thread& t : threads) t.join();
     throw;
   }

@@ -75,6 +75,8 @@ class DistanceRun {
   void write_lod(LodSet& set);
   void judge_written(LodSet& set);
   void keep_telling_views();
+  void make_lod(const SimplifyOptions& o);
+  void compare_model_views();
   void judge_buildings(const std::vector<uint8_t>* only);
   void append_building_views();
   void tighten_buildings();
@@ -157,12 +159,25 @@ void DistanceRun::choose_bounds() {
 
 // One LOD at the bounds `o`, judged from every judged view against the
 // search's target (or the job's limits).
-Judgement DistanceRun::attempt(const SimplifyOptions& o) {
+// The LOD at the bounds `o` into lod_ (so_, st_ and the time with it).
+void DistanceRun::make_lod(const SimplifyOptions& o) {
   so_ = o;
   const auto t_simplify = Clock::now();
   lod_ = simplify(scene_, lr_.labels, so_, &st_);
   release_free_memory();  // the simplifier's mesh
   r_.seconds_simplify += since(t_simplify);
+}
+
+// lod_ against the model's recorded views (judged_) into views_, with
+// their pictures when the job writes view images.
+void DistanceRun::compare_model_views() {
+  pictures_.clear();
+  const bool pictures = !job_.label.out.dir.empty() && lj_.write_view_images;
+  views_ = compare_lod_views(tools_.renderer, lod_, judged_, judge_settings_of(lj_), pictures ? &pictures_ : nullptr);
+}
+
+Judgement DistanceRun::attempt(const SimplifyOptions& o) {
+  make_lod(o);
   // The held-out views of the original are recorded after the first
   // simplification, so the simplifier's memory and theirs are not needed
   // at once (at 1M triangles each is a few hundred MB).
@@ -182,9 +197,7 @@ Judgement DistanceRun::attempt(const SimplifyOptions& o) {
     r_.seconds_compare += since(t_floor);
   }
   const auto t_cmp = Clock::now();
-  pictures_.clear();
-  const bool pictures = !job_.label.out.dir.empty() && lj_.write_view_images;
-  views_ = compare_lod_views(tools_.renderer, lod_, judged_, judge_settings_of(lj_), pictures ? &pictures_ : nullptr);
+  compare_model_views();
   if (buildings_alone_) {
     judge_buildings(nullptr);
     append_building_views();
@@ -313,15 +326,6 @@ void DistanceRun::judge_written(LodSet& set) {
   if (progress_) progress_->lod_made(r_);
 }
 
-// `w` made the worse of itself and `x`, figure by figure.
-void worsen(WorstFigures& w, const WorstFigures& x) {
-  w.changed_fraction = std::max(w.changed_fraction, x.changed_fraction);
-  w.silhouette_mismatch = std::max(w.silhouette_mismatch, x.silhouette_mismatch);
-  w.ssim_covered = std::min(w.ssim_covered, x.ssim_covered);
-  w.visible_ratio = std::max(w.visible_ratio, x.visible_ratio);
-  w.visible_local_ratio = std::max(w.visible_local_ratio, x.visible_local_ratio);
-}
-
 // Each building of the LOD in lod_ judged alone (all, or those `only`
 // flags) into buildings_.
 void DistanceRun::judge_buildings(const std::vector<uint8_t>* only) {
@@ -361,17 +365,15 @@ void DistanceRun::tighten_buildings() {
   const Buildings bs = find_buildings(scene_);
   std::vector<uint8_t> trying(bs.names.size(), 0);
   std::vector<size_t> at(bs.names.size(), 0);  // building -> its entry of buildings_
-  WorstFigures worst;
-  size_t over = 0;
+  std::vector<ViewFigures> over;  // the views of the buildings to tighten
   for (size_t k = 0; k < buildings_.size(); ++k) {
     const Judgement j = judge_views(buildings_[k].views, job_.limits);
     at[buildings_[k].index] = k;
     if (j.met() || !worth_tightening(j, job_.limits)) continue;
     trying[buildings_[k].index] = 1;
-    ++over;
-    worsen(worst, j.worst);
+    over.insert(over.end(), buildings_[k].views.begin(), buildings_[k].views.end());
   }
-  if (!over) return;
+  if (over.empty()) return;
   // A try as the tried buildings were made: e, and their undisplayable rule.
   auto log = [&](double e, const UndisplayableRule& rule, const WorstFigures& w, bool met) {
     LodTry t;
@@ -386,16 +388,10 @@ void DistanceRun::tighten_buildings() {
     if (progress_) progress_->lod_tried("tighten the buildings over the limits", d_, t);
   };
   r_.tries_kind = LodTries::TightenToLimits;
-  log(asked_e, undisplayable_rule_of(asked_), worst, false);
+  log(asked_e, undisplayable_rule_of(asked_), judge_views(over, job_.limits).worst, false);
   std::vector<BuildingJudged> best = buildings_;
   std::vector<float> scale(scene_.triangle_count(), 1.f);
   auto owner = [&](size_t t) { return bs.of_component[scene_.component_of(t)]; };
-  auto make = [&](const SimplifyOptions& o) {
-    so_ = o;
-    const auto t0 = Clock::now();
-    lod_ = simplify(scene_, lr_.labels, so_, &st_);
-    r_.seconds_simplify += since(t0);
-  };
   // Where the asked bounds delete undisplayable triangles, a step that keeps
   // them keeps the tried buildings' (keep_undisplayable_of), within the
   // first such step's bound: a later step's other bound would move those of
@@ -416,23 +412,22 @@ void DistanceRun::tighten_buildings() {
       o.keep_undisplayable_of = keep;
       o.bound_undisplayable_px = kept_within;
     }
-    make(o);
+    make_lod(o);
     const auto t_judge = Clock::now();
     judge_buildings(&trying);
     r_.seconds_compare += since(t_judge);
-    WorstFigures w;
-    bool all = true;
+    std::vector<ViewFigures> tried;
     for (const BuildingJudged& b : buildings_) {
-      const Judgement j = judge_views(b.views, job_.limits);
-      worsen(w, j.worst);
-      all = all && j.met();
-      if (!j.met()) continue;
+      tried.insert(tried.end(), b.views.begin(), b.views.end());
+      if (!judge_views(b.views, job_.limits).met()) continue;
       best[at[b.index]] = b;
       trying[b.index] = 0;
       ++fixed;
     }
-    log(step.e, keeps ? UndisplayableRule{false, kept_within, -1} : undisplayable_rule_of(asked_), w, all);
-    if (all) break;
+    const Judgement all = judge_views(tried, job_.limits);
+    log(step.e, keeps ? UndisplayableRule{false, kept_within, -1} : undisplayable_rule_of(asked_), all.worst,
+        all.met());
+    if (all.met()) break;
   }
   // When every building tried met the limits at the last step, the LOD
   // written is that try's; otherwise it is none of them (the others keep
@@ -451,14 +446,12 @@ void DistanceRun::tighten_buildings() {
       final_bounds.bound_undisplayable_px = kept_within;
     }
   }
-  make(final_bounds);
+  make_lod(final_bounds);
   buildings_ = std::move(best);
   r_.buildings_tightened = fixed;
   if (progress_ && !fixed) progress_->tightening_failed();
-  pictures_.clear();
-  const bool pictures = !job_.label.out.dir.empty() && lj_.write_view_images;
   const auto t_cmp = Clock::now();
-  views_ = compare_lod_views(tools_.renderer, lod_, judged_, judge_settings_of(lj_), pictures ? &pictures_ : nullptr);
+  compare_model_views();
   r_.seconds_compare += since(t_cmp);
   append_building_views();
 }
