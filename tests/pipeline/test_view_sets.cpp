@@ -686,11 +686,23 @@ TEST(ViewSets, EachBuildingIsJudgedAloneFromViewsFramedOnIt) {
   EXPECT_EQ(one[1].triangles, 24u);
   EXPECT_EQ(one[1].lod_triangles, 12u);
   ASSERT_EQ(one[1].views.size(), 2u);
-  for (const ViewFigures& v : one[0].views) {
+  EXPECT_FALSE(one[1].unchanged);
+  // a's LOD is its original: settled without a render.
+  EXPECT_TRUE(one[0].unchanged);
+  EXPECT_TRUE(one[0].views.empty());
+  // The same triangles in another order are judged, and nothing changes.
+  Scene reordered = lod;
+  std::swap_ranges(reordered.indices.begin(), reordered.indices.begin() + 3, reordered.indices.begin() + 3);
+  const std::vector<BuildingJudged> swapped = judge_buildings_alone(s, reordered, job.views, framing, how, 1);
+  ASSERT_EQ(swapped.size(), 2u);
+  EXPECT_FALSE(swapped[0].unchanged);
+  ASSERT_EQ(swapped[0].views.size(), 2u);
+  for (const ViewFigures& v : swapped[0].views) {
     EXPECT_EQ(v.building, "a");
     EXPECT_EQ(v.changed_pixels, 0u) << v.view;
     EXPECT_EQ(v.visible_ratio, 0.0) << v.view;
   }
+  EXPECT_EQ(swapped[1].views, one[1].views);
   const ViewFigures& minus_x = one[1].views[0];
   EXPECT_EQ(minus_x.view, "b/-x");
   EXPECT_GT(minus_x.changed_pixels, 0u);
@@ -711,6 +723,19 @@ TEST(ViewSets, EachBuildingIsJudgedAloneFromViewsFramedOnIt) {
   for (uint32_t t = 0; t < lod.triangle_count(); ++t)
     if (lod.component[t] == 1) lod_of_b.push_back(t);
   const Scene b_alone = subset_scene(s, of_b, vertex), b_lod = subset_scene(lod, lod_of_b, vertex);
+  // View by view, the figures of recording, measuring the floors and
+  // comparing each in turn over b's windows.
+  std::vector<ViewRecord> windows =
+      record_views(r, b_alone, framed_windows(scene_bounds(b_alone), job.views, framing, job.perception), "held_out");
+  measure_floors(r, b_alone, windows, how);
+  const std::vector<ViewFigures> in_turn = compare_lod_views(r, b_lod, windows, how);
+  ASSERT_EQ(in_turn.size(), 2u);
+  for (size_t v = 0; v < 2; ++v) {
+    ViewFigures f = in_turn[v];
+    f.building = "b";
+    f.view = "b/" + f.view;
+    EXPECT_EQ(one[1].views[v], f) << v;
+  }
   std::vector<ViewRecord> frames = record_views(r, b_alone, job.views, framing);
   measure_floors(r, b_alone, frames, how);
   const std::vector<ViewFigures> whole_frame = compare_lod_views(r, b_lod, frames, how);

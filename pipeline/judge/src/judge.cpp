@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <deque>
 #include <functional>
@@ -128,6 +129,15 @@ Rgb8Image side_by_side(const ViewRecord& v, const std::vector<float>& original_l
   return img;
 }
 
+// A judged view's floors from its record, and its visible figures over them.
+void set_floors(ViewFigures& f, const ViewRecord& v) {
+  f.visible_floor = v.visible_floor;
+  f.visible_ratio = v.visible_floor < 0 ? 0.0 : f.visible_difference / std::max(v.visible_floor, kMinVisibleFloor);
+  f.visible_floor_local = v.visible_floor_local;
+  f.visible_local_ratio =
+      v.visible_floor_local < 0 ? 0.0 : f.visible_local / std::max(v.visible_floor_local, kMinVisibleFloor);
+}
+
 // One judged view's figures from the LOD's render of it (and its picture).
 struct ViewComparer {
   PerceptionSettings ps;
@@ -136,15 +146,21 @@ struct ViewComparer {
   SsimScratch ssim_scratch;
 
   ViewFigures operator()(const ViewRecord& v, RenderOutput& img, Rgb8Image* picture) {
+    // The original's render rebuilt from its record and perceived as it was
+    // when recorded (same pixels, same settings: the same floats).
+    v.render_into(original_rgb);
+    perceive_into(original_rgb.data(), v.camera.width, v.camera.height, ps, nullptr, original);
+    return against(v, original, img, picture);
+  }
+
+  // The figures of the LOD's render (img) against the original's, perceived
+  // without a mask (its luminance is rounded here).
+  ViewFigures against(const ViewRecord& v, PerceptionResult& original, RenderOutput& img, Rgb8Image* picture) {
     const size_t kept = size_t(v.w) * size_t(v.h);
     if (img.width != v.camera.width || img.height != v.camera.height || v.background.size() != kept)
       throw std::logic_error("compare_lod_views: view size changed between recording and comparison");
     background_of(img, background);
     perceive_into(img.rgb.data(), img.width, img.height, ps, background.data(), pr);
-    // The original's render rebuilt from its record and perceived as it was
-    // when recorded (same pixels, same settings: the same floats).
-    v.render_into(original_rgb);
-    perceive_into(original_rgb.data(), img.width, img.height, ps, nullptr, original);
     const size_t n = background.size();
     size_t drawn = 0, changed = 0, coverage_changed = 0, covered_original = 0;
     drawn_mask.assign(n, 0);
@@ -186,13 +202,9 @@ struct ViewComparer {
     f.silhouette_mismatch = covered_original ? double(coverage_changed) / double(covered_original)
                                              : (coverage_changed ? 1.0 : 0.0);
     f.visible_difference = visible;
-    f.visible_floor = v.visible_floor;
-    f.visible_ratio = v.visible_floor < 0 ? 0.0 : visible / std::max(v.visible_floor, kMinVisibleFloor);
     f.visible_local = visible_difference_local(pr.simulated.data(), original.simulated.data(), img.width, img.height,
                                                drawn_mask.data(), ps.threshold, kLocalBlockPx);
-    f.visible_floor_local = v.visible_floor_local;
-    f.visible_local_ratio =
-        v.visible_floor_local < 0 ? 0.0 : f.visible_local / std::max(v.visible_floor_local, kMinVisibleFloor);
+    set_floors(f, v);
     return f;
   }
 };
@@ -259,22 +271,46 @@ struct FloorScratch {
   PerceptionResult shifted, unshifted;
 };
 
-// View v's floors from its original render moved by kFloorShiftPx (img).
-void measure_floor(ViewRecord& v, const RenderOutput& img, const PerceptionSettings& ps, FloorScratch& s) {
+// The camera of a view's floor: moved by kFloorShiftPx along the diagonal.
+Camera floor_camera(Camera c) {
+  c.shift_x += kFloorShiftPx / std::sqrt(2.0), c.shift_y += kFloorShiftPx / std::sqrt(2.0);
+  return c;
+}
+
+// View v's floors from its original render moved by kFloorShiftPx (img)
+// and the original's render as recorded, perceived without a mask.
+void measure_floor(ViewRecord& v, const RenderOutput& img, const PerceptionResult& unshifted,
+                   const PerceptionSettings& ps, FloorScratch& s) {
   background_of(img, s.background);
   perceive_into(img.rgb.data(), img.width, img.height, ps, nullptr, s.shifted);
-  v.render_into(s.rgb);
-  perceive_into(s.rgb.data(), img.width, img.height, ps, nullptr, s.unshifted);
   s.region.assign(s.background.size(), 0);
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const size_t i = size_t(y) * size_t(img.width) + size_t(x);
       s.region[i] = !s.background[i] || !v.background_at(x, y);
     }
-  v.visible_floor_local = visible_difference_local(s.shifted.simulated.data(), s.unshifted.simulated.data(), img.width,
+  v.visible_floor_local = visible_difference_local(s.shifted.simulated.data(), unshifted.simulated.data(), img.width,
                                                    img.height, s.region.data(), ps.threshold, kLocalBlockPx);
-  v.visible_floor = visible_difference(s.shifted.simulated.data(), s.unshifted.simulated.data(), s.region.size(),
+  v.visible_floor = visible_difference(s.shifted.simulated.data(), unshifted.simulated.data(), s.region.size(),
                                        s.region.data(), ps.threshold);
+}
+
+// A view whose quarter-pixel move crosses no pixel centre with an edge (one
+// flat wall: every pixel of an edge's column flips together, or none does)
+// has a floor near 0, and any LOD moving one edge there would look
+// thousands of times over it. No view's floor is below kFloorOfMedian times
+// the median of the views'.
+void clamp_floors_to_median(std::vector<ViewRecord>& records) {
+  auto clamp = [&](double ViewRecord::*floor) {
+    std::vector<double> floors;
+    for (const ViewRecord& v : records) floors.push_back(v.*floor);
+    if (floors.empty()) return;
+    std::nth_element(floors.begin(), floors.begin() + long(floors.size() / 2), floors.end());
+    const double lowest = kFloorOfMedian * floors[floors.size() / 2];
+    for (ViewRecord& v : records) v.*floor = std::max(v.*floor, lowest);
+  };
+  clamp(&ViewRecord::visible_floor);
+  clamp(&ViewRecord::visible_floor_local);
 }
 
 }  // namespace
@@ -284,29 +320,14 @@ void measure_floors(Renderer& renderer, const Scene& original, std::vector<ViewR
   renderer.set_scene(original);
   render_then_work(
       records.size(), how, FloorScratch{},
-      [&](size_t k, RenderOutput& img) {
-        Camera c = records[k].camera;
-        c.shift_x += kFloorShiftPx / std::sqrt(2.0), c.shift_y += kFloorShiftPx / std::sqrt(2.0);
-        renderer.render(c, img);
-      },
+      [&](size_t k, RenderOutput& img) { renderer.render(floor_camera(records[k].camera), img); },
       [&](FloorScratch& scratch, size_t k, RenderOutput& img) {
-        measure_floor(records[k], img, how.perception, scratch);
+        const ViewRecord& v = records[k];
+        v.render_into(scratch.rgb);
+        perceive_into(scratch.rgb.data(), img.width, img.height, how.perception, nullptr, scratch.unshifted);
+        measure_floor(records[k], img, scratch.unshifted, how.perception, scratch);
       });
-  // A view where the shift moves no edge across a pixel centre (one flat
-  // wall: every pixel of an edge's column flips together, or none does) has
-  // a floor near 0, and any LOD moving one edge there would look thousands
-  // of times over it. No view's floor is below kFloorOfMedian times the
-  // median of the distance's views.
-  auto clamp_to_median = [&](double ViewRecord::*floor) {
-    std::vector<double> floors;
-    for (const ViewRecord& v : records) floors.push_back(v.*floor);
-    if (floors.empty()) return;
-    std::nth_element(floors.begin(), floors.begin() + long(floors.size() / 2), floors.end());
-    const double lowest = kFloorOfMedian * floors[floors.size() / 2];
-    for (ViewRecord& v : records) v.*floor = std::max(v.*floor, lowest);
-  };
-  clamp_to_median(&ViewRecord::visible_floor);
-  clamp_to_median(&ViewRecord::visible_floor_local);
+  clamp_floors_to_median(records);
 }
 
 Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimits& limits) {
@@ -333,6 +354,63 @@ Judgement judge_views(const std::vector<ViewFigures>& views, const FidelityLimit
   return j;
 }
 
+namespace {
+
+// Whether triangles `a` of scene sa and `b` of sb draw the same: the same
+// corners (bit for bit), components, colours and order. The renderer shades
+// by face normal, so nothing else reaches the pixels.
+bool same_triangles(const Scene& sa, const std::vector<uint32_t>& a, const Scene& sb, const std::vector<uint32_t>& b) {
+  if (a.size() != b.size() || sa.offset != sb.offset) return false;
+  for (size_t k = 0; k < a.size(); ++k) {
+    for (int c = 0; c < 3; ++c) {
+      const float* pa = &sa.positions[3 * size_t(sa.indices[3 * size_t(a[k]) + size_t(c)])];
+      const float* pb = &sb.positions[3 * size_t(sb.indices[3 * size_t(b[k]) + size_t(c)])];
+      if (std::memcmp(pa, pb, 3 * sizeof(float)) != 0) return false;
+    }
+    if (sa.component_of(a[k]) != sb.component_of(b[k])) return false;  // uncoloured: its component's colour
+    const Material *ma = sa.material_of(a[k]), *mb = sb.material_of(b[k]);
+    if ((ma == nullptr) != (mb == nullptr)) return false;
+    if (ma && (ma->color != mb->color || ma->has_color != mb->has_color)) return false;
+  }
+  return true;
+}
+
+// `tiles` of `original` judged against `lod` as record_views,
+// measure_floors and compare_lod_views judge them (the same figures), one
+// view at a time: the original's render is perceived once, for its floor
+// and its comparison, and no view's pixels are kept after it.
+std::vector<ViewFigures> judge_tiles(Renderer& renderer, const Scene& original, const Scene& lod,
+                                     const std::vector<ViewTile>& tiles, const PerceptionSettings& ps) {
+  std::vector<ViewRecord> records;
+  std::vector<ViewFigures> figures;
+  RenderOutput img;  // one set of buffers for every render
+  std::vector<uint8_t> background;
+  PerceptionResult perceived;  // the original's render
+  FloorScratch floor;
+  ViewComparer compare{ps, {}, {}, {}, {}, {}, {}, {}};
+  for (const ViewTile& tile : tiles) {
+    renderer.set_scene(original);
+    renderer.render(tile.camera, img);
+    background_of(img, background);
+    records.push_back(view_record(tile.name, tile.camera, img.rgb, background, "held_out"));
+    ViewRecord& v = records.back();
+    v.packed_rgb.clear();  // not read again: the render is perceived now
+    v.packed_rgb.shrink_to_fit();
+    perceive_into(img.rgb.data(), img.width, img.height, ps, nullptr, perceived);
+    renderer.render(floor_camera(tile.camera), img);
+    measure_floor(v, img, perceived, ps, floor);
+    renderer.set_scene(lod);
+    renderer.render(tile.camera, img);
+    figures.push_back(compare.against(v, perceived, img, nullptr));
+  }
+  // The floors clamped over all the views, as measure_floors clamps them.
+  clamp_floors_to_median(records);
+  for (size_t k = 0; k < figures.size(); ++k) set_floors(figures[k], records[k]);
+  return figures;
+}
+
+}  // namespace
+
 std::vector<BuildingJudged> judge_buildings_alone(
     const Scene& original, const Scene& lod, const std::vector<std::string>& views, const Framing& framing,
     const JudgeSettings& how, size_t lanes, const std::function<void(size_t, size_t, const BuildingJudged&)>& done,
@@ -352,10 +430,8 @@ std::vector<BuildingJudged> judge_buildings_alone(
     if (!tris[b].empty() && (!only || (*only)[b])) to_judge.push_back(b);
 
   std::vector<BuildingJudged> out(to_judge.size());
+  // The lanes are the parallelism: each judges its building view by view.
   lanes = std::clamp<size_t>(lanes, 1, std::max<size_t>(1, to_judge.size()));
-  // Several lanes are the parallelism; one lane overlaps as `how` asks.
-  JudgeSettings lane_how = how;
-  if (lanes > 1) lane_how.overlap = false;
   std::atomic<size_t> next{0};
   std::mutex lock;  // `done`, the count, the first error
   size_t finished = 0;
@@ -366,20 +442,21 @@ std::vector<BuildingJudged> judge_buildings_alone(
       std::vector<uint32_t> vertex, lod_vertex;
       for (size_t k; (k = next++) < to_judge.size();) {
         const size_t b = to_judge[k];
-        const Scene alone = subset_scene(original, tris[b], vertex);
-        const Scene lod_alone = subset_scene(lod, lod_tris[b], lod_vertex);
-        std::vector<ViewRecord> records = record_views(
-            renderer, alone, framed_windows(scene_bounds(alone), views, framing, lane_how.perception), "held_out");
-        measure_floors(renderer, alone, records, lane_how);
         BuildingJudged& r = out[k];
         r.index = b;
         r.building = buildings.names[b];
         r.triangles = tris[b].size();
         r.lod_triangles = lod_tris[b].size();
-        r.views = compare_lod_views(renderer, lod_alone, records, lane_how);
-        for (ViewFigures& f : r.views) {
-          f.building = r.building;
-          f.view = r.building + "/" + f.view;
+        r.unchanged = same_triangles(original, tris[b], lod, lod_tris[b]);
+        if (!r.unchanged) {
+          const Scene alone = subset_scene(original, tris[b], vertex);
+          const Scene lod_alone = subset_scene(lod, lod_tris[b], lod_vertex);
+          r.views = judge_tiles(renderer, alone, lod_alone,
+                                framed_windows(scene_bounds(alone), views, framing, how.perception), how.perception);
+          for (ViewFigures& f : r.views) {
+            f.building = r.building;
+            f.view = r.building + "/" + f.view;
+          }
         }
         std::lock_guard<std::mutex> g(lock);
         if (done) done(finished, to_judge.size(), r);

@@ -342,9 +342,11 @@ void DistanceRun::judge_buildings(const std::vector<uint8_t>* only) {
 void DistanceRun::append_building_views() {
   r_.buildings_judged = buildings_.size();
   r_.buildings_within = 0;
+  r_.buildings_unchanged = 0;
   r_.building_views = 0;
   for (const BuildingJudged& b : buildings_) {
     r_.buildings_within += judge_views(b.views, job_.limits).met();
+    r_.buildings_unchanged += b.unchanged;
     r_.building_views += b.views.size();
     views_.insert(views_.end(), b.views.begin(), b.views.end());
   }

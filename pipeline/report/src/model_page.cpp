@@ -384,6 +384,7 @@ std::vector<std::pair<std::string, std::string>> lod_facts(const json& l, const 
   if (const json* j = member(l, "judged_alone")) {
     std::string text = count(num(*j, "buildings")) + " buildings from " + count(num(*j, "views")) + " views, " +
                        count(num(*j, "within_limits")) + " within the limits";
+    if (num(*j, "unchanged") > 0) text += ", " + count(num(*j, "unchanged")) + " of them unchanged (not rendered)";
     if (num(*j, "tightened") > 0) text += ", " + count(num(*j, "tightened")) + " of them made at tighter bounds";
     facts.push_back({"judged alone", text + " (the table lists each building's worst view)"});
   }

@@ -66,7 +66,9 @@ void TextProgress::building_judged(size_t k, size_t n, const BuildingJudged& b, 
   double worst = 0;
   for (const ViewFigures& v : b.views) worst = std::max(worst, v.visible_ratio);
   ss << "  judged " << k + 1 << "/" << n << " " << b.building << " alone: " << b.lod_triangles << " of "
-     << b.triangles << " triangles, " << b.views.size() << " views, worst visible " << worst << "x the floor";
+     << b.triangles << " triangles, ";
+  if (b.unchanged) ss << "unchanged (its LOD is the original)";
+  else ss << b.views.size() << " views, worst visible " << worst << "x the floor";
   if (max_visible > 0 && worst > max_visible) ss << " (over " << max_visible << ")";
   if (k > 0 && k + 1 < n) {
     const double spent = std::chrono::duration<double>(now - judging_started_).count();
@@ -110,7 +112,7 @@ void TextProgress::lod_made(const LodResult& r) {
      << (st.total_before() ? 100.0 * double(st.total_after()) / double(st.total_before()) : 0.0) << "%); worst of ";
   if (r.buildings_judged)
     ss << r.building_views << " views of " << r.buildings_judged << " buildings judged alone (" << r.buildings_within
-       << " within the limits)";
+       << " within the limits, " << r.buildings_unchanged << " unchanged)";
   else
     ss << r.views.size() << " views";
   ss << ": " << 100 * w.changed_fraction << "% changed, SSIM "

@@ -85,6 +85,7 @@ nlohmann::json lod_json(const LodResult& r) {
   if (r.buildings_judged)
     entry["judged_alone"] = {{"buildings", r.buildings_judged},
                              {"within_limits", r.buildings_within},
+                             {"unchanged", r.buildings_unchanged},
                              {"tightened", r.buildings_tightened},
                              {"views", r.building_views}};
   entry["seconds_compare"] = r.seconds_compare;

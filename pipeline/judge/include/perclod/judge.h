@@ -157,6 +157,9 @@ struct BuildingJudged {
   size_t index = 0;  // of the building in find_buildings' order
   std::string building;
   size_t triangles = 0, lod_triangles = 0;
+  // The LOD's triangles are the original's (same corners, materials and
+  // order), so every render of it is the original's: not rendered, no views.
+  bool unchanged = false;
   std::vector<ViewFigures> views;  // named "<building>/<view>", building set
 };
 
@@ -166,8 +169,11 @@ struct BuildingJudged {
 // component in the same building) as scenes of their own, rendered from
 // `views` framed on the building at framing.distance, only the window
 // framed_windows keeps; floors and figures as measure_floors and
-// compare_lod_views give them. Buildings without triangles are skipped, and
-// with `only` (one flag per building of find_buildings) those not flagged.
+// compare_lod_views give them, worked out view by view (the original's
+// render perceived once for both; how.overlap is not used). Buildings
+// without triangles are skipped, and
+// with `only` (one flag per building of find_buildings) those not flagged;
+// a building whose LOD is its original is `unchanged`, without views.
 // `lanes` threads, each with its own OpenGL context, take the next building
 // when done with one; the result (in building order) does not depend on
 // them. done(k, n, b), when given, is called (one call at a time) as each

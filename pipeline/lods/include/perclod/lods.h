@@ -74,10 +74,12 @@ struct LodResult {
   std::vector<ViewFigures> views;   // labelling views, then held-out ones
   Judgement fidelity;               // views against the job's limits
   // Judged building by building (LodJob::judge_buildings_alone): how many
-  // buildings, how many of them within the limits in every view, and the
-  // views judged. `views` then keeps each building's view with the highest
-  // visible_ratio and every view over a limit; `fidelity` is over them all.
-  size_t buildings_judged = 0, buildings_within = 0, building_views = 0;
+  // buildings, how many of them within the limits in every view, how many
+  // of them the LOD leaves as they are (BuildingJudged::unchanged: no views)
+  // and the views judged. `views` then keeps each building's view with the
+  // highest visible_ratio and every view over a limit; `fidelity` is over
+  // them all.
+  size_t buildings_judged = 0, buildings_within = 0, buildings_unchanged = 0, building_views = 0;
   size_t buildings_tightened = 0;  // of them, made at tighter bounds (tighten_to_limits)
   // Wall time of the distance, and of its stages: labelling (its steps in
   // labelling.step_seconds), every try's simplification, judging (the
