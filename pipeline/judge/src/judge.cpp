@@ -401,7 +401,12 @@ std::vector<ViewFigures> judge_tiles(Renderer& renderer, const Scene& original, 
     measure_floor(v, img, perceived, ps, floor);
     renderer.set_scene(lod);
     renderer.render(tile.camera, img);
+    // The LOD's perception takes the shifted one's buffers: two perceptions
+    // of a view held at once, not three (a large building's tiles are
+    // whole frames, two lanes at a time).
+    compare.pr = std::move(floor.shifted);
     figures.push_back(compare.against(v, perceived, img, nullptr));
+    floor.shifted = std::move(compare.pr);
   }
   // The floors clamped over all the views, as measure_floors clamps them.
   clamp_floors_to_median(records);
