@@ -256,6 +256,24 @@ nlohmann::json run_two(const BatchDir& b, const std::string& name, const std::st
   return read_json(b.root / name / "two_report.json")["lods"][0];
 }
 
+// The faces of `building` (OBJ groups `<building>/...`) in an OBJ file, a
+// line each, with their corners' vertex lines in place of indices.
+std::string faces_of(const fs::path& obj, const std::string& building) {
+  std::ifstream f(obj);
+  std::string line, group, faces;
+  std::vector<std::string> v;
+  while (std::getline(f, line)) {
+    if (line.rfind("v ", 0) == 0) v.push_back(line);
+    else if (line.rfind("g ", 0) == 0) group = line.substr(2, line.find('/') - 2);
+    else if (line.rfind("f ", 0) == 0 && group == building) {
+      std::istringstream in(line.substr(2));
+      for (std::string c; in >> c;) faces += v[std::stoul(c) - 1] + ";";
+      faces += "\n";
+    }
+  }
+  return faces;
+}
+
 // A dome of `rings` x `segments` quads (radius r, centre x, y, z) as an OBJ
 // group named `name` whose vertices follow `first_vertex` others.
 std::string dome_obj(const std::string& name, double x, double y, double z, double r, int rings, int segments,
@@ -300,25 +318,57 @@ TEST(CliBatch, OnlyTheBuildingsOverTheLimitsAreTightened) {
   EXPECT_TRUE(tight["tighten_to_limits"].back()["met"].get<bool>());
   EXPECT_GT(tight["simplify"]["triangles_after"]["total"].get<int>(), asked["simplify"]["triangles_after"]["total"].get<int>());
   // House a's faces in both LODs: the same lines.
-  auto faces_of = [](const fs::path& obj, const std::string& building) {
-    std::ifstream f(obj);
-    std::string line, group, faces;
-    std::vector<std::string> v;
-    while (std::getline(f, line)) {
-      if (line.rfind("v ", 0) == 0) v.push_back(line);
-      else if (line.rfind("g ", 0) == 0) group = line.substr(2, line.find('/') - 2);
-      else if (line.rfind("f ", 0) == 0 && group == building) {
-        std::istringstream in(line.substr(2));
-        for (std::string c; in >> c;) faces += v[std::stoul(c) - 1] + ";";
-        faces += "\n";
-      }
-    }
-    return faces;
-  };
   const std::string a_asked = faces_of(b.root / "asked" / "two_lod_56m.obj", "a");
   EXPECT_FALSE(a_asked.empty());
   EXPECT_TRUE(faces_of(b.root / "tight" / "two_lod_56m.obj", "a") == a_asked);
   EXPECT_TRUE(faces_of(b.root / "tight" / "two_lod_56m.obj", "b") != faces_of(b.root / "asked" / "two_lod_56m.obj", "b"));
+}
+
+// fidelity_target with buildings judged alone: each house takes the
+// loosest bounds within the target in its own views. House a (three boxes)
+// and house b (with a finely made dome) end at different bounds; the LOD
+// holds no more triangles than the asked bounds' and no building is over
+// the target; b's faces are those of a run at b's bounds for the whole file.
+TEST(CliBatch, TheFidelitySearchFindsEachBuildingItsOwnBounds) {
+  BatchDir b("search-buildings");
+  std::ofstream(b.root / "models" / "two.obj")
+      << building_obj(0, "a") + building_obj(30, "b", 24) + dome_obj("b/dome", 36, 4, 10.3, 3.5, 12, 32, 48);
+  auto run = [&](const std::string& name, const std::string& settings) {
+    return run_two(b, name, "debug_images: false\n" + settings);
+  };
+  const auto asked = run("asked", "tighten_to_limits: false\n");
+  const auto searched = run("searched", "fidelity_target: {max_visible: 0.3}\n");
+  ASSERT_TRUE(searched["judged_alone"].contains("searched")) << searched["judged_alone"].dump();
+  const auto& steps = searched["judged_alone"]["searched"]["steps"];
+  int buildings = 0;
+  for (const auto& s : steps) buildings += s["buildings"].get<int>();
+  EXPECT_EQ(buildings, 2);
+  ASSERT_EQ(steps.size(), 2u) << steps.dump();  // two bounds, loosest first
+  // Each house as a run of the whole file at its bounds makes it (e_P as
+  // fidelity_bounds sets it: a quarter of e_I, at least the asked 0.5 px).
+  const std::string searched_obj = (b.root / "searched" / "two_lod_56m.obj").string();
+  std::set<std::string> houses;
+  for (const auto& s : steps) {
+    const double e = s["e_imperceptible"].get<double>();
+    std::ostringstream bounds;
+    bounds << "tighten_to_limits: false\ne_imperceptible: " << e << "\ne_perceptible: " << std::max(0.5, e / 4) << "\n";
+    const std::string name = "at" + std::to_string(int(e * 8));
+    run(name, bounds.str());
+    const fs::path at = b.root / name / "two_lod_56m.obj";
+    for (const std::string house : {"a", "b"})
+      if (faces_of(at, house) == faces_of(searched_obj, house)) houses.insert(house + "@" + name);
+  }
+  EXPECT_EQ(houses.size(), 2u);  // each house matched at one of the two bounds
+  EXPECT_NE(houses.begin()->substr(0, 1), houses.rbegin()->substr(0, 1));
+  // The report page says which bounds the buildings took.
+  std::ifstream page(b.root / "searched" / "two_report.html");
+  const std::string html((std::istreambuf_iterator<char>(page)), {});
+  EXPECT_NE(html.find("<tr><td>bounds per building</td>"), std::string::npos);
+  EXPECT_EQ(searched["judged_alone"]["searched"]["unmet"], 0);
+  EXPECT_EQ(searched["judged_alone"]["within_limits"], 2);
+  for (const auto& v : searched["lod_vs_original"]) EXPECT_LE(v["visible_ratio"].get<double>(), 1.0) << v["view"];
+  EXPECT_LE(searched["simplify"]["triangles_after"]["total"].get<int>(),
+            asked["simplify"]["triangles_after"]["total"].get<int>());
 }
 
 // A file of two houses, each labelled from its own views of it alone (the

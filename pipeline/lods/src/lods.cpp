@@ -71,11 +71,15 @@ class DistanceRun {
   Judgement attempt(const SimplifyOptions& o);
   bool log_try(const Judgement& f, const char* what);
   void search_target();
+  void search_buildings();
+  SimplifyOptions bounds_per_building(const Buildings& bs, const std::vector<FidelitySearchStep>& step_of,
+                                      double kept_within) const;
   void tighten();
   void write_lod(LodSet& set);
   void judge_written(LodSet& set);
   void keep_telling_views();
   void make_lod(const SimplifyOptions& o);
+  void measure_model_floors();
   void compare_model_views();
   void judge_buildings(const std::vector<uint8_t>* only);
   void append_building_views();
@@ -113,7 +117,9 @@ LodResult DistanceRun::run(LodSet& set, Scene* lod_out) {
   label();
   choose_bounds();
   searching_ = job_.fidelity_target && so_.mode == SimplifyMode::Fidelity;
-  if (searching_) search_target();
+  if (searching_ && buildings_alone_ && asked_.bound_perceptible_px > 0 && asked_.bound_imperceptible_px > 0)
+    search_buildings();
+  else if (searching_) search_target();
   else tighten();
   write_lod(set);
   judge_written(set);
@@ -168,6 +174,16 @@ void DistanceRun::make_lod(const SimplifyOptions& o) {
   r_.seconds_simplify += since(t_simplify);
 }
 
+// Every judged view's floor, the labelling views' too when there are no
+// held-out views (judge_views: none): once, before the first comparison (a
+// record's floor is < 0 until measured).
+void DistanceRun::measure_model_floors() {
+  if (std::none_of(judged_.begin(), judged_.end(), [](const ViewRecord& v) { return v.visible_floor < 0; })) return;
+  const auto t_floor = Clock::now();
+  measure_floors(tools_.renderer, scene_, judged_, judge_settings_of(lj_));
+  r_.seconds_compare += since(t_floor);
+}
+
 // lod_ against the model's recorded views (judged_) into views_, with
 // their pictures when the job writes view images.
 void DistanceRun::compare_model_views() {
@@ -188,14 +204,7 @@ Judgement DistanceRun::attempt(const SimplifyOptions& o) {
     held_out_recorded_ = true;
     r_.seconds_compare += since(t_record);
   }
-  // Every judged view's floor, the labelling views' too when there are no
-  // held-out views (judge_views: none): once, before the first comparison
-  // (a record's floor is < 0 until measured).
-  if (std::any_of(judged_.begin(), judged_.end(), [](const ViewRecord& v) { return v.visible_floor < 0; })) {
-    const auto t_floor = Clock::now();
-    measure_floors(tools_.renderer, scene_, judged_, judge_settings_of(lj_));
-    r_.seconds_compare += since(t_floor);
-  }
+  measure_model_floors();
   const auto t_cmp = Clock::now();
   compare_model_views();
   if (buildings_alone_) {
@@ -239,6 +248,136 @@ void DistanceRun::search_target() {
   }
 }
 
+// The asked bounds with each building's triangles bounded as
+// fidelity_bounds(asked_, step_of[building]) bounds them (bound_scale by
+// label); where a building's step keeps undisplayable triangles that the
+// asked bounds delete, its own are kept (keep_undisplayable_of) within
+// kept_within px, the one bound all such steps share.
+SimplifyOptions DistanceRun::bounds_per_building(const Buildings& bs, const std::vector<FidelitySearchStep>& step_of,
+                                                 double kept_within) const {
+  SimplifyOptions o = asked_;
+  const size_t nt = scene_.triangle_count();
+  o.bound_scale.assign(nt, 1.f);
+  std::vector<uint8_t> keep(nt, 0);
+  std::vector<SimplifyOptions> at(step_of.size());
+  for (size_t b = 0; b < step_of.size(); ++b) at[b] = fidelity_bounds(asked_, step_of[b]);
+  for (size_t t = 0; t < nt; ++t) {
+    const SimplifyOptions& a = at[bs.of_component[scene_.component_of(t)]];
+    o.bound_scale[t] = lr_.labels[t] == Label::Perceptible
+                           ? float(a.bound_perceptible_px / asked_.bound_perceptible_px)
+                           : float(a.bound_imperceptible_px / asked_.bound_imperceptible_px);
+    keep[t] = asked_.delete_undisplayable && !a.delete_undisplayable;
+  }
+  if (kept_within >= 0 && std::count(keep.begin(), keep.end(), 1)) {
+    o.keep_undisplayable_of = std::move(keep);
+    o.bound_undisplayable_px = kept_within;
+  }
+  return o;
+}
+
+// fidelity_target for buildings judged alone: each building takes the
+// loosest bounds that meet the target in every one of its views, as
+// search_fidelity_target finds them for a whole model: kFidelitySearch's
+// steps in turn for the buildings not yet within the target, then, for
+// those within at the loosest, e doubled while they stay within and lose
+// triangles (search_looser's rule, building by building). Where the asked
+// bounds delete undisplayable triangles, the steps that keep them share the
+// first such step's bound (as tighten_buildings). A building within at no
+// step keeps the tightest tried. r_.tries lists each pass, its figures over
+// the buildings it judged; the LOD is made once more with every building's
+// own bounds (components are simplified apart, so each building's LOD is
+// the one judged).
+void DistanceRun::search_buildings() {
+  r_.tries_kind = LodTries::FidelitySearch;
+  const Buildings bs = find_buildings(scene_);
+  const size_t nb = bs.names.size();
+  std::vector<uint8_t> open(nb, 0), loosen(nb, 0);
+  for (size_t t = 0; t < scene_.triangle_count(); ++t) open[bs.of_component[scene_.component_of(t)]] = 1;
+  std::vector<FidelitySearchStep> step_of(nb, kFidelitySearch[0]);
+  std::vector<BuildingJudged> best(nb);
+  double kept_within = -1;
+  // One pass: the flagged buildings made at their steps and judged; each
+  // judged building is handed to `judged`. Logged as a try at step `e`.
+  auto pass = [&](const std::vector<uint8_t>& flagged, const FidelitySearchStep& step, const char* what,
+                  const std::function<void(const BuildingJudged&, bool)>& judged) {
+    make_lod(bounds_per_building(bs, step_of, kept_within));
+    const auto t_judge = Clock::now();
+    judge_buildings(&flagged);
+    r_.seconds_compare += since(t_judge);
+    std::vector<ViewFigures> tried;
+    for (const BuildingJudged& b : buildings_) {
+      tried.insert(tried.end(), b.views.begin(), b.views.end());
+      judged(b, judge_views(b.views, job_.target).met());
+    }
+    const SimplifyOptions o = fidelity_bounds(asked_, step);
+    LodTry t;
+    t.e_imperceptible = o.bound_imperceptible_px;
+    t.e_perceptible = o.bound_perceptible_px;
+    t.undisplayable =
+        step.keep_undisplayable && asked_.delete_undisplayable ? UndisplayableRule{false, kept_within, -1}
+                                                               : undisplayable_rule_of(o);
+    t.triangles = st_.total_after();
+    t.seconds_simplify = st_.seconds;
+    const Judgement all = judge_views(tried, job_.target);
+    t.worst = all.worst;
+    t.met = all.met();
+    r_.tries.push_back(t);
+    if (progress_) progress_->lod_tried(what, d_, t);
+  };
+  bool first = true;
+  for (const FidelitySearchStep& step : kFidelitySearch) {
+    if (std::none_of(open.begin(), open.end(), [](uint8_t o) { return o != 0; })) break;
+    const bool keeps = asked_.delete_undisplayable && step.keep_undisplayable;
+    const double within = step.e_undisplayable >= 0 ? step.e_undisplayable : step.e;
+    if (keeps && kept_within >= 0 && within != kept_within) continue;
+    if (keeps) kept_within = within;
+    for (size_t b = 0; b < nb; ++b)
+      if (open[b]) step_of[b] = step;
+    pass(open, step, "fidelity target, building by building", [&](const BuildingJudged& b, bool met) {
+      best[b.index] = b;  // the tightest tried stays when none meets the target
+      if (!met) return;
+      open[b.index] = 0;
+      loosen[b.index] = first;
+    });
+    first = false;
+  }
+  // Looser bounds for the buildings within the target at the loosest step.
+  for (double e = 2 * kFidelitySearch[0].e; e <= kFidelitySearchLoosestPx; e *= 2) {
+    if (std::none_of(loosen.begin(), loosen.end(), [](uint8_t l) { return l != 0; })) break;
+    const FidelitySearchStep looser{e, false};
+    std::vector<FidelitySearchStep> kept = step_of;
+    for (size_t b = 0; b < nb; ++b)
+      if (loosen[b]) step_of[b] = looser;
+    const std::vector<uint8_t> trying = loosen;
+    pass(trying, looser, "fidelity target, building by building, looser", [&](const BuildingJudged& b, bool met) {
+      const size_t k = b.index;
+      if (met && b.lod_triangles <= best[k].lod_triangles) {
+        loosen[k] = b.lod_triangles < best[k].lod_triangles;  // as many: kept, and no looser
+        best[k] = b;
+        return;
+      }
+      step_of[k] = kept[k];  // over the target, or more triangles: the last kept step
+      loosen[k] = 0;
+    });
+  }
+  r_.buildings_unmet = size_t(std::count(open.begin(), open.end(), 1));
+  target_met_ = r_.buildings_unmet == 0;
+  try_kept_ = false;  // the LOD written mixes the passes' bounds
+  make_lod(bounds_per_building(bs, step_of, kept_within));
+  buildings_.clear();
+  r_.buildings_searched.clear();
+  for (size_t b = 0; b < nb; ++b) {
+    if (best[b].building.empty()) continue;  // no triangles
+    ++r_.buildings_searched[{step_of[b].e, step_of[b].keep_undisplayable}];
+    buildings_.push_back(std::move(best[b]));
+  }
+  measure_model_floors();
+  const auto t_cmp = Clock::now();
+  compare_model_views();
+  r_.seconds_compare += since(t_cmp);
+  append_building_views();
+}
+
 // tighten_to_limits: the asked bounds, then tighter ones while the LOD is
 // over the job's limits but within reach of them.
 void DistanceRun::tighten() {
@@ -279,7 +418,12 @@ void DistanceRun::write_lod(LodSet& set) {
   r_.bound_imperceptible_px = so_.bound_imperceptible_px;
   r_.undisplayable = undisplayable_rule_of(so_, exposure_);
   if (!r_.tries.empty() && try_kept_) r_.tries[kept_try_].kept = true;
-  if (searching_ && !target_met_) {
+  if (searching_ && !target_met_ && r_.buildings_unmet) {
+    std::ostringstream ss;
+    ss << r_.lod_file << ": " << r_.buildings_unmet << " of " << r_.buildings_judged
+       << " buildings meet the fidelity target at no bound at " << d_ << " m; they keep the tightest tried";
+    warn(set, ss.str());
+  } else if (searching_ && !target_met_) {
     std::ostringstream ss;
     ss << r_.lod_file << ": no bound meets the fidelity target at " << d_ << " m; kept the tightest (e_imperceptible "
        << so_.bound_imperceptible_px << " px, undisplayable " << undisplayable_rule_text(undisplayable_rule_of(so_)) << ")";

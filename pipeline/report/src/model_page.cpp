@@ -387,6 +387,15 @@ std::vector<std::pair<std::string, std::string>> lod_facts(const json& l, const 
     if (num(*j, "unchanged") > 0) text += ", " + count(num(*j, "unchanged")) + " of them unchanged (not rendered)";
     if (num(*j, "tightened") > 0) text += ", " + count(num(*j, "tightened")) + " of them made at tighter bounds";
     facts.push_back({"judged alone", text + " (the table lists each building's worst view)"});
+    if (const json* searched = member(*j, "searched")) {
+      std::string steps;
+      for (const json& st : (*searched)["steps"])
+        steps += (steps.empty() ? "" : ", ") + count(num(st, "buildings")) + " at " +
+                 [](double e) { std::ostringstream o; o << e; return o.str(); }(num(st, "e_imperceptible")) + " px" +
+                 (st.value("keep_undisplayable", false) ? " (undisplayable kept)" : "");
+      if (num(*searched, "unmet") > 0) steps += "; " + count(num(*searched, "unmet")) + " within the target at none";
+      facts.push_back({"bounds per building", steps});
+    }
   }
   facts.push_back({"time: total", seconds(num(l, "seconds"))});
   if (const json* stages = member(l, "stage_seconds")) {

@@ -88,6 +88,15 @@ nlohmann::json lod_json(const LodResult& r) {
                              {"unchanged", r.buildings_unchanged},
                              {"tightened", r.buildings_tightened},
                              {"views", r.building_views}};
+  if (!r.buildings_searched.empty()) {
+    // Loosest first, as the search went.
+    nlohmann::json steps = nlohmann::json::array();
+    for (auto it = r.buildings_searched.rbegin(); it != r.buildings_searched.rend(); ++it)
+      steps.push_back({{"e_imperceptible", it->first.first},
+                       {"keep_undisplayable", it->first.second},
+                       {"buildings", it->second}});
+    entry["judged_alone"]["searched"] = {{"steps", std::move(steps)}, {"unmet", r.buildings_unmet}};
+  }
   entry["seconds_compare"] = r.seconds_compare;
   entry["seconds"] = r.seconds;
   // Wall time per stage; render, perceive and trace are thread time summed

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "perclod/fidelity_search.h"
@@ -81,6 +83,11 @@ struct LodResult {
   // them all.
   size_t buildings_judged = 0, buildings_within = 0, buildings_unchanged = 0, building_views = 0;
   size_t buildings_tightened = 0;  // of them, made at tighter bounds (tighten_to_limits)
+  // fidelity_target with buildings judged alone: how many buildings took
+  // each step's bounds (e_imperceptible, undisplayable kept), and how many
+  // met the target at none.
+  std::map<std::pair<double, bool>, size_t> buildings_searched;
+  size_t buildings_unmet = 0;
   // Wall time of the distance, and of its stages: labelling (its steps in
   // labelling.step_seconds), every try's simplification, judging (the
   // held-out views' records, the floors and every try's comparison) and
