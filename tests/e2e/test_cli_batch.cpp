@@ -292,17 +292,25 @@ std::string dome_obj(const std::string& name, double x, double y, double z, doub
   return s;
 }
 
+// models/two.obj: house a (three boxes) and house b with a finely made dome.
+void write_houses_a_and_domed_b(const BatchDir& b) {
+  std::ofstream(b.root / "models" / "two.obj")
+      << building_obj(0, "a") + building_obj(30, "b", 24) + dome_obj("b/dome", 36, 4, 10.3, 3.5, 12, 32, 48);
+}
+
+// run_two without debug images.
+nlohmann::json run_two_quiet(const BatchDir& b, const std::string& name, const std::string& settings) {
+  return run_two(b, name, "debug_images: false\n" + settings);
+}
+
 // Per-building tightening: house b carries a finely made dome whose LOD at
 // the asked bounds differs from it; with max_visible at half b's worst
 // visible ratio, only b is made again at tighter bounds, until within, and
 // a keeps its LOD (a plain house, unchanged either way).
 TEST(CliBatch, OnlyTheBuildingsOverTheLimitsAreTightened) {
   BatchDir b("tighten-buildings");
-  std::ofstream(b.root / "models" / "two.obj")
-      << building_obj(0, "a") + building_obj(30, "b", 24) + dome_obj("b/dome", 36, 4, 10.3, 3.5, 12, 32, 48);
-  auto run = [&](const std::string& name, const std::string& settings) {
-    return run_two(b, name, "debug_images: false\n" + settings);
-  };
+  write_houses_a_and_domed_b(b);
+  auto run = [&](const std::string& name, const std::string& settings) { return run_two_quiet(b, name, settings); };
   const auto asked = run("asked", "");
   double worst_b = 0;
   for (const auto& v : asked["lod_vs_original"])
@@ -331,11 +339,8 @@ TEST(CliBatch, OnlyTheBuildingsOverTheLimitsAreTightened) {
 // the target; b's faces are those of a run at b's bounds for the whole file.
 TEST(CliBatch, TheFidelitySearchFindsEachBuildingItsOwnBounds) {
   BatchDir b("search-buildings");
-  std::ofstream(b.root / "models" / "two.obj")
-      << building_obj(0, "a") + building_obj(30, "b", 24) + dome_obj("b/dome", 36, 4, 10.3, 3.5, 12, 32, 48);
-  auto run = [&](const std::string& name, const std::string& settings) {
-    return run_two(b, name, "debug_images: false\n" + settings);
-  };
+  write_houses_a_and_domed_b(b);
+  auto run = [&](const std::string& name, const std::string& settings) { return run_two_quiet(b, name, settings); };
   const auto asked = run("asked", "tighten_to_limits: false\n");
   const auto searched = run("searched", "fidelity_target: {max_visible: 0.3}\n");
   ASSERT_TRUE(searched["judged_alone"].contains("searched")) << searched["judged_alone"].dump();
@@ -380,8 +385,7 @@ TEST(CliBatch, TheFidelitySearchFindsEachBuildingItsOwnBounds) {
 // own LOD and needs no view; b carries a finely made dome.
 TEST(CliBatch, TwoHousesAreLabelledFromTheirOwnViewsAndJudgedFromHeldOutViews) {
   BatchDir b("two-houses");
-  std::ofstream(b.root / "models" / "two.obj")
-      << building_obj(0, "a") + building_obj(30, "b", 24) + dome_obj("b/dome", 36, 4, 10.3, 3.5, 12, 32, 48);
+  write_houses_a_and_domed_b(b);
   auto run = [&](const std::string& name, const std::string& settings) {
     return run_two(b, name, "views: facades\n" + settings);
   };

@@ -82,6 +82,7 @@ class DistanceRun {
   void measure_model_floors();
   void compare_model_views();
   void judge_buildings(const std::vector<uint8_t>* only);
+  std::vector<ViewFigures> remake_flagged(const SimplifyOptions& o, const std::vector<uint8_t>& flagged);
   void append_building_views();
   void tighten_buildings();
   void warn(LodSet& set, const std::string& what) const { set.warnings.push_back(what); }
@@ -300,15 +301,8 @@ void DistanceRun::search_buildings() {
   // judged building is handed to `judged`. Logged as a try at step `e`.
   auto pass = [&](const std::vector<uint8_t>& flagged, const FidelitySearchStep& step, const char* what,
                   const std::function<void(const BuildingJudged&, bool)>& judged) {
-    make_lod(bounds_per_building(bs, step_of, kept_within));
-    const auto t_judge = Clock::now();
-    judge_buildings(&flagged);
-    r_.seconds_compare += since(t_judge);
-    std::vector<ViewFigures> tried;
-    for (const BuildingJudged& b : buildings_) {
-      tried.insert(tried.end(), b.views.begin(), b.views.end());
-      judged(b, judge_views(b.views, job_.target).met());
-    }
+    const std::vector<ViewFigures> tried = remake_flagged(bounds_per_building(bs, step_of, kept_within), flagged);
+    for (const BuildingJudged& b : buildings_) judged(b, judge_views(b.views, job_.target).met());
     const SimplifyOptions o = fidelity_bounds(asked_, step);
     LodTry t;
     t.e_imperceptible = o.bound_imperceptible_px;
@@ -482,6 +476,18 @@ void DistanceRun::judge_buildings(const std::vector<uint8_t>* only) {
       only);
 }
 
+// The LOD made at `o` and the `flagged` buildings judged alone into
+// buildings_ (their judging counted in the LOD's); returns all their views.
+std::vector<ViewFigures> DistanceRun::remake_flagged(const SimplifyOptions& o, const std::vector<uint8_t>& flagged) {
+  make_lod(o);
+  const auto t_judge = Clock::now();
+  judge_buildings(&flagged);
+  r_.seconds_compare += since(t_judge);
+  std::vector<ViewFigures> views;
+  for (const BuildingJudged& b : buildings_) views.insert(views.end(), b.views.begin(), b.views.end());
+  return views;
+}
+
 // buildings_' views after the model's in views_, and their counts.
 void DistanceRun::append_building_views() {
   r_.buildings_judged = buildings_.size();
@@ -558,13 +564,8 @@ void DistanceRun::tighten_buildings() {
       o.keep_undisplayable_of = keep;
       o.bound_undisplayable_px = kept_within;
     }
-    make_lod(o);
-    const auto t_judge = Clock::now();
-    judge_buildings(&trying);
-    r_.seconds_compare += since(t_judge);
-    std::vector<ViewFigures> tried;
+    const std::vector<ViewFigures> tried = remake_flagged(o, trying);
     for (const BuildingJudged& b : buildings_) {
-      tried.insert(tried.end(), b.views.begin(), b.views.end());
       if (!judge_views(b.views, job_.limits).met()) continue;
       best[at[b.index]] = b;
       trying[b.index] = 0;
