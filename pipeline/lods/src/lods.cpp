@@ -307,9 +307,10 @@ void DistanceRun::search_buildings() {
     LodTry t;
     t.e_imperceptible = o.bound_imperceptible_px;
     t.e_perceptible = o.bound_perceptible_px;
-    t.undisplayable =
-        step.keep_undisplayable && asked_.delete_undisplayable ? UndisplayableRule{false, kept_within, -1}
-                                                               : undisplayable_rule_of(o);
+    // Undisplayable triangles as bounds_per_building treats them.
+    t.undisplayable = !asked_.delete_undisplayable ? undisplayable_rule_of(asked_)
+                      : step.keep_undisplayable    ? UndisplayableRule{false, kept_within, -1}
+                                                   : undisplayable_rule_of(o);
     t.triangles = st_.total_after();
     t.seconds_simplify = st_.seconds;
     const Judgement all = judge_views(tried, job_.target);
@@ -362,7 +363,7 @@ void DistanceRun::search_buildings() {
   r_.buildings_searched.clear();
   for (size_t b = 0; b < nb; ++b) {
     if (best[b].building.empty()) continue;  // no triangles
-    ++r_.buildings_searched[{step_of[b].e, step_of[b].keep_undisplayable}];
+    ++r_.buildings_searched[{step_of[b].e, step_of[b].keep_undisplayable || !asked_.delete_undisplayable}];
     buildings_.push_back(std::move(best[b]));
   }
   measure_model_floors();
