@@ -714,6 +714,23 @@ TEST(ViewSets, EachBuildingIsJudgedAloneFromViewsFramedOnIt) {
   ASSERT_EQ(two.size(), 2u);
   for (size_t b = 0; b < 2; ++b) EXPECT_EQ(two[b].views, one[b].views) << b;
 
+  // Floors kept between calls: measured once per building (none for a,
+  // unchanged), then taken as they are.
+  BuildingFloors floors;
+  const std::vector<BuildingJudged> cached = judge_buildings_alone(s, lod, job.views, framing, how, 2, nullptr,
+                                                                   nullptr, &floors);
+  ASSERT_EQ(floors.size(), 2u);
+  EXPECT_TRUE(floors[0].empty());
+  ASSERT_EQ(floors[1].size(), 2u);
+  for (size_t b = 0; b < 2; ++b) EXPECT_EQ(cached[b].views, one[b].views) << b;
+  EXPECT_EQ(judge_buildings_alone(s, lod, job.views, framing, how, 1, nullptr, nullptr, &floors)[1].views,
+            one[1].views);
+  floors[1][0] = {123.0, 456.0};
+  const ViewFigures taken = judge_buildings_alone(s, lod, job.views, framing, how, 1, nullptr, nullptr, &floors)[1].views[0];
+  EXPECT_EQ(taken.visible_floor, 123.0);
+  EXPECT_EQ(taken.visible_floor_local, 456.0);
+  EXPECT_EQ(taken.visible_difference, one[1].views[0].visible_difference);
+
   // The window judges as b's whole frame does, up to the rounding of a
   // cropped camera at the rasteriser's edges.
   Renderer r;

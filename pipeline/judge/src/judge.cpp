@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <tuple>
 
 
 #include "perclod/judge.h"
@@ -378,9 +379,14 @@ bool same_triangles(const Scene& sa, const std::vector<uint32_t>& a, const Scene
 // `tiles` of `original` judged against `lod` as record_views,
 // measure_floors and compare_lod_views judge them (the same figures), one
 // view at a time: the original's render is perceived once, for its floor
-// and its comparison, and no view's pixels are kept after it.
+// and its comparison, and no view's pixels are kept after it. `floors`
+// holds each tile's floors as measured (before the clamp): when it holds
+// one pair per tile they are taken, else they are measured into it.
 std::vector<ViewFigures> judge_tiles(Renderer& renderer, const Scene& original, const Scene& lod,
-                                     const std::vector<ViewTile>& tiles, const PerceptionSettings& ps) {
+                                     const std::vector<ViewTile>& tiles, const PerceptionSettings& ps,
+                                     std::vector<std::pair<double, double>>& floors) {
+  const bool known = floors.size() == tiles.size();
+  if (!known) floors.clear();
   std::vector<ViewRecord> records;
   std::vector<ViewFigures> figures;
   RenderOutput img;  // one set of buffers for every render
@@ -397,8 +403,13 @@ std::vector<ViewFigures> judge_tiles(Renderer& renderer, const Scene& original, 
     v.packed_rgb.clear();  // not read again: the render is perceived now
     v.packed_rgb.shrink_to_fit();
     perceive_into(img.rgb.data(), img.width, img.height, ps, nullptr, perceived);
-    renderer.render(floor_camera(tile.camera), img);
-    measure_floor(v, img, perceived, ps, floor);
+    if (known) {
+      std::tie(v.visible_floor, v.visible_floor_local) = floors[records.size() - 1];
+    } else {
+      renderer.render(floor_camera(tile.camera), img);
+      measure_floor(v, img, perceived, ps, floor);
+      floors.emplace_back(v.visible_floor, v.visible_floor_local);
+    }
     renderer.set_scene(lod);
     renderer.render(tile.camera, img);
     // The LOD's perception takes the shifted one's buffers: two perceptions
@@ -419,7 +430,7 @@ std::vector<ViewFigures> judge_tiles(Renderer& renderer, const Scene& original, 
 std::vector<BuildingJudged> judge_buildings_alone(
     const Scene& original, const Scene& lod, const std::vector<std::string>& views, const Framing& framing,
     const JudgeSettings& how, size_t lanes, const std::function<void(size_t, size_t, const BuildingJudged&)>& done,
-    const std::vector<uint8_t>* only) {
+    const std::vector<uint8_t>* only, BuildingFloors* floors) {
   if (lod.component_names != original.component_names)
     throw std::invalid_argument("judge_buildings_alone: the LOD's components are not the original's");
   const Buildings buildings = find_buildings(original);
@@ -431,6 +442,7 @@ std::vector<BuildingJudged> judge_buildings_alone(
     lod_tris[buildings.of_component[lod.component_of(t)]].push_back(uint32_t(t));
   std::vector<size_t> to_judge;  // buildings with triangles, in building order
   if (only && only->size() != nb) throw std::invalid_argument("judge_buildings_alone: a flag per building");
+  if (floors) floors->resize(nb);  // each lane writes only its buildings' entries
   for (size_t b = 0; b < nb; ++b)
     if (!tris[b].empty() && (!only || (*only)[b])) to_judge.push_back(b);
 
@@ -456,8 +468,10 @@ std::vector<BuildingJudged> judge_buildings_alone(
         if (!r.unchanged) {
           const Scene alone = subset_scene(original, tris[b], vertex);
           const Scene lod_alone = subset_scene(lod, lod_tris[b], lod_vertex);
+          std::vector<std::pair<double, double>> own;  // without a cache, this building's for this call
           r.views = judge_tiles(renderer, alone, lod_alone,
-                                framed_windows(scene_bounds(alone), views, framing, how.perception), how.perception);
+                                framed_windows(scene_bounds(alone), views, framing, how.perception), how.perception,
+                                floors ? (*floors)[b] : own);
           for (ViewFigures& f : r.views) {
             f.building = r.building;
             f.view = r.building + "/" + f.view;

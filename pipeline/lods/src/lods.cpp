@@ -96,6 +96,7 @@ class DistanceRun {
   LabelResult lr_;
   bool buildings_alone_ = false;  // judge each building alone (LodJob::judge_buildings_alone)
   std::vector<BuildingJudged> buildings_;  // their figures for the LOD in lod_
+  BuildingFloors floors_;  // each building's floors, measured at its first judging
   std::vector<ViewRecord> judged_;  // the labelling views, then the held-out ones
   bool held_out_recorded_ = false;
   SimplifyOptions asked_, so_;
@@ -474,7 +475,7 @@ void DistanceRun::judge_buildings(const std::vector<uint8_t>* only) {
       [&](size_t k, size_t n, const BuildingJudged& b) {
         if (progress_) progress_->building_judged(k, n, b, max_visible);
       },
-      only);
+      only, &floors_);
 }
 
 // The LOD made at `o` and the `flagged` buildings judged alone into

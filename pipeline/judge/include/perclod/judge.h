@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "perclod/display.h"
@@ -177,11 +178,15 @@ struct BuildingJudged {
 // `lanes` threads, each with its own OpenGL context, take the next building
 // when done with one; the result (in building order) does not depend on
 // them. done(k, n, b), when given, is called (one call at a time) as each
-// building is judged, in the order they finish.
+// building is judged, in the order they finish. `floors`, when given, keeps
+// each building's floors between calls for the same `original`, views and
+// framing (the LODs judged may differ): a building judged again measures
+// none, and its figures are the same.
+using BuildingFloors = std::vector<std::vector<std::pair<double, double>>>;  // per building, per tile
 std::vector<BuildingJudged> judge_buildings_alone(
     const Scene& original, const Scene& lod, const std::vector<std::string>& views, const Framing& framing,
     const JudgeSettings& how, size_t lanes,
     const std::function<void(size_t, size_t, const BuildingJudged&)>& done = nullptr,
-    const std::vector<uint8_t>* only = nullptr);
+    const std::vector<uint8_t>* only = nullptr, BuildingFloors* floors = nullptr);
 
 }  // namespace perclod
