@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "perclod/load.h"
@@ -383,6 +384,15 @@ TEST(LodFidelity, ALodDrawingBeyondTheKeptRectangleIsChangedThere) {
   rec[0].rgb_into(kept);
   EXPECT_EQ(kept.size(), 3 * size_t(rec[0].w) * size_t(rec[0].h));
   EXPECT_LT(rec[0].packed_rgb.size(), kept.size() / 4);  // packed: a flat-shaded building is mostly runs
+  // Without its pixels: the same rectangle and mask, nothing packed, and
+  // no render to rebuild.
+  std::vector<uint8_t> background;
+  background_of(img, background);
+  const ViewRecord bare = view_record("-y", rec[0].camera, img.rgb, background, "held_out", false);
+  EXPECT_EQ(std::tie(bare.x0, bare.y0, bare.w, bare.h), std::tie(rec[0].x0, rec[0].y0, rec[0].w, rec[0].h));
+  EXPECT_EQ(bare.background, rec[0].background);
+  EXPECT_TRUE(bare.packed_rgb.empty());
+  EXPECT_ANY_THROW(bare.render_into(rebuilt));
   const std::vector<ViewFigures> same = compare_lod_views(renderer, scene, rec, judge_settings_of(job));
   EXPECT_EQ(same[0].changed_pixels, 0u);
   EXPECT_EQ(same[0].coverage_changed_pixels, 0u);

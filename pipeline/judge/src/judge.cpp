@@ -398,10 +398,9 @@ std::vector<ViewFigures> judge_tiles(Renderer& renderer, const Scene& original, 
     renderer.set_scene(original);
     renderer.render(tile.camera, img);
     background_of(img, background);
-    records.push_back(view_record(tile.name, tile.camera, img.rgb, background, "held_out"));
+    // The record's rectangle and mask only: the render is perceived now.
+    records.push_back(view_record(tile.name, tile.camera, img.rgb, background, "held_out", false));
     ViewRecord& v = records.back();
-    v.packed_rgb.clear();  // not read again: the render is perceived now
-    v.packed_rgb.shrink_to_fit();
     perceive_into(img.rgb.data(), img.width, img.height, ps, nullptr, perceived);
     if (known) {
       std::tie(v.visible_floor, v.visible_floor_local) = floors[records.size() - 1];

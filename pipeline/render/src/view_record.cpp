@@ -17,7 +17,7 @@ void background_of(const RenderOutput& img, std::vector<uint8_t>& background) {
 }
 
 ViewRecord view_record(const std::string& name, const Camera& camera, const std::vector<uint8_t>& rgb,
-                       const std::vector<uint8_t>& background, const std::string& set) {
+                       const std::vector<uint8_t>& background, const std::string& set, bool pixels) {
   ViewRecord r;
   r.view = name;
   r.camera = camera;
@@ -40,14 +40,14 @@ ViewRecord view_record(const std::string& name, const Camera& camera, const std:
   r.w = std::min(W - 1, x1 + kRecordMargin) - r.x0 + 1, r.h = std::min(H - 1, y1 + kRecordMargin) - r.y0 + 1;
   const size_t n = size_t(r.w) * size_t(r.h);
   thread_local std::vector<uint8_t> kept;  // the rectangle's colours, packed below
-  kept.resize(3 * n);
+  kept.resize(pixels ? 3 * n : 0);
   r.background.resize(n);
   for (int y = 0; y < r.h; ++y) {
     const size_t row = size_t(y + r.y0) * size_t(W) + size_t(r.x0), k = size_t(y) * size_t(r.w);
-    std::copy_n(&rgb[3 * row], 3 * size_t(r.w), &kept[3 * k]);
+    if (pixels) std::copy_n(&rgb[3 * row], 3 * size_t(r.w), &kept[3 * k]);
     for (int x = 0; x < r.w; ++x) r.background[k + size_t(x)] = background[row + size_t(x)] != 0;
   }
-  r.packed_rgb = pack_bytes(kept.data(), kept.size());
+  if (pixels) r.packed_rgb = pack_bytes(kept.data(), kept.size());
   return r;
 }
 

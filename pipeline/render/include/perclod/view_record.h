@@ -65,8 +65,10 @@ void background_of(const RenderOutput& img, std::vector<uint8_t>& background);
 
 // A ViewRecord of the original from one view's render (rgb, 3 bytes a
 // pixel, and its background mask): the rectangle it draws, widened by
-// kRecordMargin and clipped to the image.
+// kRecordMargin and clipped to the image. Without `pixels` its colours are
+// not packed (packed_rgb empty, and rgb_into / render_into throw; for a
+// caller done with them once the record's rectangle and mask are known).
 ViewRecord view_record(const std::string& name, const Camera& camera, const std::vector<uint8_t>& rgb,
-                       const std::vector<uint8_t>& background, const std::string& set);
+                       const std::vector<uint8_t>& background, const std::string& set, bool pixels = true);
 
 }  // namespace perclod
