@@ -85,6 +85,7 @@ class DistanceRun {
   std::vector<ViewFigures> remake_flagged(const SimplifyOptions& o, const std::vector<uint8_t>& flagged);
   void append_building_views();
   void tighten_buildings();
+  void finish_buildings(const SimplifyOptions& o, std::vector<BuildingJudged> judged);
   void warn(LodSet& set, const std::string& what) const { set.warnings.push_back(what); }
 
   const Scene& scene_;
@@ -165,8 +166,6 @@ void DistanceRun::choose_bounds() {
   asked_ = so_;
 }
 
-// One LOD at the bounds `o`, judged from every judged view against the
-// search's target (or the job's limits).
 // The LOD at the bounds `o` into lod_ (so_, st_ and the time with it).
 void DistanceRun::make_lod(const SimplifyOptions& o) {
   so_ = o;
@@ -194,6 +193,8 @@ void DistanceRun::compare_model_views() {
   views_ = compare_lod_views(tools_.renderer, lod_, judged_, judge_settings_of(lj_), pictures ? &pictures_ : nullptr);
 }
 
+// One LOD at the bounds `o`, judged from every judged view against the
+// search's target (or the job's limits).
 Judgement DistanceRun::attempt(const SimplifyOptions& o) {
   make_lod(o);
   // The held-out views of the original are recorded after the first
@@ -359,15 +360,24 @@ void DistanceRun::search_buildings() {
   r_.buildings_unmet = size_t(std::count(open.begin(), open.end(), 1));
   target_met_ = r_.buildings_unmet == 0;
   try_kept_ = false;  // the LOD written mixes the passes' bounds
-  make_lod(bounds_per_building(bs, step_of, kept_within));
-  buildings_.clear();
+  std::vector<BuildingJudged> judged;
   r_.buildings_searched.clear();
   for (size_t b = 0; b < nb; ++b) {
     if (best[b].building.empty()) continue;  // no triangles
     ++r_.buildings_searched[{step_of[b].e, step_of[b].keep_undisplayable || !asked_.delete_undisplayable}];
-    buildings_.push_back(std::move(best[b]));
+    judged.push_back(std::move(best[b]));
   }
-  measure_model_floors();
+  finish_buildings(bounds_per_building(bs, step_of, kept_within), std::move(judged));
+}
+
+// The LOD written when buildings were made at bounds of their own: made at
+// `o` (each building's LOD is the one `judged` judged, components being
+// simplified apart), `judged` as its buildings' figures, then compared from
+// the model's recorded views.
+void DistanceRun::finish_buildings(const SimplifyOptions& o, std::vector<BuildingJudged> judged) {
+  make_lod(o);
+  buildings_ = std::move(judged);
+  measure_model_floors();  // measured already unless no LOD was attempted
   const auto t_cmp = Clock::now();
   compare_model_views();
   r_.seconds_compare += since(t_cmp);
@@ -595,14 +605,9 @@ void DistanceRun::tighten_buildings() {
       final_bounds.bound_undisplayable_px = kept_within;
     }
   }
-  make_lod(final_bounds);
-  buildings_ = std::move(best);
   r_.buildings_tightened = fixed;
   if (progress_ && !fixed) progress_->tightening_failed();
-  const auto t_cmp = Clock::now();
-  compare_model_views();
-  r_.seconds_compare += since(t_cmp);
-  append_building_views();
+  finish_buildings(final_bounds, std::move(best));
 }
 
 // Of the views of buildings judged alone (after the model's), r_.views
