@@ -542,3 +542,28 @@ TEST(GlbExport, AnEmptyLodIsARootNodeWithoutEmptyAccessors) {
   // assimp reads it: perclod's loader then refuses it for what it is, empty.
   EXPECT_NE(error_of([&] { load_scene(d / "empty.glb"); }).find("no triangles (empty model)"), std::string::npos);
 }
+
+// An OBJ LOD of a model whose file gave no colours reads back without
+// colours, so it renders in its components' colours as the original does,
+// while a colour the source gave survives the round trip.
+TEST(ObjExport, MaterialsKeepTheirColourOrTheirLackOfOne) {
+  test::TempDir d("objcolours");
+  Scene plain = test::box();
+  export_scene(plain, d / "plain.obj");
+  Scene back = load_scene(d / "plain.obj");
+  ASSERT_EQ(back.triangle_count(), plain.triangle_count());
+  for (size_t t = 0; t < back.triangle_count(); ++t) {
+    const Material* m = back.material_of(t);
+    EXPECT_TRUE(m == nullptr || !m->has_color) << t;
+  }
+  Scene red = test::box();
+  red.materials = {{"roof", {0.9f, 0.1f, 0.1f}, true}};
+  red.material.assign(red.triangle_count(), 0);
+  export_scene(red, d / "red.obj");
+  back = load_scene(d / "red.obj");
+  const Material* m = back.material_of(0);
+  ASSERT_NE(m, nullptr);
+  EXPECT_TRUE(m->has_color);
+  EXPECT_FLOAT_EQ(m->color[0], 0.9f);
+  EXPECT_FLOAT_EQ(m->color[1], 0.1f);
+}

@@ -143,7 +143,13 @@ void export_obj(const Scene& s, const std::string& path) {
   std::string mtl;
   for (size_t slot = 0; slot < material_slots(s); ++slot) {
     const Material m = material_in_slot(s, slot);
-    mtl += "newmtl " + obj_name(m.name) + "\nKd ";
+    mtl += "newmtl " + obj_name(m.name) + "\n";
+    // A material the source gave no colour gets none here either: read back,
+    // its triangles are drawn in their component's colour as the original's
+    // are (a Kd of its placeholder grey made `perclod judge` see every pixel
+    // of a LOD of a colourless OBJ changed).
+    if (!m.has_color) continue;
+    mtl += "Kd ";
     for (int k = 0; k < 3; ++k) append_double(mtl, m.color[k]), mtl += k < 2 ? " " : "\n";
   }
   std::string out = "# perclod export: " + std::to_string(s.triangle_count()) + " triangles, " +
