@@ -171,6 +171,8 @@ void register_simplify(CLI::App& app) {
   cmd->add_option("--feature-angle", a->job.options.feature_angle_deg, "Dihedral angle of a feature edge (degrees)")
       ->check(in_range(0, 180))
       ->capture_default_str();
+  cmd->add_flag("--free-topology,!--manifold", a->job.options.free_topology,
+                key_help("free_topology", "--manifold: stop where the half-edge collapses stop"));
   cmd->add_flag("--keep-undisplayable", a->keep_undisplayable,
                 key_help("keep_undisplayable", "this flag: true; --delete-undisplayable: false; neither: auto"));
   cmd->add_flag("--delete-undisplayable", a->delete_undisplayable,

@@ -21,10 +21,12 @@
 #include <new>
 #include <numeric>
 #include <string>
+#include <unordered_map>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "free_collapse.h"
 #include "mesh_edits.h"
 #include "quadric.h"
 #include "simplify_internal.h"
@@ -170,7 +172,12 @@ void add_edge_plane(Model& m, VH a, VH b, const Vec& n, double weight) {
 
 // with_distance: also the unit-weight quadrics behind Bounded's error bound
 // (memory is time here: they are only built when a tolerance needs them).
-void init_quadrics(Model& m, const SimplifyOptions& opt, bool with_distance) {
+// `joined_edges` (may be null): per edge, whether it joins two or more faces
+// of the welded triangle list although the mesh has it on its boundary (a
+// face OpenMesh could not join got its own vertices); such an edge gets no
+// boundary plane.
+void init_quadrics(Model& m, const SimplifyOptions& opt, bool with_distance,
+                   const std::vector<uint8_t>* joined_edges = nullptr) {
   Mesh& mesh = m.mesh;
   m.quadric_stride = with_distance ? 2 : 1;
   m.quadrics.assign(m.quadric_stride * mesh.n_vertices(), Quadric{});
@@ -198,6 +205,7 @@ void init_quadrics(Model& m, const SimplifyOptions& opt, bool with_distance) {
     VH a = mesh.from_vertex_handle(h0), b = mesh.to_vertex_handle(h0);
     FH f0 = mesh.face_handle(h0), f1 = mesh.face_handle(h1);
     if (!f0.is_valid() || !f1.is_valid()) {
+      if (joined_edges && (*joined_edges)[e.idx()]) continue;
       FH f = f0.is_valid() ? f0 : f1;
       add_edge_plane(m, a, b, normal[f.idx()], opt.boundary_weight);
       continue;
@@ -213,6 +221,35 @@ void init_quadrics(Model& m, const SimplifyOptions& opt, bool with_distance) {
       }
     }
   }
+}
+
+// free_topology: the mesh's boundary edges that the welded triangle list
+// has two or more faces on (joined_edges of init_quadrics), and in `copy`
+// every vertex whose welded vertex the mesh holds more than once: those the
+// half-edge loop must not move away from their twins before the
+// triangle-list pass joins them again.
+std::vector<uint8_t> find_joined_edges_and_copies(const Model& m, std::vector<uint8_t>& copy) {
+  const Mesh& mesh = m.mesh;
+  auto key = [](uint32_t a, uint32_t b) { return a < b ? uint64_t(a) << 32 | b : uint64_t(b) << 32 | a; };
+  std::unordered_map<uint64_t, uint32_t> faces_on;
+  std::unordered_map<uint32_t, uint32_t> copies;
+  for (FH f : mesh.faces()) {
+    uint32_t w[3];
+    int k = 0;
+    for (VH v : mesh.fv_range(f)) w[k++] = m.vert_welded[v.idx()];
+    for (k = 0; k < 3; ++k) faces_on[key(w[k], w[(k + 1) % 3])]++;
+  }
+  for (VH v : mesh.vertices()) copies[m.vert_welded[v.idx()]]++;
+  copy.assign(mesh.n_vertices(), 0);
+  for (VH v : mesh.vertices()) copy[v.idx()] = copies[m.vert_welded[v.idx()]] > 1;
+  std::vector<uint8_t> joined(mesh.n_edges(), 0);
+  for (auto e : mesh.edges()) {
+    if (!mesh.is_boundary(e)) continue;
+    const HH h = mesh.halfedge_handle(e, 0);
+    const uint32_t a = m.vert_welded[mesh.from_vertex_handle(h).idx()], b = m.vert_welded[mesh.to_vertex_handle(h).idx()];
+    joined[e.idx()] = faces_on[key(a, b)] > 1;
+  }
+  return joined;
 }
 
 void lock_perceptible(Model& m, const Work& w) {
@@ -904,6 +941,117 @@ void write_result(Model& m, const Work& w, bool keep_perceptible_exact, Simplify
   stats.vertices_after = out.positions.size() / 3;
 }
 
+// ---- past the half-edge topology (free_topology) ----------------------------
+
+// The model's faces as a plain triangle list in the input winding, on the
+// same vertex numbers. Copies of one welded vertex (the vertices OpenMesh
+// gave a face it could not join) become one again: the first copy a face
+// with three distinct welded corners uses takes the others' quadrics,
+// bounds and area, and they merge into it at its (equal) position. A face
+// whose welded corners repeat keeps its own vertices.
+FreeMesh to_free_mesh(const Model& m) {
+  const Mesh& mesh = m.mesh;
+  FreeMesh f;
+  const size_t nv = mesh.n_vertices();
+  f.points.resize(3 * nv);
+  for (size_t v = 0; v < nv; ++v) {
+    const auto& p = mesh.point(VH(int(v)));
+    std::copy(p.data(), p.data() + 3, &f.points[3 * v]);
+  }
+  f.qa.resize(nv);
+  if (m.has_qd()) f.qd.resize(nv);
+  for (size_t v = 0; v < nv; ++v) {
+    f.qa[v] = m.qa(VH(int(v)));
+    if (m.has_qd()) f.qd[v] = m.qd(VH(int(v)));
+  }
+  f.tol = m.tol;
+  f.area_budget = m.area_budget;
+  f.area_used = m.area_used;
+  f.locked = m.locked;
+  f.merged_into = m.merged_into;
+  std::unordered_map<uint32_t, uint32_t> first_of;  // welded vertex -> its first copy in use
+  std::vector<uint8_t> merged(nv, 0);
+  for (FH fh : mesh.faces()) {
+    VH fv[3];
+    int k = 0;
+    for (VH v : mesh.fv_range(fh)) fv[k++] = v;
+    if (m.flipped[fh.idx()]) std::swap(fv[1], fv[2]);
+    uint32_t c[3];
+    for (int i = 0; i < 3; ++i) c[i] = uint32_t(fv[i].idx());
+    const uint32_t w[3] = {m.vert_welded[c[0]], m.vert_welded[c[1]], m.vert_welded[c[2]]};
+    if (w[0] != w[1] && w[1] != w[2] && w[0] != w[2])
+      for (int i = 0; i < 3; ++i) {
+        const uint32_t first = first_of.emplace(w[i], c[i]).first->second;
+        if (first == c[i]) continue;
+        if (!merged[c[i]]) {  // c[i]'s figures go to the first copy once
+          merged[c[i]] = 1;
+          f.qa[first] += f.qa[c[i]];
+          if (!f.qd.empty()) f.qd[first] += f.qd[c[i]];
+          if (!f.tol.empty()) f.tol[first] = std::min(f.tol[first], f.tol[c[i]]);
+          if (!f.area_budget.empty()) {
+            f.area_used[first] += f.area_used[c[i]];
+            f.area_budget[first] = std::min(f.area_budget[first], f.area_budget[c[i]]);
+          }
+          f.locked[first] |= f.locked[c[i]];
+          f.merged_into[c[i]] = first;
+        }
+        c[i] = first;
+      }
+    f.tri.insert(f.tri.end(), c, c + 3);
+    f.source.push_back(m.face_source[fh.idx()]);
+  }
+  f.alive.assign(f.source.size(), 1);
+  f.faces_alive = f.source.size();
+  return f;
+}
+
+// remove_pieces on the triangle list.
+void remove_free_pieces(FreeMesh& f, const Work& w, const SimplifyOptions& opt, double tolerance,
+                        SimplifyStats& stats) {
+  const size_t nv = f.points.size() / 3;
+  DisjointSets sets(nv);
+  for (size_t t = 0; t < f.alive.size(); ++t)
+    if (f.alive[t])
+      for (int k = 1; k < 3; ++k) sets.unite(f.tri[3 * t], f.tri[3 * t + k]);
+  std::vector<Piece> piece(nv);
+  for (size_t t = 0; t < f.alive.size(); ++t) {
+    if (!f.alive[t]) continue;
+    Piece& p = piece[sets.find(f.tri[3 * t])];
+    for (int k = 0; k < 3; ++k)
+      p.add((*w.labels)[f.source[t]], &f.points[3 * size_t(f.tri[3 * t + k])], scale_of(opt, f.source[t]));
+  }
+  std::vector<uint8_t> drop(nv, 0);
+  for (size_t i = 0; i < nv; ++i)
+    if (piece[i].removable(opt.mode, tolerance)) {
+      drop[i] = 1;
+      stats.pieces_removed++;
+    }
+  for (size_t t = 0; t < f.alive.size(); ++t)
+    if (f.alive[t] && drop[sets.find(f.tri[3 * t])]) {
+      f.alive[t] = 0;
+      --f.faces_alive;
+      stats.pieces_triangles_removed++;
+    }
+}
+
+void write_free_result(const FreeMesh& f, SimplifyStats& stats, Result& out) {
+  std::vector<uint32_t> out_index(f.points.size() / 3, UINT32_MAX);
+  for (size_t t = 0; t < f.alive.size(); ++t) {
+    if (!f.alive[t]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = f.tri[3 * t + k];
+      uint32_t& o = out_index[v];
+      if (o == UINT32_MAX) {
+        o = uint32_t(out.positions.size() / 3);
+        out.positions.insert(out.positions.end(), &f.points[3 * size_t(v)], &f.points[3 * size_t(v)] + 3);
+      }
+      out.indices.push_back(o);
+    }
+    out.source.push_back(f.source[t]);
+  }
+  stats.vertices_after = out.positions.size() / 3;
+}
+
 // Belblidia's measures: each mesh vertex against the vertex it collapsed into
 // (transitively); vertices of removed pieces are not counted. Sums, so that
 // chunks add up.
@@ -917,22 +1065,40 @@ struct Displacement {
   }
 };
 
-Displacement displacement(const Model& m) {
-  const Mesh& mesh = m.mesh;
-  std::vector<uint8_t> alive(mesh.n_vertices(), 0);
-  for (FH f : mesh.faces())
-    for (VH v : mesh.fv_range(f)) alive[v.idx()] = 1;
+// `alive`: per vertex, whether a face left uses it; `point(v)`: its position.
+template <class PointOf>
+Displacement displacement(const std::vector<uint32_t>& merged_into, const std::vector<uint8_t>& alive,
+                          PointOf point) {
   Displacement d;
-  for (size_t i = 0; i < m.merged_into.size(); ++i) {
+  for (size_t i = 0; i < merged_into.size(); ++i) {
     uint32_t r = uint32_t(i);
-    while (m.merged_into[r] != r) r = m.merged_into[r];
+    while (merged_into[r] != r) r = merged_into[r];
     if (!alive[r]) continue;
-    double dist = (mesh.point(VH(int(i))) - mesh.point(VH(int(r)))).norm();
+    double dist = (point(uint32_t(i)) - point(r)).norm();
     d.sum += dist;
     d.max = std::max(d.max, dist);
     ++d.count;
   }
   return d;
+}
+
+Displacement displacement(const Model& m) {
+  const Mesh& mesh = m.mesh;
+  std::vector<uint8_t> alive(mesh.n_vertices(), 0);
+  for (FH f : mesh.faces())
+    for (VH v : mesh.fv_range(f)) alive[v.idx()] = 1;
+  return displacement(m.merged_into, alive, [&](uint32_t v) { return to_d(mesh.point(VH(int(v)))); });
+}
+
+Displacement displacement(const FreeMesh& f) {
+  std::vector<uint8_t> alive(f.points.size() / 3, 0);
+  for (size_t t = 0; t < f.alive.size(); ++t)
+    if (f.alive[t])
+      for (int k = 0; k < 3; ++k) alive[f.tri[3 * t + k]] = 1;
+  return displacement(f.merged_into, alive, [&](uint32_t v) {
+    const float* p = &f.points[3 * size_t(v)];
+    return Vec(p[0], p[1], p[2]);
+  });
 }
 
 }  // namespace
@@ -1019,9 +1185,15 @@ void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance,
   std::vector<uint32_t>().swap(c.faces);
   stats.vertices_before = m.mesh.n_vertices();
   m.locked.assign(m.mesh.n_vertices(), 0);
-  init_quadrics(m, opt, bounded);
+  const bool free_topology = opt.mode == SimplifyMode::Fidelity && opt.free_topology;
+  std::vector<uint8_t> joined_edges, copy;
+  if (free_topology && stats.nonmanifold_faces_duplicated + stats.degenerate_faces > 0)
+    joined_edges = find_joined_edges_and_copies(m, copy);
+  init_quadrics(m, opt, bounded, joined_edges.empty() ? nullptr : &joined_edges);
   if (bounded) init_tolerances(m, w, opt);
   if (keep_perceptible) lock_perceptible(m, w);
+  const std::vector<uint8_t> locked = m.locked;  // the rules' own locks
+  for (size_t v = 0; v < copy.size(); ++v) m.locked[v] |= copy[v];
   // Faces OpenMesh refused, and degenerate ones, were added as pieces of
   // their own: drop those that are removable too. Otherwise the mesh's pieces
   // are the welded ones drop_pieces_early already judged.
@@ -1036,6 +1208,22 @@ void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance,
   Collapser(m, lim, target).run(stats, opt.explain_stop);
 
   if (labelled) remove_pieces(m, w, opt, tolerance, stats);
+  if (free_topology) {
+    m.locked = locked;  // the copies are joined now
+    FreeMesh f = to_free_mesh(m);
+    m = Model{};
+    FreeLimits free_lim;
+    free_lim.cos_normal = lim.cos_normal;
+    free_lim.min_quality = lim.min_quality;
+    free_lim.tie = lim.tie;
+    if (opt.explain_stop) stats.refused = SimplifyStats::Refused{};  // what stops the last pass
+    stats.free_collapses = free_collapse(f, free_lim, stats.max_error, opt.explain_stop ? &stats.refused : nullptr);
+    stats.collapses += stats.free_collapses;
+    remove_free_pieces(f, w, opt, tolerance, stats);
+    c.moved = displacement(f);
+    write_free_result(f, stats, c.result);
+    return;
+  }
   c.moved = displacement(m);
   write_result(m, w, keep_perceptible, stats, c.result);
 }
@@ -1056,6 +1244,7 @@ void merge_chunk(Chunk& c, SimplifyStats& stats, Result& out) {
   stats.nonmanifold_faces_duplicated += s.nonmanifold_faces_duplicated;
   stats.degenerate_faces += s.degenerate_faces;
   stats.collapses += s.collapses;
+  stats.free_collapses += s.free_collapses;
   stats.max_error = std::max(stats.max_error, s.max_error);
   if (s.refused_counted) {
     stats.refused_counted = true;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -363,8 +364,12 @@ TEST(CliBatch, TheFidelitySearchFindsEachBuildingItsOwnBounds) {
     for (const std::string house : {"a", "b"})
       if (faces_of(at, house) == faces_of(searched_obj, house)) houses.insert(house + "@" + name);
   }
-  EXPECT_EQ(houses.size(), 2u);  // each house matched at one of the two bounds
-  EXPECT_NE(houses.begin()->substr(0, 1), houses.rbegin()->substr(0, 1));
+  // Each house matched at one of the two bounds; the domed house b at one
+  // only (the three boxes of a may come out the same at both).
+  std::map<std::string, int> matches;
+  for (const std::string& h : houses) matches[h.substr(0, 1)]++;
+  EXPECT_EQ(matches.size(), 2u) << ::testing::PrintToString(houses);
+  EXPECT_EQ(matches["b"], 1) << ::testing::PrintToString(houses);
   // The report page says which bounds the buildings took.
   std::ifstream page(b.root / "searched" / "two_report.html");
   const std::string html((std::istreambuf_iterator<char>(page)), {});

@@ -279,9 +279,9 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return std::make_pair(r.exit_code == 0 ? nlohmann::json::parse(r.out)["lods"][0] : nlohmann::json(), r.err);
   };
-  // Measured: 16 px (e_P 4 px) changes 3.85% of the worst view, 32 px (8 px)
-  // 4.95% (both within the perceptual floor, 0.44x and 0.54x).
-  const auto [back, back_err] = run("back", "judge_views: none\nfidelity_target: {max_changed: 0.044}\n");
+  // Measured: 16 px (e_P 4 px) changes 11.35% of the worst view, 32 px (8 px)
+  // 12.39% (both within the perceptual floor, 0.64x and 0.72x).
+  const auto [back, back_err] = run("back", "judge_views: none\nfidelity_target: {max_changed: 0.12}\n");
   const auto& tries = back["fidelity_search"];
   ASSERT_EQ(tries.size(), 2u) << tries;
   EXPECT_EQ(tries[0]["e_imperceptible"].get<double>(), perclod::kFidelitySearch[0].e);
@@ -295,7 +295,7 @@ TEST(CliPipeline, FidelityTargetTriesLooserBoundsWhileTheyMeetIt) {
   EXPECT_EQ(back["simplify"]["total_after"], tries[0]["triangles"]);
   EXPECT_FALSE(back["simplify"].contains("refused"));  // only with explain: true
   for (const auto& v : back["lod_vs_original"]) {
-    EXPECT_LE(v["changed_fraction"].get<double>(), 0.044) << v["view"];
+    EXPECT_LE(v["changed_fraction"].get<double>(), 0.12) << v["view"];
     // Without held-out views the labelling views' floors are measured too.
     EXPECT_GT(v["visible_floor"].get<double>(), 0) << v["view"];
   }
@@ -334,11 +334,14 @@ TEST(CliPipeline, FidelityTargetNoLooserStepMeetsTriesEveryStep) {
   // (collapsed within the step's bound) instead of deleting them, and the
   // last, which moves and deletes nothing, changes no pixel. (Undisplayable
   // triangles deleted as asked: the four facades alone leave so much unseen
-  // that keep_undisplayable: auto would keep them from the first step.)
+  // that keep_undisplayable: auto would keep them from the first step.
+  // free_topology: false: past the half-edge rules, zero-error collapses
+  // re-tessellate the demo's coplanar overlapping walls, which changes
+  // which of two equal depths a pixel shows: 0.21% of the pixels.)
   auto none = run_cli("run " +
                       job_file(out, "none.yaml",
                                "distances: [427]\nviews: facades\nsamples: 1\njudge_views: none\n"
-                               "keep_undisplayable: false\nfidelity_target: {max_changed: 0}\n",
+                               "keep_undisplayable: false\nfree_topology: false\nfidelity_target: {max_changed: 0}\n",
                                "none") +
                       " --json");
   ASSERT_EQ(none.exit_code, 0) << none.err;
@@ -410,7 +413,7 @@ TEST(CliPipeline, StrictFailsOverLimitsAfterWritingEverything) {
 // but within kTightenReach of them, is made again at the tighter steps until
 // one is within; out of reach, or turned off, the LOD stays at the asked
 // bounds and is flagged. Figures of the demo at 132 m, one sample, judged
-// also from az22.5el15: 0.82% changed at 0.5 px, 0.43% at 0.25 px.
+// also from az22.5el15: 2.56% changed at 0.5 px, 0.47% at 0.25 px.
 TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
   fs::path out = fresh_dir("run-tighten");
   fs::create_directories(out);
@@ -425,15 +428,15 @@ TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
     j["stderr"] = r.err;
     return j;
   };
-  const auto asked = run("off.yaml", "max_changed: 0.005\ntighten_to_limits: false\n");
+  const auto asked = run("off.yaml", "max_changed: 0.01\ntighten_to_limits: false\n");
   const auto& a = asked["lods"][0];
   const double at_asked = a["fidelity"]["worst"]["changed_fraction"].get<double>();
-  ASSERT_GT(at_asked, 0.005) << "the asked bounds must miss this limit for the test to mean anything";
-  ASSERT_LE(at_asked, perclod::kTightenReach * 0.005);
+  ASSERT_GT(at_asked, 0.01) << "the asked bounds must miss this limit for the test to mean anything";
+  ASSERT_LE(at_asked, perclod::kTightenReach * 0.01);
   EXPECT_FALSE(a.contains("tighten_to_limits"));
   EXPECT_EQ(a["bounds_px"]["imperceptible"].get<double>(), 0.5);
 
-  const auto tightened = run("on.yaml", "max_changed: 0.005\n");
+  const auto tightened = run("on.yaml", "max_changed: 0.01\n");
   const auto& t = tightened["lods"][0];
   ASSERT_TRUE(t.contains("tighten_to_limits")) << t;
   const auto& tries = t["tighten_to_limits"];
@@ -448,7 +451,7 @@ TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
   EXPECT_LT(t["bounds_px"]["imperceptible"].get<double>(), 0.5);
   EXPECT_EQ(t["simplify"]["total_after"], tries.back()["triangles"]);
   EXPECT_GE(t["simplify"]["total_after"].get<double>(), a["simplify"]["total_after"].get<double>());
-  for (const auto& v : t["lod_vs_original"]) EXPECT_LE(v["changed_fraction"].get<double>(), 0.005) << v["view"];
+  for (const auto& v : t["lod_vs_original"]) EXPECT_LE(v["changed_fraction"].get<double>(), 0.01) << v["view"];
   EXPECT_EQ(t["fidelity"]["over_limits"].size(), 0u);
   EXPECT_EQ(tightened["over_limits"], 0);
   EXPECT_NE(tightened["stderr"].get<std::string>().find("tighten to limits at 132 m"), std::string::npos);
@@ -462,15 +465,15 @@ TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
   EXPECT_GT(far["over_limits"].get<int>(), 0);
 
   // Within reach but no tighter step is within: at 56 m the asked bounds
-  // change 0.155% and no step gets below 0.13% (0.25 px changes 0.155% too,
-  // 0.125 px with undisplayable triangles kept within it 0.138%). Every
+  // change 0.153% and no step gets below 0.12% (0.25 px changes 0.156%,
+  // 0.125 px with undisplayable triangles kept within it 0.125%). Every
   // step is tried and the asked LOD stays, flagged.
-  const auto none = run("none.yaml", "distances: [56]\nmax_changed: 0.0013\n");
+  const auto none = run("none.yaml", "distances: [56]\nmax_changed: 0.0012\n");
   const auto& n = none["lods"][0];
   ASSERT_TRUE(n.contains("tighten_to_limits")) << n;
   const auto& first = n["tighten_to_limits"][0];
-  ASSERT_GT(first["worst"]["changed_fraction"].get<double>(), 0.0013);
-  ASSERT_LE(first["worst"]["changed_fraction"].get<double>(), perclod::kTightenReach * 0.0013);
+  ASSERT_GT(first["worst"]["changed_fraction"].get<double>(), 0.0012);
+  ASSERT_LE(first["worst"]["changed_fraction"].get<double>(), perclod::kTightenReach * 0.0012);
   EXPECT_EQ(n["tighten_to_limits"].size(), 1 + std::size(perclod::kTightenSteps));  // the asked bounds first
   for (const auto& x : n["tighten_to_limits"]) EXPECT_FALSE(x["met"].get<bool>()) << x;
   for (size_t i = 0; i < n["tighten_to_limits"].size(); ++i)  // the asked bounds are what is written

@@ -75,6 +75,7 @@ const std::map<std::string, Sample>& samples() {
       {"max_visible_local", {"max_visible_local: 1", ""}},
       {"strict", {"strict: true", ""}},
       {"tighten_to_limits", {"tighten_to_limits: false", ""}},
+      {"free_topology", {"free_topology: false", ""}},
       {"explain", {"explain: true", ""}},
       {"fidelity_target", {"fidelity_target: {}", ""}},
       {"fidelity_target.max_changed",

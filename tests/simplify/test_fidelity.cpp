@@ -353,12 +353,70 @@ TEST(SimplifyFidelity, ExplainsWhyItStopped) {
   SimplifyOptions loose = fidelity(0.01, 1e9, 1e9);
   loose.bound_area_px2 = INFINITY;
   loose.explain_stop = true;
+  loose.free_topology = false;  // the half-edge loop's rules (past them it goes on to nothing)
   SimplifyStats bs;
   const Scene small = simplify(ball, ball_labels, loose, &bs);
   EXPECT_LT(small.triangle_count(), ball.triangle_count() / 4);
   EXPECT_EQ(bs.refused.bound_or_locked, 0u);
   EXPECT_GT(bs.refused.shape + bs.refused.topology, 0u);
   EXPECT_EQ(bs.refused.total(), 2 * edge_count(small)) << small.triangle_count();
+}
+
+// Where the half-edge loop stops for topology alone, free_topology goes on
+// within the same bounds. Two cases the half-edge mesh cannot simplify:
+// three flat sheets meeting on one line (a wall, its continuation and a fin:
+// the fin's faces on that non-manifold line get vertices of their own and
+// never collapse), and a lace left by deleting every other triangle of a
+// fine bumpy grid (triangles touching only at corners, each on its own in
+// the mesh, and perceptible, so no piece rule removes them).
+TEST(SimplifyFidelity, FreeTopologyGoesOnWhereTheHalfEdgeRulesStop) {
+  const double p = 0.01, e = 2.0, tol = e * p;
+  SimplifyOptions manifold = fidelity(p, e, e), free = manifold;
+  manifold.free_topology = false;
+  manifold.explain_stop = free.explain_stop = true;
+  {
+    Scene book;
+    add_grid(book, 10, 1.0, 0);                          // z = 0, y in [0, 1]
+    add_grid(book, 10, 1.0, 0, nullptr, 0.0, -1.0);      // z = 0, y in [-1, 0]
+    Scene fin;
+    add_grid(fin, 10, 1.0, 0);
+    for (size_t v = 0; v < fin.vertex_count(); ++v) {  // (x, y, 0) -> (x, 0, y)
+      fin.positions[3 * v + 2] = fin.positions[3 * v + 1];
+      fin.positions[3 * v + 1] = 0;
+    }
+    const uint32_t base = uint32_t(book.vertex_count());
+    book.positions.insert(book.positions.end(), fin.positions.begin(), fin.positions.end());
+    for (size_t t = 0; t < fin.triangle_count(); ++t)
+      add_tri(book, base + fin.indices[3 * t], base + fin.indices[3 * t + 1], base + fin.indices[3 * t + 2], 0);
+    std::vector<Label> labels(book.triangle_count(), Label::Imperceptible);
+    SimplifyStats ms, fs;
+    const Scene m = simplify(book, labels, manifold, &ms), f = simplify(book, labels, free, &fs);
+    EXPECT_GT(ms.nonmanifold_faces_duplicated, 0u);
+    EXPECT_EQ(ms.free_collapses, 0u);
+    EXPECT_GT(fs.free_collapses, 0u);
+    EXPECT_EQ(fs.refused.topology, 0u);  // no rule of the kind is left
+    EXPECT_LT(f.triangle_count(), m.triangle_count() / 2) << m.triangle_count();
+    for (const Scene* out : {&m, &f}) {  // the same three square metres, not moved
+      EXPECT_NEAR(total_area(*out), 3.0, 1e-4);
+      EXPECT_LE(test::one_sided_hausdorff(*out, book, 3), 1e-5);
+      EXPECT_LE(test::one_sided_hausdorff(book, *out, 1), 1e-5);
+    }
+  }
+  {
+    // Cells half the bound wide: removing any one triangle is within it.
+    Scene grid;
+    add_grid(grid, 30, 0.3, 0, [](double x, double y) { return 0.004 * std::sin(21 * x) * std::cos(17 * y); });
+    std::vector<Label> labels(grid.triangle_count(), Label::Perceptible);
+    for (size_t t = 1; t < labels.size(); t += 2) labels[t] = Label::Undisplayable;  // deleted
+    const Scene kept = triangles_where(grid, [&](size_t t) { return labels[t] == Label::Perceptible; });
+    SimplifyStats ms, fs;
+    const Scene m = simplify(grid, labels, manifold, &ms), f = simplify(grid, labels, free, &fs);
+    EXPECT_GT(ms.refused.topology, ms.refused.bound_or_locked) << "the lace stops for topology";
+    EXPECT_LT(f.triangle_count(), m.triangle_count() / 2) << m.triangle_count() << " " << fs.refused.shape << " " << fs.refused.bound_or_locked;
+    EXPECT_LE(fs.max_error, tol);
+    EXPECT_LE(test::one_sided_hausdorff(f, grid, 3), tol * 1.0001);
+    EXPECT_LE(test::one_sided_hausdorff(kept, f, 1), tol * 1.0001);
+  }
 }
 
 TEST(SimplifyQem, ReportsATargetItCannotReach) {

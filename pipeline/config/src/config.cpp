@@ -328,6 +328,9 @@ void read_limits(const YAML::Node& n, const std::string& path, BatchConfig& c) {
   c.judge_buildings_alone = get<bool>(n, path, "judge_buildings_alone", c.judge_buildings_alone);
   if (n["tighten_to_limits"] && c.simplify != "fidelity")
     throw config_error(path, "'tighten_to_limits' applies only to 'simplify: fidelity'");
+  c.free_topology = get<bool>(n, path, "free_topology", c.free_topology);
+  if (n["free_topology"] && c.simplify != "fidelity")
+    throw config_error(path, "'free_topology' applies only to 'simplify: fidelity'");
   c.explain = get<bool>(n, path, "explain", c.explain);
   if (c.explain && c.simplify == "cluster")
     throw config_error(path, "'explain' applies to the collapse modes (fidelity, paper, bounded, qem), not cluster");
@@ -573,6 +576,7 @@ LodJob lod_job(const BatchConfig& c) {
   job.simplify.bound_imperceptible_px = c.e_imperceptible;
   job.simplify.bound_undisplayable_px = c.e_undisplayable;
   job.simplify.explain_stop = c.explain;
+  job.simplify.free_topology = c.free_topology;
   if (!c.judge_views.empty()) job.judge_views = parse_views(c.judge_views, c.up);
   job.limits.max_changed = c.max_changed;
   job.limits.max_silhouette = c.max_silhouette;

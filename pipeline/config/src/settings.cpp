@@ -138,6 +138,10 @@ const std::vector<SettingSpec> kConfigSettings = {
     {"tighten_to_limits", "boolean", "true", "fidelity only",
      "Remake a LOD just over the limits at tighter bounds (docs/usage.md#tightening-to-the-limits)", kHashed,
      kAnyLevel, nullptr},
+    {"free_topology", "boolean", "true", "fidelity only",
+     "Once the half-edge collapses stop, go on collapsing on the plain triangle list, which no topological rule "
+     "limits (the LOD may be non-manifold; docs/usage.md#free-topology)",
+     kHashed, kAnyLevel, nullptr},
     {"explain", "boolean", "false", "not with cluster",
      "Say why each LOD stopped: count its half-edges left by the first rule that refuses their collapse (locked "
      "or over its bound, shape, topology, valence; collapse modes; docs/usage.md#explaining-a-lod)",

@@ -98,6 +98,12 @@ const std::map<std::string, HashWriter>& hash_writers() {
        [](const BatchConfig& c, json& s) {
          if (c.simplify == "fidelity") s["tighten_to_limits"] = c.tighten_to_limits;
        }},
+      // Joins in fidelity mode, where it decides: a manifest redoes fidelity
+      // LODs made before it existed.
+      {"free_topology",
+       [](const BatchConfig& c, json& s) {
+         if (c.simplify == "fidelity") s["free_topology"] = c.free_topology;
+       }},
       // Only the report changes; joins when on, so older hashes stay.
       {"explain", [](const BatchConfig& c, json& s) { if (c.explain) s["explain"] = true; }},
       {"fidelity_target",

@@ -127,6 +127,7 @@ nlohmann::json simplify_stats_json(const SimplifyStats& s) {
                       {"nonmanifold_faces_duplicated", s.nonmanifold_faces_duplicated},
                       {"degenerate_faces", s.degenerate_faces},
                       {"collapses", s.collapses},
+                      {"free_collapses", s.free_collapses},
                       {"chunks", s.chunks},
                       {"tolerance", s.tolerance},
                       {"tolerance_perceptible", s.tolerance_perceptible},

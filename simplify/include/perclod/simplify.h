@@ -22,7 +22,10 @@
 //            perceptible walls are re-tessellated (error 0); nothing moves
 //            further than its label allows. Leftover pieces without a
 //            perceptible face are removed when all undisplayable or when their
-//            bounding-box diagonal is within e_imperceptible * p(d).
+//            bounding-box diagonal is within e_imperceptible * p(d). With
+//            free_topology (the default) the collapses go on on the plain
+//            triangle list once the half-edge mesh's topological rules stop
+//            them (the LOD may be non-manifold).
 //   Paper    undisplayable triangles are deleted outright, then quadric
 //            half-edge collapses (v0 removed, v1 kept where it is) remove
 //            imperceptible triangles until none is removable, then every
@@ -143,6 +146,13 @@ struct SimplifyOptions {
   // stay closed.
   bool delete_undisplayable = true;
 
+  // Fidelity: once the half-edge collapses stop, go on collapsing on the
+  // plain triangle list, where no topological rule refuses (the link
+  // condition, boundary ears, pinched strips, faces on non-manifold edges):
+  // only the bounds, the area rule and the shape rules. The LOD may then be
+  // non-manifold. (src/free_collapse.h)
+  bool free_topology = true;
+
   // Paper, Bounded, Fidelity: connected pieces (faces sharing a welded
   // vertex) are simplified in chunks of about this many faces, in parallel
   // (oneTBB); 0 = one chunk. Collapses never cross pieces and ties between
@@ -172,6 +182,7 @@ struct SimplifyStats {
   size_t nonmanifold_faces_duplicated = 0;  // faces added with their own vertices
   size_t degenerate_faces = 0;         // faces whose welded corners repeat (kept, duplicated)
   size_t collapses = 0;
+  size_t free_collapses = 0;           // Fidelity with free_topology: of those, made on the triangle list
   size_t chunks = 0;                   // Paper, Bounded, Fidelity, Qem: chunks of pieces simplified apart (chunk_faces)
   size_t cluster_dangling_edges = 0;   // Cluster: edges bounding no kept triangle (not in the Scene)
   size_t cluster_isolated_points = 0;  // Cluster: points bounding nothing (not in the Scene)

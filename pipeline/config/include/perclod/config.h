@@ -70,6 +70,9 @@ struct BatchConfig {
   // fidelity, no fidelity_target: a LOD over the limits (within
   // kTightenReach) is tried again at tighter bounds (LodJob::tighten_to_limits).
   bool tighten_to_limits = true;
+  // fidelity: go on collapsing past the half-edge mesh's topological rules
+  // (SimplifyOptions::free_topology).
+  bool free_topology = true;
   // Collapse modes: also count why each half-edge left was not collapsed
   // (SimplifyOptions::explain_stop; the report's simplify.refused).
   bool explain = false;
