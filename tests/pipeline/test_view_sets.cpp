@@ -1118,12 +1118,23 @@ TEST(FidelitySearch, LooserBoundsAreKeptWhileTheyMeetTheTargetAndRemoveTriangles
       return tried.size() <= script.size() ? script[tried.size() - 1] : Try{false, 0};
     });
   };
-  // Han at 56 m with a 5% target: 32 and 64 px meet it, 128 px does not.
+  // Han at 56 m with a 5% target: 32 and 64 px meet it, 128 px does not,
+  // and nor does the midway step (64 sqrt 2 px).
   LooserSearch l = run(13044, {{true, 12701}, {true, 10298}, {false, 9323}});
-  EXPECT_EQ(tried, (std::vector<double>{32, 64, 128}));
+  EXPECT_EQ(tried, (std::vector<double>{32, 64, 128, 64 * std::sqrt(2.0)}));
   EXPECT_EQ(l.step.e, 64);
-  EXPECT_EQ(l.tries, 3);
+  EXPECT_EQ(l.tries, 4);
   EXPECT_EQ(l.kept, 1);
+  EXPECT_TRUE(l.remake);
+  // The midway step meets it with fewer triangles: it is written as it is.
+  l = run(13044, {{true, 12701}, {true, 10298}, {false, 9323}, {true, 9900}});
+  EXPECT_EQ(l.step.e, 64 * std::sqrt(2.0));
+  EXPECT_FALSE(l.step.keep_undisplayable);
+  EXPECT_EQ(l.kept, 3);
+  EXPECT_FALSE(l.remake);
+  // It meets it with more triangles than 64 px: 64 px stays.
+  l = run(13044, {{true, 12701}, {true, 10298}, {false, 9323}, {true, 10299}});
+  EXPECT_EQ(l.step.e, 64);
   EXPECT_TRUE(l.remake);
   // The demo at 56 m: 256 px removes none more than 128 px, and is written.
   l = run(7745, {{true, 7709}, {true, 7708}, {true, 7704}, {true, 7704}});
@@ -1131,16 +1142,18 @@ TEST(FidelitySearch, LooserBoundsAreKeptWhileTheyMeetTheTargetAndRemoveTriangles
   EXPECT_EQ(l.step.e, 256);
   EXPECT_EQ(l.kept, 3);
   EXPECT_FALSE(l.remake);
-  // Met, but with more triangles than the step before: back to that step.
+  // Met, but with more triangles than the step before: back to that step,
+  // no midway try (looser bounds did not help).
   l = run(1000, {{true, 900}, {true, 950}});
   EXPECT_EQ(tried, (std::vector<double>{32, 64}));
   EXPECT_EQ(l.step.e, 32);
   EXPECT_EQ(l.kept, 0);
   EXPECT_TRUE(l.remake);
-  // The first looser try fails: back to kFidelitySearch[0].
+  // The first looser try fails, and the midway one: back to kFidelitySearch[0].
   l = run(1000, {{false, 500}});
+  EXPECT_EQ(tried, (std::vector<double>{32, 16 * std::sqrt(2.0)}));
   EXPECT_EQ(l.step.e, kFidelitySearch[0].e);
-  EXPECT_EQ(l.tries, 1);
+  EXPECT_EQ(l.tries, 2);
   EXPECT_EQ(l.kept, -1);
   EXPECT_TRUE(l.remake);
   // Met with more triangles at once: the same.
@@ -1156,6 +1169,56 @@ TEST(FidelitySearch, LooserBoundsAreKeptWhileTheyMeetTheTargetAndRemoveTriangles
   EXPECT_EQ(l.step.e, kFidelitySearchLoosestPx);
   EXPECT_EQ(l.kept, l.tries - 1);
   EXPECT_FALSE(l.remake);
+}
+
+// The whole search on scripted tries: down the steps to the first within
+// the target, then once midway between it and the step before; the midway
+// LOD is written when it meets the target with no more triangles, else the
+// step's is made again. No midway try between steps that keep undisplayable
+// triangles.
+TEST(FidelitySearch, TheStepWithinTheTargetIsFollowedByOneMidwayTowardsTheLastThatFailed) {
+  using Try = std::pair<bool, size_t>;
+  std::vector<FidelitySearchStep> tried;
+  auto run = [&](std::vector<Try> script) {
+    tried.clear();
+    return search_fidelity_target([&tried, script](const FidelitySearchStep& step, bool looser) {
+      EXPECT_FALSE(looser);
+      tried.push_back(step);
+      return tried.size() <= script.size() ? script[tried.size() - 1] : Try{false, 0};
+    });
+  };
+  // 16 px over the target, 8 px within, 8 sqrt 2 px within with fewer: kept.
+  TargetSearch s = run({{false, 3000}, {true, 3592}, {true, 3300}});
+  ASSERT_EQ(tried.size(), 3u);
+  EXPECT_EQ(tried[2].e, 8 * std::sqrt(2.0));
+  EXPECT_FALSE(tried[2].keep_undisplayable);
+  EXPECT_TRUE(s.met);
+  EXPECT_EQ(s.step.e, 8 * std::sqrt(2.0));
+  EXPECT_EQ(s.kept, 2u);
+  EXPECT_FALSE(s.remake);
+  // The midway try over the target: 8 px, made again.
+  s = run({{false, 3000}, {true, 3592}, {false, 3300}});
+  EXPECT_EQ(s.step.e, 8);
+  EXPECT_EQ(s.kept, 1u);
+  EXPECT_EQ(s.tries, 3u);
+  EXPECT_TRUE(s.remake);
+  // Within, but with more triangles: 8 px too.
+  s = run({{false, 3000}, {true, 3592}, {true, 3593}});
+  EXPECT_EQ(s.step.e, 8);
+  EXPECT_TRUE(s.remake);
+  // Met only at the first step that keeps undisplayable triangles: no midway.
+  std::vector<Try> script;
+  size_t first_keep = 0;
+  while (!kFidelitySearch[first_keep].keep_undisplayable) ++first_keep, script.push_back({false, 100});
+  script.push_back({true, 200});
+  s = run(script);
+  EXPECT_EQ(tried.size(), first_keep + 1);
+  EXPECT_EQ(s.step.e, kFidelitySearch[first_keep].e);
+  EXPECT_FALSE(s.remake);
+  // No step within: every one tried, no midway, the tightest written.
+  s = run({});
+  EXPECT_EQ(tried.size(), std::size(kFidelitySearch));
+  EXPECT_FALSE(s.met);
 }
 
 // The exposure is the share of the exposure views' hits on undisplayable

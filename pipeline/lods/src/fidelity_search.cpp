@@ -70,6 +70,12 @@ Tightening tighten_to_limits(const SimplifyOptions& asked, const Judgement& judg
   return Tightening::NoneWithin;
 }
 
+std::optional<FidelitySearchStep> midway_step(const FidelitySearchStep& met, const FidelitySearchStep& failed) {
+  if (met.keep_undisplayable || failed.keep_undisplayable || !(met.e > 0) || !(failed.e > met.e))
+    return std::nullopt;
+  return FidelitySearchStep{std::sqrt(met.e * failed.e), false};
+}
+
 LooserSearch search_looser(size_t triangles,
                            const std::function<std::pair<bool, size_t>(const FidelitySearchStep&)>& try_step) {
   LooserSearch r{kFidelitySearch[0]};
@@ -78,6 +84,16 @@ LooserSearch search_looser(size_t triangles,
     ++r.tries;
     if (!met || left > triangles) {
       r.remake = true;
+      if (met) break;  // within the target, but more triangles: no looser bound helps
+      if (const auto mid = midway_step(r.step, looser)) {
+        const auto [mid_met, mid_left] = try_step(*mid);
+        ++r.tries;
+        if (mid_met && mid_left <= triangles) {
+          r.step = *mid;
+          r.kept = r.tries - 1;
+          r.remake = false;
+        }
+      }
       break;
     }
     r.step = looser;
@@ -102,6 +118,17 @@ TargetSearch search_fidelity_target(
   s.met = first < n;
   s.step = kFidelitySearch[std::min(first, n - 1)];
   s.kept = s.tries - 1;  // the first that met, or the tightest
+  if (s.met && first > 0)
+    if (const auto mid = midway_step(kFidelitySearch[first], kFidelitySearch[first - 1])) {
+      const auto [met, left] = try_step(*mid, false);
+      ++s.tries;
+      s.remake = true;
+      if (met && left <= triangles) {
+        s.step = *mid;
+        s.kept = s.tries - 1;
+        s.remake = false;
+      }
+    }
   if (first == 0) {  // the loosest step met it: so may looser bounds
     const LooserSearch l =
         search_looser(triangles, [&](const FidelitySearchStep& step) { return try_step(step, true); });

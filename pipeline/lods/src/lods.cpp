@@ -9,6 +9,7 @@
 #include <iterator>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -298,6 +299,8 @@ void DistanceRun::search_buildings() {
   for (size_t t = 0; t < scene_.triangle_count(); ++t) open[bs.of_component[scene_.component_of(t)]] = 1;
   std::vector<FidelitySearchStep> step_of(nb, kFidelitySearch[0]);
   std::vector<BuildingJudged> best(nb);
+  // Per building: the step that last failed the target (for midway_step).
+  std::vector<std::optional<FidelitySearchStep>> failed(nb);
   double kept_within = -1;
   // One pass: the flagged buildings made at their steps and judged; each
   // judged building is handed to `judged`. Logged as a try at step `e`.
@@ -332,7 +335,10 @@ void DistanceRun::search_buildings() {
       if (open[b]) step_of[b] = step;
     pass(open, step, "fidelity target, building by building", [&](const BuildingJudged& b, bool met) {
       best[b.index] = b;  // the tightest tried stays when none meets the target
-      if (!met) return;
+      if (!met) {
+        failed[b.index] = step;
+        return;
+      }
       open[b.index] = 0;
       loosen[b.index] = first;
     });
@@ -355,6 +361,26 @@ void DistanceRun::search_buildings() {
       }
       step_of[k] = kept[k];  // over the target, or more triangles: the last kept step
       loosen[k] = 0;
+      if (!met) failed[k] = looser;
+    });
+  }
+  // Midway between each building's kept step and the one that failed it,
+  // one pass per midway bound.
+  std::map<double, std::vector<size_t>> midway;
+  for (size_t b = 0; b < nb; ++b)
+    if (!open[b] && failed[b] && !best[b].building.empty())
+      if (const auto mid = midway_step(step_of[b], *failed[b])) midway[mid->e].push_back(b);
+  for (const auto& [e, members] : midway) {
+    const FidelitySearchStep mid{e, false};
+    std::vector<FidelitySearchStep> kept = step_of;
+    std::vector<uint8_t> trying(nb, 0);
+    for (size_t b : members) trying[b] = 1, step_of[b] = mid;
+    pass(trying, mid, "fidelity target, building by building, midway", [&](const BuildingJudged& b, bool met) {
+      const size_t k = b.index;
+      if (met && b.lod_triangles <= best[k].lod_triangles)
+        best[k] = b;
+      else
+        step_of[k] = kept[k];
     });
   }
   r_.buildings_unmet = size_t(std::count(open.begin(), open.end(), 1));
