@@ -26,6 +26,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "collapse_rules.h"
 #include "free_collapse.h"
 #include "mesh_edits.h"
 #include "quadric.h"
@@ -35,16 +36,7 @@ namespace perclod::detail {
 
 namespace {
 
-using Vec = OpenMesh::Vec3d;
-
 Vec to_d(const Mesh::Point& p) { return Vec(p[0], p[1], p[2]); }
-
-// 4 sqrt(3) area / sum of squared edge lengths: 1 equilateral, 0 degenerate.
-double quality(const Vec& a, const Vec& b, const Vec& c) {
-  double l = (b - a).sqrnorm() + (c - b).sqrnorm() + (a - c).sqrnorm();
-  if (l <= 0) return 0;
-  return 2.0 * std::sqrt(3.0) * ((b - a) % (c - a)).norm() / l;
-}
 
 // The working mesh and everything we keep per element (vectors indexed by
 // handle index; OpenMesh keeps handles stable until garbage collection, which
@@ -267,13 +259,6 @@ struct Candidate {
   double area_change = 0;  // surface area the collapse adds (or removes, < 0)
 };
 
-struct Limits {
-  double cos_normal;
-  double min_quality;
-  int max_valence;
-  double tie;        // edge-length tie-break factor
-};
-
 // Would moving v0 onto p1 turn a surviving face too far or make a sliver?
 // `area_change` (may be null) receives the change in surface area of v0's
 // faces: 0 where a flat region is re-tessellated, minus the area of a thin
@@ -285,33 +270,19 @@ bool geometry_ok(const Mesh& mesh, VH v0, VH v1, const Vec& p1, const Limits& li
     if (!f.is_valid()) continue;
     VH a = mesh.to_vertex_handle(h);
     VH b = mesh.to_vertex_handle(mesh.next_halfedge_handle(h));
-    Vec p0 = to_d(mesh.point(v0)), pa = to_d(mesh.point(a)), pb = to_d(mesh.point(b));
-    Vec n_old = (pa - p0) % (pb - p0);
-    if (a == v1 || b == v1) {  // removed by the collapse
-      twice_change -= n_old.norm();
-      continue;
-    }
-    Vec n_new = (pa - p1) % (pb - p1);
-    double lo = n_old.norm(), ln = n_new.norm();
-    twice_change += ln - lo;
-    if (lo > 0) {
-      if (ln <= 0 || (n_old | n_new) < lim.cos_normal * lo * ln) return false;
-    }
-    double q_new = quality(p1, pa, pb);
-    if (q_new < lim.min_quality && q_new < quality(p0, pa, pb)) return false;
+    if (!face_follows(to_d(mesh.point(v0)), p1, to_d(mesh.point(a)), to_d(mesh.point(b)), a == v1 || b == v1, lim,
+                      twice_change))
+      return false;
   }
   if (area_change) *area_change = 0.5 * twice_change;
   return true;
 }
 
-// Fidelity's area rule: the area changed by this collapse, added to what
-// both ends already changed, must stay within both ends' budgets. A distance
-// bound alone lets a long part thinner than the bound (a mullion, a column
-// seen edge-on) collapse to nothing, one sub-pixel move at a time.
+// within_area_budget for v0 and v1 (Fidelity; no budgets, no rule).
 bool area_ok(const Model& m, VH v0, VH v1, double area_change) {
   if (m.area_budget.empty()) return true;
-  const double used = m.area_used[v0.idx()] + m.area_used[v1.idx()] + std::fabs(area_change);
-  return used <= std::min(m.area_budget[v0.idx()], m.area_budget[v1.idx()]);
+  return within_area_budget(m.area_used[v0.idx()], m.area_used[v1.idx()], area_change, m.area_budget[v0.idx()],
+                            m.area_budget[v1.idx()]);
 }
 
 // Topological legality of collapsing h (v0 -> v1), OpenMesh's rules without
@@ -1192,8 +1163,11 @@ void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance,
   init_quadrics(m, opt, bounded, joined_edges.empty() ? nullptr : &joined_edges);
   if (bounded) init_tolerances(m, w, opt);
   if (keep_perceptible) lock_perceptible(m, w);
-  const std::vector<uint8_t> locked = m.locked;  // the rules' own locks
-  for (size_t v = 0; v < copy.size(); ++v) m.locked[v] |= copy[v];
+  std::vector<uint8_t> rule_locks;  // the rules' own locks, while the copies are locked too
+  if (!copy.empty()) {
+    rule_locks = m.locked;
+    for (size_t v = 0; v < copy.size(); ++v) m.locked[v] |= copy[v];
+  }
   // Faces OpenMesh refused, and degenerate ones, were added as pieces of
   // their own: drop those that are removable too. Otherwise the mesh's pieces
   // are the welded ones drop_pieces_early already judged.
@@ -1209,15 +1183,11 @@ void simplify_chunk(const Work& w, const SimplifyOptions& opt, double tolerance,
 
   if (labelled) remove_pieces(m, w, opt, tolerance, stats);
   if (free_topology) {
-    m.locked = locked;  // the copies are joined now
+    if (!copy.empty()) m.locked = std::move(rule_locks);  // the copies are joined now
     FreeMesh f = to_free_mesh(m);
     m = Model{};
-    FreeLimits free_lim;
-    free_lim.cos_normal = lim.cos_normal;
-    free_lim.min_quality = lim.min_quality;
-    free_lim.tie = lim.tie;
     if (opt.explain_stop) stats.refused = SimplifyStats::Refused{};  // what stops the last pass
-    stats.free_collapses = free_collapse(f, free_lim, stats.max_error, opt.explain_stop ? &stats.refused : nullptr);
+    stats.free_collapses = free_collapse(f, lim, stats.max_error, opt.explain_stop ? &stats.refused : nullptr);
     stats.collapses += stats.free_collapses;
     remove_free_pieces(f, w, opt, tolerance, stats);
     c.moved = displacement(f);

@@ -9,21 +9,6 @@ namespace perclod::detail {
 
 namespace {
 
-struct P3 {
-  double x, y, z;
-};
-P3 operator-(P3 a, P3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-P3 cross(P3 a, P3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double dot(P3 a, P3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-double norm(P3 a) { return std::sqrt(dot(a, a)); }
-
-// As collapse.cpp's quality(): 1 equilateral, 0 degenerate.
-double quality(P3 a, P3 b, P3 c) {
-  const double l = dot(b - a, b - a) + dot(c - b, c - b) + dot(a - c, a - c);
-  if (l <= 0) return 0;
-  return 2.0 * std::sqrt(3.0) * norm(cross(b - a, c - a)) / l;
-}
-
 // A candidate v0 -> v1 as it was when pushed: stale once either end has
 // taken a collapse since (its quadric changed) or v0 is gone.
 struct Entry {
@@ -43,7 +28,7 @@ struct Later {
 
 class FreeCollapser {
  public:
-  FreeCollapser(FreeMesh& m, const FreeLimits& lim) : m_(m), lim_(lim) {
+  FreeCollapser(FreeMesh& m, const Limits& lim) : m_(m), lim_(lim) {
     const size_t nv = m.points.size() / 3;
     faces_of_.resize(nv);
     stamp_.assign(nv, 0);
@@ -80,9 +65,9 @@ class FreeCollapser {
   }
 
  private:
-  P3 point(uint32_t v) const {
+  Vec point(uint32_t v) const {
     const float* p = &m_.points[3 * size_t(v)];
-    return {p[0], p[1], p[2]};
+    return Vec(p[0], p[1], p[2]);
   }
   bool gone(uint32_t v) const { return m_.merged_into[v] != v; }
   const uint32_t* corners(uint32_t f) const { return &m_.tri[3 * size_t(f)]; }
@@ -112,45 +97,31 @@ class FreeCollapser {
   // The bound and the cost of v0 -> v1, as the half-edge loop's evaluate().
   bool evaluate(uint32_t v0, uint32_t v1, double& cost, double& error2) const {
     if (m_.locked[v0]) return false;
-    const P3 p1 = point(v1);
+    const Vec p1 = point(v1);
     error2 = 0;
     if (!m_.tol.empty()) {
-      error2 = (m_.qd[v0] + m_.qd[v1]).eval(p1.x, p1.y, p1.z);
+      error2 = (m_.qd[v0] + m_.qd[v1]).eval(p1[0], p1[1], p1[2]);
       if (!root_within(error2, std::min(m_.tol[v0], m_.tol[v1]))) return false;
     }
-    const P3 d = p1 - point(v0);
-    const double l2 = dot(d, d);
-    cost = (m_.qa[v0] + m_.qa[v1]).eval(p1.x, p1.y, p1.z) + lim_.tie * l2 * l2;
+    const double l2 = (p1 - point(v0)).sqrnorm();
+    cost = (m_.qa[v0] + m_.qa[v1]).eval(p1[0], p1[1], p1[2]) + lim_.tie * l2 * l2;
     return true;
   }
 
   // The shape rules and the area rule of moving v0 onto v1 (no topology).
   bool legal(uint32_t v0, uint32_t v1, double& area_change) const {
-    const P3 p0 = point(v0), p1 = point(v1);
+    const Vec p0 = point(v0), p1 = point(v1);
     double twice = 0;
     for (uint32_t f : faces_of_[v0]) {
       if (!m_.alive[f]) continue;
       const uint32_t* c = corners(f);
       const int k = c[0] == v0 ? 0 : c[1] == v0 ? 1 : 2;
       const uint32_t a = c[(k + 1) % 3], b = c[(k + 2) % 3];
-      const P3 pa = point(a), pb = point(b);
-      const P3 n_old = cross(pa - p0, pb - p0);
-      const double lo = norm(n_old);
-      if (a == v1 || b == v1) {  // the face goes
-        twice -= lo;
-        continue;
-      }
-      const P3 n_new = cross(pa - p1, pb - p1);
-      const double ln = norm(n_new);
-      twice += ln - lo;
-      if (lo > 0 && (ln <= 0 || dot(n_old, n_new) < lim_.cos_normal * lo * ln)) return false;
-      const double q_new = quality(p1, pa, pb);
-      if (q_new < lim_.min_quality && q_new < quality(p0, pa, pb)) return false;
+      if (!face_follows(p0, p1, point(a), point(b), a == v1 || b == v1, lim_, twice)) return false;
     }
     area_change = 0.5 * twice;
-    if (m_.area_budget.empty()) return true;
-    const double used = m_.area_used[v0] + m_.area_used[v1] + std::fabs(area_change);
-    return used <= std::min(m_.area_budget[v0], m_.area_budget[v1]);
+    return m_.area_budget.empty() || within_area_budget(m_.area_used[v0], m_.area_used[v1], area_change,
+                                                        m_.area_budget[v0], m_.area_budget[v1]);
   }
 
   void offer(uint32_t v0, uint32_t v1) {
@@ -214,7 +185,7 @@ class FreeCollapser {
   }
 
   FreeMesh& m_;
-  FreeLimits lim_;
+  Limits lim_;
   std::vector<std::vector<uint32_t>> faces_of_;  // per vertex: its faces (some may be dead)
   std::vector<uint32_t> stamp_;                  // per vertex: collapses taken into it
   std::priority_queue<Entry, std::vector<Entry>, Later> heap_;
@@ -224,7 +195,7 @@ class FreeCollapser {
 
 }  // namespace
 
-size_t free_collapse(FreeMesh& m, const FreeLimits& lim, double& max_error, SimplifyStats::Refused* refused,
+size_t free_collapse(FreeMesh& m, const Limits& lim, double& max_error, SimplifyStats::Refused* refused,
                      int max_passes) {
   FreeCollapser c(m, lim);
   const size_t done = c.run(max_error, max_passes);

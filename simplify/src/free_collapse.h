@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "collapse_rules.h"
 #include "perclod/simplify.h"
 #include "quadric.h"
 
@@ -41,19 +42,14 @@ struct FreeMesh {
   size_t faces_alive = 0;
 };
 
-struct FreeLimits {
-  double cos_normal = 0.5;   // a surviving face may turn at most this far (cosine)
-  double min_quality = 0.05; // and not become a sliver (unless it was one)
-  double tie = 1e-8;         // edge-length tie-break, as the half-edge loop's
-};
-
 // Collapses v0 -> v1 in order of cost while any is within both ends'
-// bounds and shape rules, in up to `max_passes` passes (a refused collapse
+// bounds and the half-edge loop's shape and area rules (`lim`; its valence
+// cap does not apply here), in up to `max_passes` passes (a refused collapse
 // is tried again in the next pass when something collapsed). Returns the
 // collapses made; `max_error` grows to the largest error bound taken.
 // `refused`, when not null, receives every edge left by the first rule that
 // refuses each of its two directions (topology never does here).
-size_t free_collapse(FreeMesh& m, const FreeLimits& lim, double& max_error, SimplifyStats::Refused* refused,
+size_t free_collapse(FreeMesh& m, const Limits& lim, double& max_error, SimplifyStats::Refused* refused,
                      int max_passes = 8);
 
 }  // namespace perclod::detail

@@ -146,7 +146,7 @@ void export_obj(const Scene& s, const std::string& path) {
     mtl += "newmtl " + obj_name(m.name) + "\n";
     // A material the source gave no colour gets none here either: read back,
     // its triangles are drawn in their component's colour as the original's
-    // are (a Kd of its placeholder grey made `perclod judge` see every pixel
+    // are (a Kd of the default grey made `perclod judge` see every pixel
     // of a LOD of a colourless OBJ changed).
     if (!m.has_color) continue;
     mtl += "Kd ";
