@@ -60,9 +60,9 @@ stage_asan() {
 # CityJSON with its CRS (CrsCli.RunPlacesACityJsonFileByItsOwnCrs; the
 # loader is fuzzed under ASan too), labelling per building and its samples
 # (ViewSets.*). Under ASan the skipped ones took 1-92 s each (Release: 1-17 s).
-# From a fresh clone on the 2-core VM the stage's tests took 246 s of a
-# 15 min 19 s suite with the first 14 entries, and 156 s of 12 min 53 s with
-# 29 (docs/ci.md#how-long-it-takes).
+# From a fresh clone on the 2-core VM the stage's tests took 246 s with the
+# first 14 entries, 156-207 s with 29, and 192 s with 30 as the suite grew
+# (docs/ci.md#how-long-it-takes).
 asan_skip='^('
 # Whole runs of the pipeline and the fidelity search on good input.
 asan_skip+='CliPipeline\.(TightenToLimitsRemakesALodJustOverItsLimits|LabelTakesViewSetsSamplesAndTilesCloseViews'
