@@ -431,14 +431,17 @@ TEST(CliPipeline, StrictFailsOverLimitsAfterWritingEverything) {
 // tighten_to_limits (the default in fidelity mode): a LOD over its limits,
 // but within kTightenReach of them, is made again at the tighter steps until
 // one is within; out of reach, or turned off, the LOD stays at the asked
-// bounds and is flagged. Figures of the demo at 132 m, one sample, judged
-// also from az22.5el15: 2.56% changed at 0.5 px, 0.47% at 0.25 px.
+// bounds and is flagged. Asked at 0.5 px (the default until 0.8; the
+// halvings from the default 8 px: the next test). Figures of the demo at
+// 132 m, one sample, judged also from az22.5el15: 2.56% changed at 0.5 px,
+// 0.47% at 0.25 px.
 TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
   fs::path out = fresh_dir("run-tighten");
   fs::create_directories(out);
   auto run = [&](const char* name, const std::string& settings) {
     std::ofstream(out / name) << "model: " << kBuilding << "\nup: z\nsamples: 1\n"
                               << "judge_views: az22.5el15\ndebug_images: false\ntileset: false\n"
+                              << "e_imperceptible: 0.5\n"
                               << (settings.find("distances") == std::string::npos ? "distances: [132]\n" : "")
                               << settings << "out: " << (out / name).string() << ".out\n";
     auto r = run_cli("run " + (out / name).string() + " --json");
@@ -509,6 +512,45 @@ TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
   auto b = run_cli("run " + (out / "bad.yaml").string());
   EXPECT_EQ(b.exit_code, 1);
   EXPECT_NE(b.err.find("'tighten_to_limits' applies only to 'simplify: fidelity'"), std::string::npos) << b.err;
+  fs::remove_all(out);
+}
+
+// The default bounds (e_I 8 px, e_P 0.5 px): a LOD over the perceptual
+// floor is made again with e_I halved until one is within it, e_P never
+// loosened. Measured: the demo at 427 m from the default views, one sample,
+// judged also from az22.5el15, is over the floor at 8 and 4 px (3,130 and
+// 3,199 triangles) and within it at 2 px (3,570; 0.72x the floor).
+TEST(CliPipeline, TheDefaultBoundsHalveUntilTheLodIsWithinTheFloor) {
+  fs::path out = fresh_dir("run-halve");
+  fs::create_directories(out);
+  auto r = run_cli("run " +
+                   job_file(out, "job.yaml",
+                            "distances: [427]\nsamples: 1\njudge_views: az22.5el15\n"
+                            "debug_images: false\ntileset: false\n",
+                            "result") +
+                   " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto lod = nlohmann::json::parse(r.out)["lods"][0];
+  ASSERT_TRUE(lod.contains("tighten_to_limits")) << "the asked 8 px must miss the floor for the test to mean anything";
+  const auto& tries = lod["tighten_to_limits"];
+  ASSERT_GE(tries.size(), 3u) << tries;
+  EXPECT_EQ(tries[0]["e_imperceptible"].get<double>(), perclod::kDefaultBoundImperceptiblePx);
+  for (size_t i = 0; i < tries.size(); ++i) {
+    if (i > 0) {
+      EXPECT_EQ(tries[i]["e_imperceptible"].get<double>(), tries[i - 1]["e_imperceptible"].get<double>() / 2);
+    }
+    EXPECT_LE(tries[i]["e_perceptible"].get<double>(), 0.5) << tries[i];  // never loosened
+    EXPECT_EQ(tries[i]["met"].get<bool>(), i + 1 == tries.size()) << tries[i];
+    EXPECT_EQ(tries[i].value("kept", false), i + 1 == tries.size()) << tries[i];
+    if (i > 0) {
+      EXPECT_GE(tries[i]["triangles"].get<size_t>(), tries[i - 1]["triangles"].get<size_t>()) << tries[i];
+    }
+  }
+  EXPECT_GE(tries.back()["e_imperceptible"].get<double>(), 0.5);
+  EXPECT_EQ(lod["bounds_px"]["imperceptible"], tries.back()["e_imperceptible"]);
+  EXPECT_EQ(lod["simplify"]["total_after"], tries.back()["triangles"]);
+  for (const auto& v : lod["lod_vs_original"]) EXPECT_LE(v["visible_ratio"].get<double>(), 1.0) << v["view"];
+  EXPECT_EQ(r.err.find("warning:"), std::string::npos) << r.err;
   fs::remove_all(out);
 }
 

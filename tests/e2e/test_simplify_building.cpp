@@ -75,7 +75,9 @@ TEST(SimplifyFidelity, RealBuildingReachesAnyCountItsBoundsAllow) {
       EXPECT_GT(m.triangle_count(), visible * 2 / 5) << "the half-edge loop alone stalls";
       EXPECT_LT(f.triangle_count(), visible / 10) << visible;
     }
-    if (e == 8.0) EXPECT_LT(f.triangle_count(), m.triangle_count() * 3 / 4) << m.triangle_count();
+    if (e == 8.0) {
+      EXPECT_LT(f.triangle_count(), m.triangle_count() * 3 / 4) << m.triangle_count();
+    }
   }
 }
 

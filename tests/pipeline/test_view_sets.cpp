@@ -992,7 +992,8 @@ TEST(UndisplayableAuto, KeepsOnlyWhatTheViewsBetweenWouldSeeOpen) {
 // by no more than kTightenReach times it.
 TEST(TightenToLimits, StepsAreTheTighterOnesAndReachIsBounded) {
   SimplifyOptions so;
-  so.mode = SimplifyMode::Fidelity;  // the defaults: 0.5 px, undisplayable deleted
+  so.mode = SimplifyMode::Fidelity;  // undisplayable deleted
+  so.bound_imperceptible_px = 0.5;   // the default until 0.8
   const std::vector<FidelitySearchStep> steps = tighten_steps(so);
   ASSERT_EQ(steps.size(), std::size(kTightenSteps));
   const SimplifyOptions first = fidelity_bounds(so, steps[0]);
@@ -1056,12 +1057,44 @@ TEST(TightenToLimits, StepsAreTheTighterOnesAndReachIsBounded) {
   EXPECT_FALSE(worth_tightening(judged(0.01, 0, 0.90, ssim), ssim));  // 0.10 > 0.09
 }
 
+// Asked looser than kTightenHalvingsTo (the default, 8 px): e halves down to
+// it first, then kTightenSteps; no step loosens e_P, and only the steps
+// below kTightenHalvingsTo need the LOD within reach of its limits.
+TEST(TightenToLimits, LooseBoundsHalveDownToHalfAPixelFirst) {
+  SimplifyOptions so;
+  so.mode = SimplifyMode::Fidelity;
+  ASSERT_EQ(so.bound_imperceptible_px, kDefaultBoundImperceptiblePx);
+  ASSERT_EQ(so.bound_imperceptible_px, 8.0);
+  ASSERT_EQ(so.bound_perceptible_px, 0.5);
+  const std::vector<FidelitySearchStep> steps = tighten_steps(so);
+  std::vector<double> e;
+  for (const FidelitySearchStep& step : steps) e.push_back(step.e);
+  EXPECT_EQ(e, (std::vector<double>{4, 2, 1, 0.5, 0.25, 0.25, 0.125, 0.125}));
+  for (size_t i = 0; i < steps.size(); ++i) {
+    const SimplifyOptions t = tightened_bounds(so, steps[i]);
+    EXPECT_EQ(t.bound_imperceptible_px, steps[i].e);
+    // fidelity_bounds alone would loosen e_P to a quarter of 4 px (1 px).
+    EXPECT_EQ(t.bound_perceptible_px, std::min(0.5, steps[i].e)) << steps[i].e;
+    EXPECT_EQ(tighten_step_needs_reach(steps[i]), steps[i].e < 0.5) << i;
+    EXPECT_EQ(t.delete_undisplayable, !steps[i].keep_undisplayable) << i;
+  }
+  EXPECT_EQ(fidelity_bounds(so, steps[0]).bound_perceptible_px, 1.0);
+  // Not a power of two: halvings while above 0.5 px, then 0.5 px itself.
+  so.bound_imperceptible_px = 6;
+  e.clear();
+  for (const FidelitySearchStep& step : tighten_steps(so)) e.push_back(step.e);
+  EXPECT_EQ(e, (std::vector<double>{3, 1.5, 0.75, 0.5, 0.25, 0.25, 0.125, 0.125}));
+  so.bound_imperceptible_px = 0.7;
+  EXPECT_EQ(tighten_steps(so).front().e, 0.5);
+}
+
 // The driver run and the benchmarks share: tries the steps in order, stops
 // at the first within the limits, and tries nothing when the asked LOD is
 // within them or out of reach.
 TEST(TightenToLimits, TriesTheStepsInOrderUntilOneIsWithin) {
   SimplifyOptions so;
   so.mode = SimplifyMode::Fidelity;
+  so.bound_imperceptible_px = 0.5;  // the default until 0.8: every step needs reach
   const FidelityLimits limits{0.02, 0.01, 0, 0};  // changed pixels and silhouette only
   auto judged = [&](double changed) {
     ViewFigures v;
@@ -1086,6 +1119,21 @@ TEST(TightenToLimits, TriesTheStepsInOrderUntilOneIsWithin) {
   ASSERT_EQ(tried.size(), tighten_steps(so).size());
   for (size_t i = 0; i < tried.size(); ++i)
     EXPECT_EQ(tried[i], fidelity_bounds(so, tighten_steps(so)[i]).bound_imperceptible_px);
+  // Asked 8 px (the default): out of reach, the halvings down to 0.5 px are
+  // tried all the same, and no step below; within reach, every step.
+  so.bound_imperceptible_px = 8;
+  tried.clear();
+  EXPECT_EQ(tighten_to_limits(so, judged(0.2), limits, within_at(0)), Tightening::NoneWithin);
+  EXPECT_EQ(tried, (std::vector<double>{4, 2, 1, 0.5}));
+  tried.clear();
+  EXPECT_EQ(tighten_to_limits(so, judged(0.2), limits, within_at(3)), Tightening::Met);
+  EXPECT_EQ(tried, (std::vector<double>{4, 2, 1}));
+  tried.clear();
+  EXPECT_EQ(tighten_to_limits(so, judged(0.03), limits, within_at(0)), Tightening::NoneWithin);
+  EXPECT_EQ(tried.size(), 8u);
+  tried.clear();
+  EXPECT_EQ(tighten_to_limits(so, judged(0.01), limits, within_at(1)), Tightening::NotTried);  // within
+  EXPECT_TRUE(tried.empty());
 }
 
 // The looser half of a fidelity_target search, on scripted tries (met,

@@ -94,7 +94,7 @@ const std::vector<SettingSpec> kConfigSettings = {
     {"e_perceptible", "number (px)", "0.5", "0..1000; fidelity only",
      "fidelity: how far a collapse may move a perceptible triangle, pixels at the distance", kHashed, kAnyLevel,
      nullptr},
-    {"e_imperceptible", "number (px)", "0.5", "0..1000; fidelity only",
+    {"e_imperceptible", "number (px)", "8", "0..1000; fidelity only",
      "fidelity: the same for imperceptible triangles (and pieces without a perceptible face)", kHashed, kAnyLevel,
      nullptr},
     {"e_undisplayable", "number (px)", "(none)", "0..1000; fidelity only; not with keep_undisplayable: false",

@@ -39,10 +39,16 @@ std::vector<FidelitySearchStep> tighten_steps(const SimplifyOptions& so) {
            a.delete_undisplayable == b.delete_undisplayable &&
            (a.delete_undisplayable || a.bound_undisplayable_px == b.bound_undisplayable_px);
   };
+  // Halvings of the asked e down to kTightenHalvingsTo, then kTightenSteps
+  // below it.
+  std::vector<FidelitySearchStep> all;
+  for (double e = so.bound_imperceptible_px / 2; e > kTightenHalvingsTo; e /= 2) all.push_back({e, false});
+  if (so.bound_imperceptible_px > kTightenHalvingsTo) all.push_back({kTightenHalvingsTo, false});
+  all.insert(all.end(), std::begin(kTightenSteps), std::end(kTightenSteps));
   SimplifyOptions last = so;
-  for (const FidelitySearchStep& step : kTightenSteps) {
+  for (const FidelitySearchStep& step : all) {
     if (step.e > so.bound_imperceptible_px) continue;
-    const SimplifyOptions t = fidelity_bounds(so, step);
+    const SimplifyOptions t = tightened_bounds(so, step);
     if (same(t, last)) continue;
     steps.push_back(step);
     last = t;
@@ -61,13 +67,25 @@ bool worth_tightening(const Judgement& judged, const FidelityLimits& limits) {
          w.silhouette_mismatch <= kTightenReach * limits.max_silhouette && ssim_within && visible_within;
 }
 
+bool tighten_step_needs_reach(const FidelitySearchStep& step) { return step.e < kTightenHalvingsTo; }
+
+SimplifyOptions tightened_bounds(const SimplifyOptions& asked, const FidelitySearchStep& step) {
+  SimplifyOptions so = fidelity_bounds(asked, step);
+  so.bound_perceptible_px = std::min(so.bound_perceptible_px, asked.bound_perceptible_px);
+  return so;
+}
+
 Tightening tighten_to_limits(const SimplifyOptions& asked, const Judgement& judged, const FidelityLimits& limits,
                              const std::function<bool(const SimplifyOptions&)>& try_step) {
-  const std::vector<FidelitySearchStep> steps = tighten_steps(asked);
-  if (steps.empty() || !worth_tightening(judged, limits)) return Tightening::NotTried;
-  for (const FidelitySearchStep& step : steps)
-    if (try_step(fidelity_bounds(asked, step))) return Tightening::Met;
-  return Tightening::NoneWithin;
+  if (judged.met()) return Tightening::NotTried;
+  const bool in_reach = worth_tightening(judged, limits);
+  Tightening t = Tightening::NotTried;
+  for (const FidelitySearchStep& step : tighten_steps(asked)) {
+    if (tighten_step_needs_reach(step) && !in_reach) break;
+    t = Tightening::NoneWithin;
+    if (try_step(tightened_bounds(asked, step))) return Tightening::Met;
+  }
+  return t;
 }
 
 std::optional<FidelitySearchStep> midway_step(const FidelitySearchStep& met, const FidelitySearchStep& failed) {

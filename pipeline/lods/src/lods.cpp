@@ -75,6 +75,8 @@ class DistanceRun {
   void search_buildings();
   SimplifyOptions bounds_per_building(const Buildings& bs, const std::vector<FidelitySearchStep>& step_of,
                                       double kept_within) const;
+  SimplifyOptions bounds_per_building(const Buildings& bs, const std::vector<SimplifyOptions>& bounds_of,
+                                      double kept_within) const;
   void tighten();
   void write_lod(LodSet& set);
   void judge_written(LodSet& set);
@@ -259,12 +261,19 @@ void DistanceRun::search_target() {
 // kept_within px, the one bound all such steps share.
 SimplifyOptions DistanceRun::bounds_per_building(const Buildings& bs, const std::vector<FidelitySearchStep>& step_of,
                                                  double kept_within) const {
+  std::vector<SimplifyOptions> at(step_of.size());
+  for (size_t b = 0; b < step_of.size(); ++b) at[b] = fidelity_bounds(asked_, step_of[b]);
+  return bounds_per_building(bs, at, kept_within);
+}
+
+// The same with each building's bounds given (bounds_of[building]: asked_
+// for a building at the asked bounds).
+SimplifyOptions DistanceRun::bounds_per_building(const Buildings& bs, const std::vector<SimplifyOptions>& at,
+                                                 double kept_within) const {
   SimplifyOptions o = asked_;
   const size_t nt = scene_.triangle_count();
   o.bound_scale.assign(nt, 1.f);
   std::vector<uint8_t> keep(nt, 0);
-  std::vector<SimplifyOptions> at(step_of.size());
-  for (size_t b = 0; b < step_of.size(); ++b) at[b] = fidelity_bounds(asked_, step_of[b]);
   for (size_t t = 0; t < nt; ++t) {
     const SimplifyOptions& a = at[bs.of_component[scene_.component_of(t)]];
     o.bound_scale[t] = lr_.labels[t] == Label::Perceptible
@@ -541,34 +550,39 @@ void DistanceRun::append_building_views() {
 }
 
 // tighten_to_limits for buildings judged alone: the buildings over the
-// limits (within reach of them, worth_tightening) are made again at each
-// tighter e of tighten_steps in turn (their triangles' bounds scaled by e
-// over the asked e_I: SimplifyOptions::bound_scale), and judged again; each
-// keeps the first that brings it within the limits in every view, or the
-// asked bounds when none does. The other buildings' bounds, and so their
-// LODs, stay as asked: components are simplified apart. r_.tries lists the
-// asked LOD and each step's, their figures over the buildings tried.
+// limits are made again at each of tighten_steps in turn (their triangles
+// bounded as tightened_bounds bounds them: bounds_per_building), and judged
+// again; each keeps the first that brings it within the limits in every
+// view, or the asked bounds when none does. The steps below
+// kTightenHalvingsTo are tried only for the buildings within reach of the
+// limits at the asked bounds (worth_tightening). The other buildings'
+// bounds, and so their LODs, stay as asked: components are simplified
+// apart. r_.tries lists the asked LOD and each step's, their figures over
+// the buildings tried.
 void DistanceRun::tighten_buildings() {
   const std::vector<FidelitySearchStep> steps = tighten_steps(asked_);
-  const double asked_e = asked_.bound_imperceptible_px;
-  if (steps.empty() || !(asked_e > 0)) return;
+  if (steps.empty() || !(asked_.bound_imperceptible_px > 0)) return;
   const Buildings bs = find_buildings(scene_);
-  std::vector<uint8_t> trying(bs.names.size(), 0);
-  std::vector<size_t> at(bs.names.size(), 0);  // building -> its entry of buildings_
+  const size_t nb = bs.names.size();
+  std::vector<uint8_t> trying(nb, 0);
+  std::vector<uint8_t> in_reach(nb, 0);  // worth_tightening: may take the steps that need it
+  std::vector<size_t> at(nb, 0);  // building -> its entry of buildings_
   std::vector<ViewFigures> over;  // the views of the buildings to tighten
   for (size_t k = 0; k < buildings_.size(); ++k) {
+    const size_t b = buildings_[k].index;
     const Judgement j = judge_views(buildings_[k].views, job_.limits);
-    at[buildings_[k].index] = k;
-    if (j.met() || !worth_tightening(j, job_.limits)) continue;
-    trying[buildings_[k].index] = 1;
+    at[b] = k;
+    in_reach[b] = worth_tightening(j, job_.limits);
+    if (j.met() || (!in_reach[b] && tighten_step_needs_reach(steps.front()))) continue;
+    trying[b] = 1;
     over.insert(over.end(), buildings_[k].views.begin(), buildings_[k].views.end());
   }
   if (over.empty()) return;
-  // A try as the tried buildings were made: e, and their undisplayable rule.
-  auto log = [&](double e, const UndisplayableRule& rule, const WorstFigures& w, bool met) {
+  // A try as the tried buildings were made: their bounds, and their undisplayable rule.
+  auto log = [&](const SimplifyOptions& o, const UndisplayableRule& rule, const WorstFigures& w, bool met) {
     LodTry t;
-    t.e_imperceptible = e;
-    t.e_perceptible = asked_.bound_perceptible_px * e / asked_e;
+    t.e_imperceptible = o.bound_imperceptible_px;
+    t.e_perceptible = o.bound_perceptible_px;
     t.undisplayable = rule;
     t.triangles = st_.total_after();
     t.seconds_simplify = st_.seconds;
@@ -578,31 +592,28 @@ void DistanceRun::tighten_buildings() {
     if (progress_) progress_->lod_tried("tighten the buildings over the limits", d_, t);
   };
   r_.tries_kind = LodTries::TightenToLimits;
-  log(asked_e, undisplayable_rule_of(asked_), judge_views(over, job_.limits).worst, false);
+  log(asked_, undisplayable_rule_of(asked_), judge_views(over, job_.limits).worst, false);
   std::vector<BuildingJudged> best = buildings_;
-  std::vector<float> scale(scene_.triangle_count(), 1.f);
-  auto owner = [&](size_t t) { return bs.of_component[scene_.component_of(t)]; };
+  std::vector<SimplifyOptions> bounds(nb, asked_);  // each building's, as made now
   // Where the asked bounds delete undisplayable triangles, a step that keeps
   // them keeps the tried buildings' (keep_undisplayable_of), within the
   // first such step's bound: a later step's other bound would move those of
   // the buildings that met the limits before it.
-  std::vector<uint8_t> keep(scale.size(), 0);
   double kept_within = -1;
   size_t fixed = 0;
   for (const FidelitySearchStep& step : steps) {
-    const SimplifyOptions at_step = fidelity_bounds(asked_, step);
+    if (tighten_step_needs_reach(step)) {  // the buildings out of reach go back to the asked bounds
+      for (size_t b = 0; b < nb; ++b)
+        if (trying[b] && !in_reach[b]) trying[b] = 0, bounds[b] = asked_;
+      if (std::none_of(trying.begin(), trying.end(), [](uint8_t t) { return t != 0; })) break;
+    }
+    const SimplifyOptions at_step = tightened_bounds(asked_, step);
     const bool keeps = asked_.delete_undisplayable && !at_step.delete_undisplayable;
     if (keeps && kept_within >= 0 && at_step.bound_undisplayable_px != kept_within) continue;
     if (keeps) kept_within = at_step.bound_undisplayable_px;
-    for (size_t t = 0; t < scale.size(); ++t)
-      if (trying[owner(t)]) scale[t] = float(step.e / asked_e), keep[t] = keeps;
-    SimplifyOptions o = asked_;
-    o.bound_scale = scale;
-    if (kept_within >= 0) {
-      o.keep_undisplayable_of = keep;
-      o.bound_undisplayable_px = kept_within;
-    }
-    const std::vector<ViewFigures> tried = remake_flagged(o, trying);
+    for (size_t b = 0; b < nb; ++b)
+      if (trying[b]) bounds[b] = at_step;
+    const std::vector<ViewFigures> tried = remake_flagged(bounds_per_building(bs, bounds, kept_within), trying);
     for (const BuildingJudged& b : buildings_) {
       if (!judge_views(b.views, job_.limits).met()) continue;
       best[at[b.index]] = b;
@@ -610,7 +621,7 @@ void DistanceRun::tighten_buildings() {
       ++fixed;
     }
     const Judgement all = judge_views(tried, job_.limits);
-    log(step.e, keeps ? UndisplayableRule{false, kept_within, -1} : undisplayable_rule_of(asked_), all.worst,
+    log(at_step, keeps ? UndisplayableRule{false, kept_within, -1} : undisplayable_rule_of(asked_), all.worst,
         all.met());
     if (all.met()) break;
   }
@@ -621,19 +632,11 @@ void DistanceRun::tighten_buildings() {
   try_kept_ = r_.tries.back().met;
   // The buildings no tighter step brought within the limits keep the asked
   // bounds; the LOD is made once more with every building's own.
-  for (size_t t = 0; t < scale.size(); ++t)
-    if (trying[owner(t)]) scale[t] = 1.f, keep[t] = 0;
-  SimplifyOptions final_bounds = asked_;
-  if (fixed) {
-    final_bounds.bound_scale = std::move(scale);
-    if (kept_within >= 0 && std::count(keep.begin(), keep.end(), 1)) {
-      final_bounds.keep_undisplayable_of = std::move(keep);
-      final_bounds.bound_undisplayable_px = kept_within;
-    }
-  }
+  for (size_t b = 0; b < nb; ++b)
+    if (trying[b]) bounds[b] = asked_;
   r_.buildings_tightened = fixed;
   if (progress_ && !fixed) progress_->tightening_failed();
-  finish_buildings(final_bounds, std::move(best));
+  finish_buildings(fixed ? bounds_per_building(bs, bounds, kept_within) : asked_, std::move(best));
 }
 
 // Of the views of buildings judged alone (after the model's), r_.views

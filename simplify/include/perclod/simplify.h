@@ -81,7 +81,7 @@ bool simplify_mode_keeps_perceptible(SimplifyMode m);
 // Fidelity's default bounds in pixels at the LOD's distance
 // (BENCHMARKS.md#choosing-the-bounds gives the measurements that chose them).
 constexpr double kDefaultBoundPerceptiblePx = 0.5;
-constexpr double kDefaultBoundImperceptiblePx = 0.5;
+constexpr double kDefaultBoundImperceptiblePx = 8;
 constexpr double kDefaultBoundAreaPx2 = 1.0;
 
 // Mesh topology the loader and scene statistics share with the simplifier.

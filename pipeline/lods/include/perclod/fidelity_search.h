@@ -131,10 +131,32 @@ constexpr FidelitySearchStep kTightenSteps[] = {{0.25, false},
                                                 {0.125, true, kAutoUndisplayableBoundPx},
                                                 {0.125, true}};
 
-// The steps of kTightenSteps that tighten `so` (fidelity mode): e at most
-// its e_imperceptible, and fidelity_bounds changes some bound (a step that
-// would change nothing, or only what the step before changed, is left out).
+// Above this e_I, tightening halves e (0.9.0): the default asks 8 px
+// (kDefaultBoundImperceptiblePx), and a LOD over the floor there is most
+// often within it at 4 or 2 px, where jumping to kTightenSteps' 0.25 px
+// kept more than 0.8's default did (the demo at 427 m: 3,182 triangles at
+// 0.25 px against 1,544 within the floor at 2 px). 0.5 px was the default
+// until 0.8: every building of the Delft tile and the Ingolstadt block, and
+// the demo, was within the floor there, so the halvings down to it are
+// tried whenever a LOD is over its limits, however far (kTightenReach
+// gates only the steps below it).
+constexpr double kTightenHalvingsTo = 0.5;
+
+// The tightening steps for `so` (fidelity mode), in order: e_I halved while
+// at least kTightenHalvingsTo (and kTightenHalvingsTo itself), then
+// kTightenSteps; each with e at most so's e_imperceptible and changing some
+// bound (a step that would change nothing, or only what the step before
+// changed, is left out).
 std::vector<FidelitySearchStep> tighten_steps(const SimplifyOptions& so);
+
+// A tightening step's bounds: fidelity_bounds, with e_P never looser than
+// the asked one (a step between the asked e_P and 4x it would loosen it).
+SimplifyOptions tightened_bounds(const SimplifyOptions& asked, const FidelitySearchStep& step);
+
+// Whether a step of tighten_steps is tried only for a LOD within
+// kTightenReach of its limits (worth_tightening): those below
+// kTightenHalvingsTo.
+bool tighten_step_needs_reach(const FidelitySearchStep& step);
 
 // Whether `judged` (judge_views' result) is over `limits` and no worst
 // figure is beyond kTightenReach times its limit (an SSIM's shortfall from 1
@@ -143,9 +165,11 @@ bool worth_tightening(const Judgement& judged, const FidelityLimits& limits);
 
 // tighten_to_limits itself, for `run` and for the benchmarks that must do as
 // it does. `judged` is judge_views' result (against `limits`) for the LOD
-// at `asked`. When worth_tightening says so and tighten_steps has steps,
-// `try_step(bounds)` makes and judges the LOD at each step's bounds in order
-// and returns whether it is within `limits`, until one is.
+// at `asked`. When that LOD is over its limits, `try_step(bounds)` makes and
+// judges the LOD at each of tighten_steps' bounds in order and returns
+// whether it is within `limits`, until one is; the steps below
+// kTightenHalvingsTo only when worth_tightening says so. NotTried when no
+// step was tried.
 enum class Tightening { NotTried, Met, NoneWithin };
 Tightening tighten_to_limits(const SimplifyOptions& asked, const Judgement& judged, const FidelityLimits& limits,
                              const std::function<bool(const SimplifyOptions&)>& try_step);
