@@ -331,6 +331,27 @@ TEST(CliBatch, OnlyTheBuildingsOverTheLimitsAreTightened) {
   EXPECT_FALSE(a_asked.empty());
   EXPECT_TRUE(faces_of(b.root / "tight" / "two_lod_56m.obj", "a") == a_asked);
   EXPECT_TRUE(faces_of(b.root / "tight" / "two_lod_56m.obj", "b") != faces_of(b.root / "asked" / "two_lod_56m.obj", "b"));
+  // From the default 8 px the tries halve e_I (while above 0.5 px) and
+  // never loosen e_P; house b as written is house b of a run of the whole
+  // file at the bounds of the try that met the limits (tightened_bounds).
+  const auto& tries = tight["tighten_to_limits"];
+  EXPECT_EQ(tries[0]["e_imperceptible"].get<double>(), perclod::kDefaultBoundImperceptiblePx);
+  for (size_t i = 1; i < tries.size(); ++i) {
+    const double e = tries[i]["e_imperceptible"].get<double>(), before = tries[i - 1]["e_imperceptible"].get<double>();
+    if (before > 0.5) {
+      EXPECT_EQ(e, std::max(0.5, before / 2)) << tries;
+    }
+    EXPECT_EQ(tries[i]["e_perceptible"].get<double>(), std::min(0.5, e)) << tries[i];
+  }
+  // (Here the dome's LOD is the same at every halving, held by e_P, and the
+  // first sub-pixel step, 0.25 px for both, meets the limit.)
+  const double kept_e = tries.back()["e_imperceptible"].get<double>();
+  ASSERT_EQ(tries.back()["undisplayable"], "deleted") << tries;
+  std::ostringstream at_kept;
+  at_kept << "tighten_to_limits: false\ne_imperceptible: " << kept_e << "\ne_perceptible: " << std::min(0.5, kept_e)
+          << "\n";
+  run("at_kept", at_kept.str());
+  EXPECT_TRUE(faces_of(b.root / "at_kept" / "two_lod_56m.obj", "b") == faces_of(b.root / "tight" / "two_lod_56m.obj", "b"));
 }
 
 // fidelity_target with buildings judged alone: each house takes the
