@@ -208,6 +208,11 @@ static std::string job_file(const fs::path& dir, const char* name, const std::st
   return (dir / name).string();
 }
 
+// `perclod run` of the demo building with `settings` in dir/job.yaml, writing to dir/result, with `flags`.
+static perclod::test::CliResult run_job(const fs::path& dir, const std::string& settings, const std::string& flags) {
+  return run_cli("run " + job_file(dir, "job.yaml", settings, "result") + flags);
+}
+
 // A search step's e_perceptible at e_imperceptible = e with the default
 // asked 0.5 px: e where tighter, else a quarter of e (kPerceptibleShare) or
 // the asked 0.5 px, whichever is looser.
@@ -220,11 +225,9 @@ static double expected_e_perceptible(double e) {
 TEST(CliPipeline, FidelityTargetIsMetAtTheFirstStepWithinIt) {
   fs::path out = fresh_dir("run-target");
   fs::create_directories(out);
-  auto r = run_cli("run " +
-                   job_file(out, "job.yaml",
-                            "distances: [132]\nsamples: 1\njudge_views: az22.5el15\n"
-                            "fidelity_target: {max_changed: 0.02, max_silhouette: 0.01}\n",
-                            "result") +
+  auto r = run_job(out,
+                   "distances: [132]\nsamples: 1\njudge_views: az22.5el15\n"
+                   "fidelity_target: {max_changed: 0.02, max_silhouette: 0.01}\n",
                    " --json --explain");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto j = nlohmann::json::parse(r.out);
@@ -523,11 +526,7 @@ TEST(CliPipeline, TightenToLimitsRemakesALodJustOverItsLimits) {
 TEST(CliPipeline, TheDefaultBoundsHalveUntilTheLodIsWithinTheFloor) {
   fs::path out = fresh_dir("run-halve");
   fs::create_directories(out);
-  auto r = run_cli("run " +
-                   job_file(out, "job.yaml",
-                            "distances: [427]\nsamples: 1\njudge_views: az22.5el15\n"
-                            "debug_images: false\ntileset: false\n",
-                            "result") +
+  auto r = run_job(out, "distances: [427]\nsamples: 1\njudge_views: az22.5el15\ndebug_images: false\ntileset: false\n",
                    " --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto lod = nlohmann::json::parse(r.out)["lods"][0];
