@@ -268,8 +268,9 @@ SimplifyOptions DistanceRun::bounds_per_building(const Buildings& bs, const std:
 
 // The same with each building's bounds given (bounds_of[building]: asked_
 // for a building at the asked bounds).
-SimplifyOptions DistanceRun::bounds_per_building(const Buildings& bs, const std::vector<SimplifyOptions>& at,
+SimplifyOptions DistanceRun::bounds_per_building(const Buildings& bs, const std::vector<SimplifyOptions>& bounds_of,
                                                  double kept_within) const {
+  const std::vector<SimplifyOptions>& at = bounds_of;
   SimplifyOptions o = asked_;
   const size_t nt = scene_.triangle_count();
   o.bound_scale.assign(nt, 1.f);

@@ -104,10 +104,11 @@ SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& st
 // ---- tightening a LOD that misses its limits (`tighten_to_limits`) ----------
 
 // Fidelity mode without a fidelity_target: when the LOD at the asked bounds
-// is over job.limits in a judged view, but by no more than kTightenReach
-// times each limit (worth_tightening), `run` tries tighten_steps in order and
-// keeps the first LOD within the limits in every judged view; when none is,
-// the LOD at the asked bounds stays, flagged as before. Tightening from 0.5
+// is over job.limits in a judged view, `run` tries tighten_steps in order
+// (the sub-pixel ones only when it is over by no more than kTightenReach
+// times each limit: worth_tightening) and keeps the first LOD within the
+// limits in every judged view; when none is, the LOD at the asked bounds
+// stays, flagged as before. Tightening from 0.5
 // to 0.125 px cut the changed pixels by about 3x where it was tried (the
 // million-triangle facade at 56 m: 2.97% -> 0.98%,
 // BENCHMARKS.md#tightening-to-the-limits), so a LOD further over than that
