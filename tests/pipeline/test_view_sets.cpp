@@ -1086,6 +1086,17 @@ TEST(TightenToLimits, LooseBoundsHalveDownToHalfAPixelFirst) {
   EXPECT_EQ(e, (std::vector<double>{3, 1.5, 0.75, 0.5, 0.25, 0.25, 0.125, 0.125}));
   so.bound_imperceptible_px = 0.7;
   EXPECT_EQ(tighten_steps(so).front().e, 0.5);
+  // Once a halving meets the limits, the step midway to the try before it.
+  so.bound_imperceptible_px = 8;
+  ASSERT_TRUE(tighten_midway(so, 4).has_value());
+  EXPECT_DOUBLE_EQ(tighten_midway(so, 4)->e, std::sqrt(32.0));  // the asked 8 px before it
+  EXPECT_DOUBLE_EQ(tighten_midway(so, 2)->e, std::sqrt(8.0));
+  EXPECT_DOUBLE_EQ(tighten_midway(so, 0.5)->e, std::sqrt(0.5));
+  EXPECT_FALSE(tighten_midway(so, 4)->keep_undisplayable);
+  EXPECT_FALSE(tighten_midway(so, 0.25).has_value());  // a sub-pixel step
+  EXPECT_FALSE(tighten_midway(so, 3).has_value());     // not a step of these bounds
+  so.bound_imperceptible_px = 0.5;
+  EXPECT_FALSE(tighten_midway(so, 0.25).has_value());
 }
 
 // The driver run and the benchmarks share: tries the steps in order, stops

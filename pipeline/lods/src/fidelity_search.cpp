@@ -75,6 +75,16 @@ SimplifyOptions tightened_bounds(const SimplifyOptions& asked, const FidelitySea
   return so;
 }
 
+std::optional<FidelitySearchStep> tighten_midway(const SimplifyOptions& asked, double met_e) {
+  const std::vector<FidelitySearchStep> steps = tighten_steps(asked);
+  for (size_t i = 0; i < steps.size(); ++i) {
+    if (steps[i].keep_undisplayable || steps[i].e != met_e || tighten_step_needs_reach(steps[i])) continue;
+    const double before = i == 0 ? asked.bound_imperceptible_px : steps[i - 1].e;
+    return midway_step(steps[i], FidelitySearchStep{before, false});
+  }
+  return std::nullopt;
+}
+
 Tightening tighten_to_limits(const SimplifyOptions& asked, const Judgement& judged, const FidelityLimits& limits,
                              const std::function<bool(const SimplifyOptions&)>& try_step) {
   if (judged.met()) return Tightening::NotTried;

@@ -78,6 +78,7 @@ class DistanceRun {
   SimplifyOptions bounds_per_building(const Buildings& bs, const std::vector<SimplifyOptions>& bounds_of,
                                       double kept_within) const;
   void tighten();
+  void try_tighten_midway();
   void write_lod(LodSet& set);
   void judge_written(LodSet& set);
   void keep_telling_views();
@@ -436,6 +437,7 @@ void DistanceRun::tighten() {
     });
   if (t != Tightening::NotTried) r_.tries_kind = LodTries::TightenToLimits;
   kept_try_ = t == Tightening::Met ? r_.tries.size() - 1 : 0;  // the one within, or the asked bounds
+  if (t == Tightening::Met) try_tighten_midway();
   if (t == Tightening::NoneWithin) {
     // The LOD at the asked bounds, made again rather than held through
     // the tries (its comparison pictures take up to 1.4 MB per judged
@@ -444,6 +446,22 @@ void DistanceRun::tighten() {
     if (progress_) progress_->tightening_failed();
     attempt(asked_);
   }
+}
+
+// After tightening met the limits at a halving: the midway step between it
+// and the try before (tighten_midway), kept when it meets them with no more
+// triangles; otherwise the LOD that met them is made again.
+void DistanceRun::try_tighten_midway() {
+  const LodTry met = r_.tries[kept_try_];
+  const std::optional<FidelitySearchStep> mid = tighten_midway(asked_, met.e_imperceptible);
+  if (!mid) return;
+  if (log_try(attempt(tightened_bounds(asked_, *mid)), "tighten to limits, midway") &&
+      r_.tries.back().triangles <= met.triangles) {
+    kept_try_ = r_.tries.size() - 1;
+    return;
+  }
+  if (progress_) progress_->tightening_midway_missed();
+  attempt(tightened_bounds(asked_, FidelitySearchStep{met.e_imperceptible, false}));
 }
 
 // Exports the kept LOD and records how it was made.
@@ -602,6 +620,7 @@ void DistanceRun::tighten_buildings() {
   // the buildings that met the limits before it.
   double kept_within = -1;
   size_t fixed = 0;
+  std::vector<double> met_at(nb, 0);  // the step's e a building met the limits at
   for (const FidelitySearchStep& step : steps) {
     if (tighten_step_needs_reach(step)) {  // the buildings out of reach go back to the asked bounds
       for (size_t b = 0; b < nb; ++b)
@@ -619,6 +638,7 @@ void DistanceRun::tighten_buildings() {
       if (!judge_views(b.views, job_.limits).met()) continue;
       best[at[b.index]] = b;
       trying[b.index] = 0;
+      met_at[b.index] = step.e;
       ++fixed;
     }
     const Judgement all = judge_views(tried, job_.limits);
@@ -631,10 +651,42 @@ void DistanceRun::tighten_buildings() {
   // the asked bounds).
   kept_try_ = r_.tries.size() - 1;
   try_kept_ = r_.tries.back().met;
-  // The buildings no tighter step brought within the limits keep the asked
-  // bounds; the LOD is made once more with every building's own.
   for (size_t b = 0; b < nb; ++b)
     if (trying[b]) bounds[b] = asked_;
+  // The buildings that met the limits at a halving: once more at the
+  // midway step (tighten_midway), all in one pass (each its own bounds),
+  // each keeping it when within the limits with no more triangles.
+  std::vector<uint8_t> midway(nb, 0);
+  const std::vector<SimplifyOptions> before_midway = bounds;
+  SimplifyOptions shown;  // logged: the first midway building's bounds
+  size_t n_midway = 0;
+  for (size_t b = 0; b < nb; ++b)
+    if (met_at[b] > 0)
+      if (const auto mid = tighten_midway(asked_, met_at[b])) {
+        bounds[b] = tightened_bounds(asked_, *mid);
+        if (!n_midway++) shown = bounds[b];
+        midway[b] = 1;
+      }
+  if (n_midway) {
+    const std::vector<ViewFigures> tried = remake_flagged(bounds_per_building(bs, bounds, kept_within), midway);
+    size_t kept = 0;
+    for (const BuildingJudged& b : buildings_) {
+      if (judge_views(b.views, job_.limits).met() && b.lod_triangles <= best[at[b.index]].lod_triangles) {
+        best[at[b.index]] = b;
+        ++kept;
+      } else {
+        bounds[b.index] = before_midway[b.index];
+      }
+    }
+    const Judgement all = judge_views(tried, job_.limits);
+    log(shown, undisplayable_rule_of(asked_), all.worst, all.met());
+    // The midway try's LOD is the one written when every building took it
+    // and every other building tried had met the limits before.
+    const bool all_midway = try_kept_ && kept == n_midway;
+    if (all_midway) kept_try_ = r_.tries.size() - 1;
+    try_kept_ = all_midway;
+  }
+  // The LOD is made once more with every building's own bounds.
   r_.buildings_tightened = fixed;
   if (progress_ && !fixed) progress_->tightening_failed();
   finish_buildings(fixed ? bounds_per_building(bs, bounds, kept_within) : asked_, std::move(best));

@@ -125,6 +125,8 @@ class LodProgress : public LabelProgress {
   virtual void looser_remade() = 0;
   // No tighter bounds were within the limits: the asked ones are made again.
   virtual void tightening_failed() = 0;
+  // Tightening's midway try missed: the LOD of the bounds that met the limits is made again.
+  virtual void tightening_midway_missed() = 0;
   // A building's LOD is judged alone (the k-th of n to finish).
   virtual void building_judged(size_t k, size_t n, const BuildingJudged& b, double max_visible) = 0;
   // A LOD is written and judged.

@@ -30,6 +30,7 @@ class TextProgress final : public ModelProgress {
   void undisplayable_decided(double exposure, const UndisplayableRule& rule) override;
   void lod_tried(const char* what, double distance, const LodTry& t) override;
   void looser_remade() override;
+  void tightening_midway_missed() override;
   void tightening_failed() override;
   void building_judged(size_t k, size_t n, const BuildingJudged& b, double max_visible) override;
   void lod_made(const LodResult& r) override;
