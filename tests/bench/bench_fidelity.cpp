@@ -719,7 +719,9 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       const Judged at_asked = j;
       std::ostringstream suffix;  // --pairs and --dump files of each try, apart from the asked LOD's
       suffix << "_tightened_from" << ei;
+      double tried_e = ei;  // e_I of the last try
       auto try_step = [&](const SimplifyOptions& tighter) {
+        tried_e = tighter.bound_imperceptible_px;
         j = simplified(tighter, suffix.str(), &views);
         std::ostringstream ss;  // no comma: the CSV does not quote
         ss << "tightened to e=" << tighter.bound_imperceptible_px << " px; undisplayable ";
@@ -733,6 +735,13 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       Tightening t = Tightening::NotTried;
       if (g_tighten) t = tighten_to_limits(asked, run_judged(views), FidelityLimits{}, try_step);
       if (t == Tightening::NoneWithin) j = at_asked, note = "over the limits; no tighter bound within";
+      // After a halving within the limits, the midway try (tighten_midway), as `run` makes it.
+      if (t == Tightening::Met)
+        if (const auto mid = tighten_midway(asked, tried_e)) {
+          const Judged met = j;
+          const std::string met_note = note;
+          if (!try_step(tightened_bounds(asked, *mid)) || j.triangles > met.triangles) j = met, note = met_note;
+        }
       fidelity.push_back(j);
       std::ostringstream name;
       name << "fidelity e_I=" << ei;
