@@ -271,13 +271,12 @@ SimplifyOptions DistanceRun::bounds_per_building(const Buildings& bs, const std:
 // for a building at the asked bounds).
 SimplifyOptions DistanceRun::bounds_per_building(const Buildings& bs, const std::vector<SimplifyOptions>& bounds_of,
                                                  double kept_within) const {
-  const std::vector<SimplifyOptions>& at = bounds_of;
   SimplifyOptions o = asked_;
   const size_t nt = scene_.triangle_count();
   o.bound_scale.assign(nt, 1.f);
   std::vector<uint8_t> keep(nt, 0);
   for (size_t t = 0; t < nt; ++t) {
-    const SimplifyOptions& a = at[bs.of_component[scene_.component_of(t)]];
+    const SimplifyOptions& a = bounds_of[bs.of_component[scene_.component_of(t)]];
     o.bound_scale[t] = lr_.labels[t] == Label::Perceptible
                            ? float(a.bound_perceptible_px / asked_.bound_perceptible_px)
                            : float(a.bound_imperceptible_px / asked_.bound_imperceptible_px);
