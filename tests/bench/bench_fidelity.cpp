@@ -719,29 +719,25 @@ void run_model(const Model& m, const std::vector<double>& distances, const std::
       const Judged at_asked = j;
       std::ostringstream suffix;  // --pairs and --dump files of each try, apart from the asked LOD's
       suffix << "_tightened_from" << ei;
-      double tried_e = ei;  // e_I of the last try
-      auto try_step = [&](const SimplifyOptions& tighter) {
-        tried_e = tighter.bound_imperceptible_px;
+      std::vector<std::pair<Judged, std::string>> tries;  // each try's LOD and note, in order
+      auto try_step = [&](const SimplifyOptions& tighter, bool midway) {
         j = simplified(tighter, suffix.str(), &views);
         std::ostringstream ss;  // no comma: the CSV does not quote
-        ss << "tightened to e=" << tighter.bound_imperceptible_px << " px; undisplayable ";
+        ss << "tightened to e=" << tighter.bound_imperceptible_px << " px" << (midway ? " (midway)" : "")
+           << "; undisplayable ";
         if (tighter.delete_undisplayable) ss << "deleted";
         else ss << "kept within " << tighter.bound_undisplayable_px << " px";
         ss << "; asked: " << at_asked.triangles << " tris " << 100 * at_asked.held_out.changed << "% "
            << at_asked.held_out.ssim;
-        note = ss.str();
-        return run_judged(views).met();
+        tries.emplace_back(j, ss.str());
+        return std::pair<bool, size_t>(run_judged(views).met(), j.triangles);
       };
-      Tightening t = Tightening::NotTried;
-      if (g_tighten) t = tighten_to_limits(asked, run_judged(views), FidelityLimits{}, try_step);
-      if (t == Tightening::NoneWithin) j = at_asked, note = "over the limits; no tighter bound within";
-      // After a halving within the limits, the midway try (tighten_midway), as `run` makes it.
-      if (t == Tightening::Met)
-        if (const auto mid = tighten_midway(asked, tried_e)) {
-          const Judged met = j;
-          const std::string met_note = note;
-          if (!try_step(tightened_bounds(asked, *mid)) || j.triangles > met.triangles) j = met, note = met_note;
-        }
+      // As `run` keeps it: the try within (or its midway), else the tightest tried.
+      if (g_tighten) {
+        const TighteningResult t = tighten_to_limits(asked, run_judged(views), FidelityLimits{}, try_step);
+        if (t.tries) std::tie(j, note) = tries[t.kept_try];
+        if (t.outcome == Tightening::NoneWithin) note += "; over the limits at every step: the tightest kept";
+      }
       fidelity.push_back(j);
       std::ostringstream name;
       name << "fidelity e_I=" << ei;

@@ -25,8 +25,9 @@
 //             same process.
 //
 // Models: the demo building (ingolstadt/bldg_4018215.obj), han_ministry.obj,
-// the 53-building block (per building), and a generated facade (`facade`,
-// --facade-triangles; the cost section always adds it).
+// the 53-building block and the Delft 3D BAG tile (`delft`; both per
+// building), and a generated facade (`facade`, --facade-triangles; the cost
+// section always adds it).
 //
 // Usage: bench_labels [--section coverage|stability|cost|all] [--models demo,han,block]
 //                     [--distances 56,132,427] [--samples 1,4] [--views "facades;facades,ring8el30"]
@@ -394,12 +395,13 @@ int main(int argc, char** argv) {
       {"sponza", data + "/sponza/sponza.obj", UpAxis::Y, PerBuilding::Off},
       {"sibenik", data + "/sibenik/sibenik.obj", UpAxis::Y, PerBuilding::Off},
       {"block", data + "/ingolstadt/ingolstadt_lod3_all53.obj", UpAxis::Z, PerBuilding::On},
+      {"delft", data + "/cityjson/3dbag_5910_delft.city.json", UpAxis::Z, PerBuilding::On},
       {"facade", "", UpAxis::Z, PerBuilding::Off}};  // generated, --facade-triangles
   const std::vector<std::string> view_sets = split(views_arg, ';');
   for (const auto& key : split(models_arg, ',')) {
     auto it = std::find_if(all.begin(), all.end(), [&](const Model& m) { return m.key == key; });
     if (it == all.end()) {
-      std::fprintf(stderr, "bench_labels: unknown model '%s' (demo, han, sponza, sibenik, block, facade)\n",
+      std::fprintf(stderr, "bench_labels: unknown model '%s' (demo, han, sponza, sibenik, block, delft, facade)\n",
                    key.c_str());
       return 2;
     }

@@ -1100,8 +1100,9 @@ TEST(TightenToLimits, LooseBoundsHalveDownToHalfAPixelFirst) {
 }
 
 // The driver run and the benchmarks share: tries the steps in order, stops
-// at the first within the limits, and tries nothing when the asked LOD is
-// within them or out of reach.
+// at the first within the limits (then tries midway after a halving), keeps
+// the tightest when none is within, and tries nothing when the asked LOD is
+// within its limits or out of reach.
 TEST(TightenToLimits, TriesTheStepsInOrderUntilOneIsWithin) {
   SimplifyOptions so;
   so.mode = SimplifyMode::Fidelity;
@@ -1114,36 +1115,76 @@ TEST(TightenToLimits, TriesTheStepsInOrderUntilOneIsWithin) {
     return judge_views({v}, limits);
   };
   std::vector<double> tried;  // e_imperceptible of each try
-  auto within_at = [&](size_t n) {  // the n-th try (from 1) is within; 0: none is
-    return [&tried, n](const SimplifyOptions& o) {
+  std::vector<bool> midways;  // whether each try was the midway one
+  // The n-th try (from 1) is within, and so is every midway try; 0: none
+  // is. A try's triangles: 1000 / e, or `midway_triangles` for a midway try.
+  size_t midway_triangles = 0;
+  auto within_at = [&](size_t n) {
+    return [&, n](const SimplifyOptions& o, bool midway) {
       tried.push_back(o.bound_imperceptible_px);
-      return tried.size() == n;
+      midways.push_back(midway);
+      if (midway) return std::pair<bool, size_t>(true, midway_triangles);
+      return std::pair<bool, size_t>(tried.size() == n, size_t(1000 / o.bound_imperceptible_px));
     };
   };
-  EXPECT_EQ(tighten_to_limits(so, judged(0.01), limits, within_at(1)), Tightening::NotTried);
-  EXPECT_EQ(tighten_to_limits(so, judged(0.2), limits, within_at(1)), Tightening::NotTried);  // out of reach
+  auto clear = [&] { tried.clear(), midways.clear(); };
+  TighteningResult t = tighten_to_limits(so, judged(0.01), limits, within_at(1));
+  EXPECT_EQ(t.outcome, Tightening::NotTried);
+  EXPECT_EQ(t.kept.bound_imperceptible_px, 0.5);
+  EXPECT_EQ(tighten_to_limits(so, judged(0.2), limits, within_at(1)).outcome, Tightening::NotTried);  // out of reach
   EXPECT_TRUE(tried.empty());
-  EXPECT_EQ(tighten_to_limits(so, judged(0.03), limits, within_at(2)), Tightening::Met);
-  EXPECT_EQ(tried, (std::vector<double>{0.25, 0.25}));
-  tried.clear();
-  EXPECT_EQ(tighten_to_limits(so, judged(0.03), limits, within_at(0)), Tightening::NoneWithin);
+  t = tighten_to_limits(so, judged(0.03), limits, within_at(2));
+  EXPECT_EQ(t.outcome, Tightening::Met);
+  EXPECT_EQ(tried, (std::vector<double>{0.25, 0.25}));  // no midway below half a pixel
+  EXPECT_EQ(t.tries, 2u);
+  EXPECT_EQ(t.kept_try, 1u);
+  EXPECT_FALSE(t.kept.delete_undisplayable);  // the second 0.25 px step keeps them
+  EXPECT_FALSE(t.remake);
+  clear();
+  // None within: every step, and the tightest (the last) is kept.
+  t = tighten_to_limits(so, judged(0.03), limits, within_at(0));
+  EXPECT_EQ(t.outcome, Tightening::NoneWithin);
   ASSERT_EQ(tried.size(), tighten_steps(so).size());
   for (size_t i = 0; i < tried.size(); ++i)
     EXPECT_EQ(tried[i], fidelity_bounds(so, tighten_steps(so)[i]).bound_imperceptible_px);
+  EXPECT_EQ(t.kept_try, tried.size() - 1);
+  EXPECT_EQ(t.kept.bound_imperceptible_px, 0.125);
+  EXPECT_FALSE(t.remake);
   // Asked 8 px (the default): out of reach, the halvings down to 0.5 px are
   // tried all the same, and no step below; within reach, every step.
   so.bound_imperceptible_px = 8;
-  tried.clear();
-  EXPECT_EQ(tighten_to_limits(so, judged(0.2), limits, within_at(0)), Tightening::NoneWithin);
+  clear();
+  t = tighten_to_limits(so, judged(0.2), limits, within_at(0));
+  EXPECT_EQ(t.outcome, Tightening::NoneWithin);
   EXPECT_EQ(tried, (std::vector<double>{4, 2, 1, 0.5}));
-  tried.clear();
-  EXPECT_EQ(tighten_to_limits(so, judged(0.2), limits, within_at(3)), Tightening::Met);
-  EXPECT_EQ(tried, (std::vector<double>{4, 2, 1}));
-  tried.clear();
-  EXPECT_EQ(tighten_to_limits(so, judged(0.03), limits, within_at(0)), Tightening::NoneWithin);
+  EXPECT_EQ(t.kept.bound_imperceptible_px, 0.5);
+  EXPECT_EQ(t.kept.bound_perceptible_px, 0.5);
+  // Within at 1 px: then midway between it and 2 px, kept when it has no
+  // more triangles than the LOD at 1 px (1000), made again otherwise.
+  clear();
+  midway_triangles = 900;
+  t = tighten_to_limits(so, judged(0.2), limits, within_at(3));
+  EXPECT_EQ(t.outcome, Tightening::Met);
+  ASSERT_EQ(tried.size(), 4u);
+  EXPECT_EQ((std::vector<double>(tried.begin(), tried.begin() + 3)), (std::vector<double>{4, 2, 1}));
+  EXPECT_DOUBLE_EQ(tried[3], std::sqrt(2.0));
+  EXPECT_EQ(midways, (std::vector<bool>{false, false, false, true}));
+  EXPECT_EQ(t.kept_try, 3u);
+  EXPECT_DOUBLE_EQ(t.kept.bound_imperceptible_px, std::sqrt(2.0));
+  EXPECT_FALSE(t.remake);
+  clear();
+  midway_triangles = 1001;
+  t = tighten_to_limits(so, judged(0.2), limits, within_at(3));
+  EXPECT_EQ(t.kept_try, 2u);
+  EXPECT_EQ(t.kept.bound_imperceptible_px, 1.0);
+  EXPECT_TRUE(t.remake);  // the midway LOD was the last made
+  clear();
+  t = tighten_to_limits(so, judged(0.03), limits, within_at(0));
+  EXPECT_EQ(t.outcome, Tightening::NoneWithin);
   EXPECT_EQ(tried.size(), 8u);
-  tried.clear();
-  EXPECT_EQ(tighten_to_limits(so, judged(0.01), limits, within_at(1)), Tightening::NotTried);  // within
+  EXPECT_EQ(t.kept.bound_imperceptible_px, 0.125);
+  clear();
+  EXPECT_EQ(tighten_to_limits(so, judged(0.01), limits, within_at(1)).outcome, Tightening::NotTried);  // within
   EXPECT_TRUE(tried.empty());
 }
 

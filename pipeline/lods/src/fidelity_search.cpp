@@ -85,17 +85,35 @@ std::optional<FidelitySearchStep> tighten_midway(const SimplifyOptions& asked, d
   return std::nullopt;
 }
 
-Tightening tighten_to_limits(const SimplifyOptions& asked, const Judgement& judged, const FidelityLimits& limits,
-                             const std::function<bool(const SimplifyOptions&)>& try_step) {
-  if (judged.met()) return Tightening::NotTried;
+TighteningResult tighten_to_limits(
+    const SimplifyOptions& asked, const Judgement& judged, const FidelityLimits& limits,
+    const std::function<std::pair<bool, size_t>(const SimplifyOptions&, bool midway)>& try_step) {
+  TighteningResult r;
+  r.kept = asked;
+  if (judged.met()) return r;
   const bool in_reach = worth_tightening(judged, limits);
-  Tightening t = Tightening::NotTried;
   for (const FidelitySearchStep& step : tighten_steps(asked)) {
     if (tighten_step_needs_reach(step) && !in_reach) break;
-    t = Tightening::NoneWithin;
-    if (try_step(tightened_bounds(asked, step))) return Tightening::Met;
+    const SimplifyOptions bounds = tightened_bounds(asked, step);
+    const auto [met, triangles] = try_step(bounds, false);
+    r.kept = bounds;  // the tightest so far, or the one within
+    r.kept_try = r.tries++;
+    r.outcome = met ? Tightening::Met : Tightening::NoneWithin;
+    if (!met) continue;
+    if (const std::optional<FidelitySearchStep> mid = tighten_midway(asked, step.e)) {
+      const SimplifyOptions at_mid = tightened_bounds(asked, *mid);
+      const auto [mid_met, mid_triangles] = try_step(at_mid, true);
+      ++r.tries;
+      if (mid_met && mid_triangles <= triangles) {
+        r.kept = at_mid;
+        r.kept_try = r.tries - 1;
+      } else {
+        r.remake = true;
+      }
+    }
+    return r;
   }
-  return t;
+  return r;
 }
 
 std::optional<FidelitySearchStep> midway_step(const FidelitySearchStep& met, const FidelitySearchStep& failed) {

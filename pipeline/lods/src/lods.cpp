@@ -78,7 +78,6 @@ class DistanceRun {
   SimplifyOptions bounds_per_building(const Buildings& bs, const std::vector<SimplifyOptions>& bounds_of,
                                       double kept_within) const;
   void tighten();
-  void try_tighten_midway();
   void write_lod(LodSet& set);
   void judge_written(LodSet& set);
   void keep_telling_views();
@@ -428,39 +427,23 @@ void DistanceRun::tighten() {
     if (job_.tighten_to_limits && !f.met()) tighten_buildings();
     return;
   }
-  Tightening t = Tightening::NotTried;
-  if (job_.tighten_to_limits)
-    t = tighten_to_limits(asked_, f, job_.limits, [&](const SimplifyOptions& o) {
-      if (r_.tries.empty()) log_try(f, "tighten to limits");  // the asked LOD first, while it is so_ and st_
-      return log_try(attempt(o), "tighten to limits");
-    });
-  if (t != Tightening::NotTried) r_.tries_kind = LodTries::TightenToLimits;
-  kept_try_ = t == Tightening::Met ? r_.tries.size() - 1 : 0;  // the one within, or the asked bounds
-  if (t == Tightening::Met) try_tighten_midway();
-  if (t == Tightening::NoneWithin) {
-    // The LOD at the asked bounds, made again rather than held through
-    // the tries (its comparison pictures take up to 1.4 MB per judged
-    // view, 88 views for the million-triangle facade at 56 m): the
-    // simplifier and the judge are deterministic, so it is the same.
-    if (progress_) progress_->tightening_failed();
-    attempt(asked_);
-  }
-}
-
-// After tightening met the limits at a halving: the midway step between it
-// and the try before (tighten_midway), kept when it meets them with no more
-// triangles; otherwise the LOD that met them is made again.
-void DistanceRun::try_tighten_midway() {
-  const LodTry met = r_.tries[kept_try_];
-  const std::optional<FidelitySearchStep> mid = tighten_midway(asked_, met.e_imperceptible);
-  if (!mid) return;
-  if (log_try(attempt(tightened_bounds(asked_, *mid)), "tighten to limits, midway") &&
-      r_.tries.back().triangles <= met.triangles) {
-    kept_try_ = r_.tries.size() - 1;
-    return;
-  }
-  if (progress_) progress_->tightening_midway_missed();
-  attempt(tightened_bounds(asked_, FidelitySearchStep{met.e_imperceptible, false}));
+  if (!job_.tighten_to_limits) return;
+  const TighteningResult t =
+      tighten_to_limits(asked_, f, job_.limits, [&](const SimplifyOptions& o, bool midway) {
+        if (r_.tries.empty()) log_try(f, "tighten to limits");  // the asked LOD first, while it is so_ and st_
+        const bool met = log_try(attempt(o), midway ? "tighten to limits, midway" : "tighten to limits");
+        return std::pair<bool, size_t>(met, st_.total_after());
+      });
+  if (t.outcome == Tightening::NotTried) return;
+  r_.tries_kind = LodTries::TightenToLimits;
+  kept_try_ = 1 + t.kept_try;  // r_.tries begins with the asked LOD
+  if (progress_ && t.outcome == Tightening::NoneWithin) progress_->tightening_failed();
+  if (progress_ && t.outcome == Tightening::Met && t.remake) progress_->tightening_midway_missed();
+  // The kept LOD made again rather than held through the tries (its
+  // comparison pictures take up to 1.4 MB per judged view, 88 views for the
+  // million-triangle facade at 56 m): the simplifier and the judge are
+  // deterministic, so it is the same.
+  if (t.remake) attempt(t.kept);
 }
 
 // Exports the kept LOD and records how it was made.
@@ -571,7 +554,7 @@ void DistanceRun::append_building_views() {
 // limits are made again at each of tighten_steps in turn (their triangles
 // bounded as tightened_bounds bounds them: bounds_per_building), and judged
 // again; each keeps the first that brings it within the limits in every
-// view, or the asked bounds when none does. The steps below
+// view, or the tightest it was tried at when none does. The steps below
 // kTightenHalvingsTo are tried only for the buildings within reach of the
 // limits at the asked bounds (worth_tightening). The other buildings'
 // bounds, and so their LODs, stay as asked: components are simplified
@@ -620,10 +603,11 @@ void DistanceRun::tighten_buildings() {
   double kept_within = -1;
   size_t fixed = 0;
   std::vector<double> met_at(nb, 0);  // the step's e a building met the limits at
+  std::vector<SimplifyOptions> tightest(nb, asked_);  // each tried building's last try
   for (const FidelitySearchStep& step : steps) {
-    if (tighten_step_needs_reach(step)) {  // the buildings out of reach go back to the asked bounds
+    if (tighten_step_needs_reach(step)) {  // the buildings out of reach stop at the tightest halving
       for (size_t b = 0; b < nb; ++b)
-        if (trying[b] && !in_reach[b]) trying[b] = 0, bounds[b] = asked_;
+        if (trying[b] && !in_reach[b]) trying[b] = 0;
       if (std::none_of(trying.begin(), trying.end(), [](uint8_t t) { return t != 0; })) break;
     }
     const SimplifyOptions at_step = tightened_bounds(asked_, step);
@@ -634,8 +618,9 @@ void DistanceRun::tighten_buildings() {
       if (trying[b]) bounds[b] = at_step;
     const std::vector<ViewFigures> tried = remake_flagged(bounds_per_building(bs, bounds, kept_within), trying);
     for (const BuildingJudged& b : buildings_) {
+      best[at[b.index]] = b;  // the one within, or the tightest so far
+      tightest[b.index] = bounds[b.index];
       if (!judge_views(b.views, job_.limits).met()) continue;
-      best[at[b.index]] = b;
       trying[b.index] = 0;
       met_at[b.index] = step.e;
       ++fixed;
@@ -645,13 +630,13 @@ void DistanceRun::tighten_buildings() {
         all.met());
     if (all.met()) break;
   }
-  // When every building tried met the limits at the last step, the LOD
-  // written is that try's; otherwise it is none of them (the others keep
-  // the asked bounds).
+  // Each building tried keeps the bounds it met the limits at or, when it
+  // met them at none, the tightest it was tried at. When every building
+  // tried met the limits at the last step, the LOD written is that try's;
+  // otherwise it is none of them.
   kept_try_ = r_.tries.size() - 1;
   try_kept_ = r_.tries.back().met;
-  for (size_t b = 0; b < nb; ++b)
-    if (trying[b]) bounds[b] = asked_;
+  for (size_t b = 0; b < nb; ++b) bounds[b] = tightest[b];
   // The buildings that met the limits at a halving: once more at the
   // midway step (tighten_midway), all in one pass (each its own bounds),
   // each keeping it when within the limits with no more triangles.
@@ -688,7 +673,7 @@ void DistanceRun::tighten_buildings() {
   // The LOD is made once more with every building's own bounds.
   r_.buildings_tightened = fixed;
   if (progress_ && !fixed) progress_->tightening_failed();
-  finish_buildings(fixed ? bounds_per_building(bs, bounds, kept_within) : asked_, std::move(best));
+  finish_buildings(bounds_per_building(bs, bounds, kept_within), std::move(best));
 }
 
 // Of the views of buildings judged alone (after the model's), r_.views

@@ -103,7 +103,7 @@ void TextProgress::lod_tried(const char* what, double distance, const LodTry& t)
 void TextProgress::looser_remade() { say("  fidelity target: back to the loosest bounds that met it"); }
 void TextProgress::tightening_midway_missed() { say("  tighten to limits: back to the bounds that met them"); }
 
-void TextProgress::tightening_failed() { say("  tighten to limits: none within; the asked bounds again"); }
+void TextProgress::tightening_failed() { say("  tighten to limits: none within; the tightest tried is kept"); }
 
 void TextProgress::lod_made(const LodResult& r) {
   const SimplifyStats& st = r.simplify;

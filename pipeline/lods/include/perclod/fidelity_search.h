@@ -107,8 +107,8 @@ SimplifyOptions fidelity_bounds(SimplifyOptions so, const FidelitySearchStep& st
 // is over job.limits in a judged view, `run` tries tighten_steps in order
 // (the sub-pixel ones only when it is over by no more than kTightenReach
 // times each limit: worth_tightening) and keeps the first LOD within the
-// limits in every judged view; when none is, the LOD at the asked bounds
-// stays, flagged as before. Tightening from 0.5
+// limits in every judged view; when none is, the tightest LOD tried stays,
+// flagged as over its limits. Tightening from 0.5
 // to 0.125 px cut the changed pixels by about 3x where it was tried (the
 // million-triangle facade at 56 m: 2.97% -> 0.98%,
 // BENCHMARKS.md#tightening-to-the-limits), so a LOD further over than that
@@ -175,13 +175,23 @@ bool worth_tightening(const Judgement& judged, const FidelityLimits& limits);
 
 // tighten_to_limits itself, for `run` and for the benchmarks that must do as
 // it does. `judged` is judge_views' result (against `limits`) for the LOD
-// at `asked`. When that LOD is over its limits, `try_step(bounds)` makes and
-// judges the LOD at each of tighten_steps' bounds in order and returns
-// whether it is within `limits`, until one is; the steps below
-// kTightenHalvingsTo only when worth_tightening says so. NotTried when no
-// step was tried.
+// at `asked`. When that LOD is over its limits, `try_step(bounds, midway)`
+// makes and judges the LOD at each of tighten_steps' bounds in order and
+// returns whether it is within `limits` and its triangles, until one is
+// within; the steps below kTightenHalvingsTo only when worth_tightening says
+// so. After a halving within the limits comes one try at tighten_midway's
+// step (`midway` true), kept when within with no more triangles. When no
+// step is within, the tightest tried is kept: over the limits still, but the
+// nearest to them the steps came.
 enum class Tightening { NotTried, Met, NoneWithin };
-Tightening tighten_to_limits(const SimplifyOptions& asked, const Judgement& judged, const FidelityLimits& limits,
-                             const std::function<bool(const SimplifyOptions&)>& try_step);
+struct TighteningResult {
+  Tightening outcome = Tightening::NotTried;
+  SimplifyOptions kept;   // the bounds of the LOD to write (`asked` when NotTried)
+  size_t tries = 0;       // try_step calls
+  size_t kept_try = 0;    // the kept LOD's call, from 0 (when tries > 0)
+  bool remake = false;    // the last call made another LOD: make `kept`'s again
+};
+TighteningResult tighten_to_limits(const SimplifyOptions& asked, const Judgement& judged, const FidelityLimits& limits,
+                                   const std::function<std::pair<bool, size_t>(const SimplifyOptions&, bool midway)>& try_step);
 
 }  // namespace perclod
