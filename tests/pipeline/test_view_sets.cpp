@@ -609,9 +609,9 @@ TEST(ViewSets, OwnViewsAloneSampleAsTheBuildingsOwnTrianglesAsk) {
   ASSERT_EQ(in_place.report.buildings.size(), 2u);
   ASSERT_EQ(alone.report.buildings.size(), 2u);
   EXPECT_EQ(in_place.report.buildings[0].sampling_chosen, (std::map<std::string, size_t>{{"4", 2}}));
-  // (Its window, with the perception's margin, is over a sixteenth of
-  // this small frame: a mask per sample.)
-  EXPECT_EQ(alone.report.buildings[0].sampling_chosen, (std::map<std::string, size_t>{{"4 (mask per sample)", 2}}));
+  // (Its window, with the perception's margin, holds over
+  // kSparseViewPixels per triangle of a's 12: one sample.)
+  EXPECT_EQ(alone.report.buildings[0].sampling_chosen, (std::map<std::string, size_t>{{"1", 2}}));
   // b alone still draws its 20,012 triangles: one render at 4 samples.
   EXPECT_EQ(alone.report.buildings[1].sampling_chosen, (std::map<std::string, size_t>{{"4", 2}}));
   // a's faces that some view sees are labelled from its own views either way.
@@ -887,16 +887,28 @@ TEST(ViewSets, UnsampledTrianglesOfADrawnSurfaceAreKeptOnRequest) {
 // the scene's triangles (choose_sampling): a view far away takes the
 // 16-sample grid, one whose window is up to half the frame 4 samples with a
 // mask per sample, a larger one (or any view of a scene with more triangles
-// than frame pixels / 16) one render with 4 samples.
+// than frame pixels / 16) one render with 4 samples; a box covering at
+// least kSparseViewPixels per triangle one sample, however wide its window.
 TEST(ViewSets, AutoSamplesRuleWeighsWindowFrameAndTriangles) {
   const size_t frame = 1280 * 1024;
-  EXPECT_EQ(choose_sampling(frame / 16, frame, 1000), (ViewSampling{16, true}));
-  EXPECT_EQ(choose_sampling(frame / 16 + 1, frame, 1000), (ViewSampling{4, true}));
-  EXPECT_EQ(choose_sampling(frame / 2, frame, 1000), (ViewSampling{4, true}));
-  EXPECT_EQ(choose_sampling(frame / 2 + 1, frame, 1000), (ViewSampling{4, false}));
-  EXPECT_EQ(choose_sampling(frame, frame, 1000), (ViewSampling{4, false}));
-  EXPECT_EQ(choose_sampling(frame / 16, frame, frame / 16), (ViewSampling{16, true}));
-  EXPECT_EQ(choose_sampling(100, frame, frame / 16 + 1), (ViewSampling{4, false}));  // triangle-bound
+  const size_t dense = 25000;  // kSparseViewPixels x 25,000 is more than the frame
+  ASSERT_GT(kSparseViewPixels * dense, frame);
+  EXPECT_EQ(choose_sampling(frame / 16, frame, dense, frame / 16), (ViewSampling{16, true}));
+  EXPECT_EQ(choose_sampling(frame / 16 + 1, frame, dense, frame / 16), (ViewSampling{4, true}));
+  EXPECT_EQ(choose_sampling(frame / 2, frame, dense, frame / 2), (ViewSampling{4, true}));
+  EXPECT_EQ(choose_sampling(frame / 2 + 1, frame, dense, frame / 2), (ViewSampling{4, false}));
+  EXPECT_EQ(choose_sampling(frame, frame, dense, frame), (ViewSampling{4, false}));
+  EXPECT_EQ(choose_sampling(frame / 16, frame, frame / 16, frame / 16), (ViewSampling{16, true}));
+  EXPECT_EQ(choose_sampling(100, frame, frame / 16 + 1, 100), (ViewSampling{4, false}));  // triangle-bound
+  // Sparse: 1,000 triangles whose box covers kSparseViewPixels x 1,000 pixels or more.
+  const size_t sparse = kSparseViewPixels * 1000;
+  EXPECT_EQ(choose_sampling(frame / 2, frame, 1000, sparse), (ViewSampling{1, false}));
+  EXPECT_EQ(choose_sampling(frame, frame, 1000, frame), (ViewSampling{1, false}));
+  EXPECT_EQ(choose_sampling(frame / 2, frame, 1000, sparse - 1), (ViewSampling{4, true}));
+  // The window's margin does not count: a small box in a wide window.
+  EXPECT_EQ(choose_sampling(frame / 16, frame, 100, kSparseViewPixels * 100 - 1), (ViewSampling{16, true}));
+  EXPECT_EQ(choose_sampling(frame / 16, frame, 100, kSparseViewPixels * 100), (ViewSampling{1, false}));
+  EXPECT_EQ(choose_sampling(frame / 16, frame, 0, 0), (ViewSampling{1, false}));  // nothing to draw
   EXPECT_EQ(parse_samples("auto"), kAutoSamples);
   EXPECT_EQ(parse_samples("16"), 16);
   for (const char* bad : {"3", "", "4x", "sixteen", "-4", "5"}) {
@@ -941,17 +953,33 @@ TEST(ViewSets, AutoSamplesLabelEachViewAsItsChoice) {
     same_as(autos, label(s, full_frame(job_for("facades,az30el30,top", 200, 16))), 1, "grid at 200 m");
   }
   {
-    const LabelResult autos = label(s, full_frame(job_for("-y,+y", 100, kAutoSamples)));
+    // Twice the size at twice the distance, with four times the triangles:
+    // the same window as the 30 x 12 wall's at 100 m, too dense to be sparse.
+    const Scene dense = wall(60, 24);
+    const LabelResult autos = label(dense, full_frame(job_for("-y,+y", 200, kAutoSamples)));
     EXPECT_EQ(label_report_json(autos.report)["sampling_chosen"], (nlohmann::json{{"4 (mask per sample)", 2}}));
-    LabelJob mps = full_frame(job_for("-y,+y", 100, 4));
+    LabelJob mps = full_frame(job_for("-y,+y", 200, 4));
     mps.mask_per_sample = true;
-    same_as(autos, label(s, mps), 4, "mask per sample at 100 m");
+    same_as(autos, label(dense, mps), 4, "mask per sample at 200 m");
+    // The 30 x 12 wall at 100 m: its box covers over kSparseViewPixels per triangle.
+    const LabelResult sparse = label(s, full_frame(job_for("-y,+y", 100, kAutoSamples)));
+    EXPECT_EQ(label_report_json(sparse.report)["sampling_chosen"], (nlohmann::json{{"1", 2}}));
   }
   {
     const Scene fine = wall(80, 40);  // 6,412 triangles > 320 x 256 / 16
     const LabelResult autos = label(fine, job_for("facades,top", 400, kAutoSamples));
     EXPECT_EQ(label_report_json(autos.report)["sampling_chosen"], (nlohmann::json{{"4", label_report_json(autos.report)["views"].size()}}));  // tiles too
     same_as(autos, label(fine, job_for("facades,top", 400, 4)), 4, "one render, triangle-bound");
+  }
+  {
+    const Scene coarse = wall(2, 1);  // 16 triangles, a box of over 16 x kSparseViewPixels pixels at 25 m
+    const LabelResult autos = label(coarse, full_frame(job_for("-y,+y", 25, kAutoSamples)));
+    EXPECT_EQ(label_report_json(autos.report)["sampling_chosen"], (nlohmann::json{{"1", 2}}));
+    same_as(autos, label(coarse, full_frame(job_for("-y,+y", 25, 1))), 16, "one sample, sparse");
+    // At 200 m its box covers less than kSparseViewPixels per triangle (its
+    // window, widened by the perception's margin, would cover more).
+    const LabelResult far = label(coarse, full_frame(job_for("-y,+y", 200, kAutoSamples)));
+    EXPECT_EQ(label_report_json(far.report)["sampling_chosen"], (nlohmann::json{{"16 (grid)", 2}}));
   }
   // With mask_per_sample or keep_unsampled_surface, auto means 4 samples.
   LabelJob keep = job_for("-y", 100, kAutoSamples);

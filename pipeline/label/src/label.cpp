@@ -334,7 +334,7 @@ void SceneLabeller::plan_model_views() {
   std::map<std::string, size_t> chosen;  // with samples auto: views per setting
   for (size_t i = 0; i < tiles_.size(); ++i) {
     const Camera window = perception_window(tiles_[i].camera, bounds_, ps_);
-    const ViewSampling vs = sampling_of(job_, tiles_[i].camera, window, nt_);
+    const ViewSampling vs = sampling_of(job_, tiles_[i].camera, window, nt_, bounds_);
     if (automatic_) ++chosen[sampling_name(vs)];
     add_view_passes(i, tiles_[i].camera, window, vs, passes_);
   }
@@ -503,7 +503,7 @@ size_t SceneLabeller::add_framed_view(const Bounds& box, const std::vector<uint3
     // it estimates; a view of the building alone draws the narrower window
     // (perception_window's `alone`), and samples as the wider one would.
     const Camera window = perception_window(tile.camera, box, ps_);
-    const ViewSampling vs = sampling_of(job_, tile.camera, window, triangles);
+    const ViewSampling vs = sampling_of(job_, tile.camera, window, triangles, box);
     if (automatic_) ++out.chosen[sampling_name(vs)];
     // Only the window is drawn and read, with the whole frame's projection:
     // a camera cropped to it moves the rasteriser's rounding (the Delft

@@ -59,8 +59,9 @@ nlohmann::json samples_json(int samples) {
   return samples == kAutoSamples ? nlohmann::json("auto") : nlohmann::json(samples);
 }
 
-ViewSampling choose_sampling(size_t window_pixels, size_t frame_pixels, size_t triangles) {
+ViewSampling choose_sampling(size_t window_pixels, size_t frame_pixels, size_t triangles, size_t box_pixels) {
   if (16 * triangles > frame_pixels) return {4, false};
+  if (box_pixels >= kSparseViewPixels * triangles) return {1, false};
   if (16 * window_pixels <= frame_pixels) return {16, true};
   if (4 * window_pixels <= 2 * frame_pixels) return {4, true};
   return {4, false};

@@ -414,12 +414,12 @@ void count_view(const Scene& scene, const Tracer& tracer, const EmbreeTracer* re
   if (!add) out.counts = std::move(counts);
 }
 
-// How a view of camera `cam` is sampled: the job's samples, or with
-// kAutoSamples the choice for its window on the model (`window`,
-// perception_window).
-ViewSampling sampling_of(const LabelJob& job, const Camera& cam, const Camera& window, size_t triangles) {
+ViewSampling sampling_of(const LabelJob& job, const Camera& cam, const Camera& window, size_t triangles,
+                         const Bounds& box) {
   if (job.samples != kAutoSamples) return {job.samples, job.mask_per_sample};
-  return choose_sampling(size_t(window.width) * window.height, size_t(cam.width) * cam.height, triangles);
+  const PixelRect b = box_rect(cam, box);
+  return choose_sampling(size_t(window.width) * window.height, size_t(cam.width) * cam.height, triangles,
+                         size_t(b.w) * size_t(b.h));
 }
 
 // The renders of one view of camera `cam`, whose window on the model is

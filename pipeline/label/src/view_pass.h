@@ -179,8 +179,10 @@ void add_part_counts(const Scene& part, const std::vector<uint32_t>& triangle, c
 
 // How a view of camera `cam` is sampled: the job's samples, or with
 // kAutoSamples the choice for its window on the model (`window`,
-// perception_window).
-ViewSampling sampling_of(const LabelJob& job, const Camera& cam, const Camera& window, size_t triangles);
+// perception_window), the model's `triangles` and the pixels its `box`
+// covers (box_rect).
+ViewSampling sampling_of(const LabelJob& job, const Camera& cam, const Camera& window, size_t triangles,
+                         const Bounds& box);
 
 // The renders of one view of camera `cam`, whose window on the model is
 // `window`: one that every sample reads (the whole frame, or with `part` only

@@ -100,16 +100,30 @@ struct ViewSampling {
 // no clock involved (the same model, views and display always give the same
 // labels): `window_pixels` is the size of the view's window on the model
 // (perception_window), `frame_pixels` the whole frame's, `triangles` the
-// scene's. The steadiest setting whose estimated work stays within that of
+// scene's, `box_pixels` the frame's pixels the scene's box covers (without
+// the window's margin, which is most of a small building's window). The steadiest setting whose estimated work stays within that of
 // one render of the frame (docs/usage.md#choosing-the-samples-per-view):
 //  * triangles > frame / 16: the renders and the traced samples cost in
 //    proportion to the triangles, and one render with 4 samples is taken;
+//  * else a box of at least kSparseViewPixels pixels per triangle: one
+//    sample (a sparse view, such as a LoD2 house's own view at 56 m);
 //  * else 16 x window <= frame: the 16-sample grid (one render at 4x of the
 //    window, no more pixels than the frame);
 //  * else 4 x window <= 2 x frame: 4 samples with a mask per sample (four
 //    renders of the window);
 //  * else one render of the frame with 4 samples.
-ViewSampling choose_sampling(size_t window_pixels, size_t frame_pixels, size_t triangles);
+ViewSampling choose_sampling(size_t window_pixels, size_t frame_pixels, size_t triangles, size_t box_pixels);
+// A view whose model's box covers at least this many pixels per triangle
+// is traced at one sample per pixel (0.9.1). Its triangles are mostly far
+// larger than a pixel, whose labels pool tens to hundreds of samples
+// whatever the pattern, and tracing 4 to 16 samples per pixel was two
+// thirds of labelling a LoD2 district: the Delft tile runs in 4 min 42 s
+// instead of 7 min 33 s, every building's LOD within its floor from its
+// held-out views, and labels at 1.5 times the resolution flip about as
+// often (BENCHMARKS.md#sparse-views). 256 saved half as much for the same
+// stability; no model of more than frame / 64 triangles (20,480 at 1280 x
+// 1024) is ever sparse.
+constexpr size_t kSparseViewPixels = 64;
 // How `perclod run` and `label` combine views unless told otherwise
 // (docs/usage.md#combining-views says how it was chosen): "pooled".
 constexpr const char* kDefaultCombineViews = "pooled";
