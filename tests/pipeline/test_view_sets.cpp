@@ -595,7 +595,8 @@ size_t add_fine_grid(Scene& s, float y, float cell, uint32_t comp) {
 // (choose_sampling): a neighbour of 20,000 triangles puts the scene over a
 // sixteenth of the 320 x 256 frame's pixels, so every view of it in place
 // is one render at 4 samples, while a's own views of a alone (12
-// triangles, a small window at 300 m) take a render per sample.
+// triangles, a box of over kSparseViewPixels pixels each at 300 m) take one
+// sample.
 TEST(ViewSets, OwnViewsAloneSampleAsTheBuildingsOwnTrianglesAsk) {
   Scene s = two_buildings(16, 10);
   add_fine_grid(s, 11.0f, 0.01f, 1);  // b's, behind a
@@ -609,8 +610,8 @@ TEST(ViewSets, OwnViewsAloneSampleAsTheBuildingsOwnTrianglesAsk) {
   ASSERT_EQ(in_place.report.buildings.size(), 2u);
   ASSERT_EQ(alone.report.buildings.size(), 2u);
   EXPECT_EQ(in_place.report.buildings[0].sampling_chosen, (std::map<std::string, size_t>{{"4", 2}}));
-  // (Its window, with the perception's margin, holds over
-  // kSparseViewPixels per triangle of a's 12: one sample.)
+  // (a's box covers over kSparseViewPixels pixels per triangle of its 12:
+  // a sparse view, one sample.)
   EXPECT_EQ(alone.report.buildings[0].sampling_chosen, (std::map<std::string, size_t>{{"1", 2}}));
   // b alone still draws its 20,012 triangles: one render at 4 samples.
   EXPECT_EQ(alone.report.buildings[1].sampling_chosen, (std::map<std::string, size_t>{{"4", 2}}));
