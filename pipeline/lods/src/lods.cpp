@@ -603,7 +603,6 @@ void DistanceRun::tighten_buildings() {
   double kept_within = -1;
   size_t fixed = 0;
   std::vector<double> met_at(nb, 0);  // the step's e a building met the limits at
-  std::vector<SimplifyOptions> tightest(nb, asked_);  // each tried building's last try
   for (const FidelitySearchStep& step : steps) {
     if (tighten_step_needs_reach(step)) {  // the buildings out of reach stop at the tightest halving
       for (size_t b = 0; b < nb; ++b)
@@ -619,7 +618,6 @@ void DistanceRun::tighten_buildings() {
     const std::vector<ViewFigures> tried = remake_flagged(bounds_per_building(bs, bounds, kept_within), trying);
     for (const BuildingJudged& b : buildings_) {
       best[at[b.index]] = b;  // the one within, or the tightest so far
-      tightest[b.index] = bounds[b.index];
       if (!judge_views(b.views, job_.limits).met()) continue;
       trying[b.index] = 0;
       met_at[b.index] = step.e;
@@ -630,13 +628,13 @@ void DistanceRun::tighten_buildings() {
         all.met());
     if (all.met()) break;
   }
-  // Each building tried keeps the bounds it met the limits at or, when it
-  // met them at none, the tightest it was tried at. When every building
-  // tried met the limits at the last step, the LOD written is that try's;
-  // otherwise it is none of them.
+  // Each building tried keeps in bounds[] the bounds it met the limits at
+  // or, when it met them at none, the tightest it was tried at (a building
+  // stops being tried, and its bounds stop changing, at either). When every
+  // building tried met the limits at the last step, the LOD written is that
+  // try's; otherwise it is none of them.
   kept_try_ = r_.tries.size() - 1;
   try_kept_ = r_.tries.back().met;
-  for (size_t b = 0; b < nb; ++b) bounds[b] = tightest[b];
   // The buildings that met the limits at a halving: once more at the
   // midway step (tighten_midway), all in one pass (each its own bounds),
   // each keeping it when within the limits with no more triangles.

@@ -123,7 +123,7 @@ class LodProgress : public LabelProgress {
   virtual void lod_tried(const char* what, double distance, const LodTry& t) = 0;
   // The LOD of the loosest bounds that met the target is made again.
   virtual void looser_remade() = 0;
-  // No tighter bounds were within the limits: the asked ones are made again.
+  // No tighter bounds were within the limits: the tightest tried is kept.
   virtual void tightening_failed() = 0;
   // Tightening's midway try missed: the LOD of the bounds that met the limits is made again.
   virtual void tightening_midway_missed() = 0;
